@@ -1,0 +1,83 @@
+"""inertia: rigid-body mass properties and rotational dynamics.
+
+Conventions: SI units; inertia matrices hold negated products (``L = I @ omega``);
+quaternions are scalar-first ``(w, x, y, z)``; ``R_world_body`` maps body to world
+coordinates.
+
+Public names are imported lazily (PEP 562) so that ``import inertia`` and the
+command line start without loading NumPy until a name is used.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+__version__ = "0.1.0"
+
+# public name -> module that defines it
+_EXPORTS = {
+    # errors
+    "InertiaError": "inertia.errors",
+    "InputError": "inertia.errors",
+    "InvalidInertiaError": "inertia.errors",
+    "NoEquivalentModelError": "inertia.errors",
+    "MeshError": "inertia.errors",
+    "MeshFileError": "inertia.errors",
+    "MissingDependencyError": "inertia.errors",
+    # value type and core functions
+    "MassProperties": "inertia.massprops.properties",
+    "CanonicalForm": "inertia.massprops.properties",
+    "point_masses": "inertia.massprops.point_masses",
+    "principal_axes": "inertia.massprops.principal",
+    "principal_frame": "inertia.massprops.principal",
+    "check_inertia": "inertia.massprops.validity",
+    "is_physical": "inertia.massprops.validity",
+    "Violation": "inertia.massprops.validity",
+    "point_mass_inertia": "inertia.massprops.tensor",
+    "inertia_about_point": "inertia.massprops.tensor",
+    "inertia_about_com": "inertia.massprops.tensor",
+    "rotate_inertia": "inertia.massprops.tensor",
+    "moment_about_line": "inertia.massprops.tensor",
+    "inertia_from_elements": "inertia.massprops.tensor",
+    "elements_from_inertia": "inertia.massprops.tensor",
+    "Part": "inertia.massprops.assembly",
+    "assemble": "inertia.massprops.assembly",
+    # primitives
+    "box": "inertia.massprops.primitives",
+    "sphere": "inertia.massprops.primitives",
+    "ellipsoid": "inertia.massprops.primitives",
+    "cylinder": "inertia.massprops.primitives",
+    "cone": "inertia.massprops.primitives",
+    "capsule": "inertia.massprops.primitives",
+    "torus": "inertia.massprops.primitives",
+    "tube": "inertia.massprops.primitives",
+    "spherical_shell": "inertia.massprops.primitives",
+    # meshes
+    "mesh_properties": "inertia.massprops.mesh",
+    "check_mesh": "inertia.massprops.mesh_checks",
+    "MeshReport": "inertia.massprops.mesh_checks",
+    "load_mesh": "inertia.massprops.mesh_io",
+    "mesh_file_properties": "inertia.massprops.mesh_io",
+    # equivalents
+    "equivalent_box": "inertia.massprops.equivalent",
+    "equivalent_ellipsoid": "inertia.massprops.equivalent",
+    # particle models
+    "ParticleModel": "inertia.particles.models",
+    "six_point_model": "inertia.particles.models",
+    "four_point_model": "inertia.particles.models",
+}
+
+__all__ = sorted(_EXPORTS) + ["__version__"]
+
+
+def __getattr__(name: str):
+    mod = _EXPORTS.get(name)
+    if mod is None:
+        raise AttributeError(f"module 'inertia' has no attribute {name!r}")
+    value = getattr(importlib.import_module(mod), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return __all__

@@ -1,0 +1,60 @@
+"""Entry point of the ``inertia`` command.
+
+Each sub-command lives in its own module of this package, exposing ``register(subparsers)``.
+Only the standard library is imported here so that ``inertia --help`` starts fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# sub-command modules, in the order --help lists them
+COMMANDS = ("props", "particles", "demo")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from inertia import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="inertia",
+        description="Rigid-body mass properties and rotational dynamics (SI units; "
+                    "inertia in the negated-product convention, L = I w).",
+    )
+    parser.add_argument("--version", action="version", version=f"inertia {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show Python tracebacks for errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        importlib.import_module(f"inertia.cli.{name}").register(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("inertia: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # noqa: BLE001 - the CLI turns every failure into a message
+        if args.debug:
+            raise
+        from inertia.errors import InertiaError
+
+        if isinstance(exc, InertiaError):
+            print(f"inertia {args.command}: error: {exc}", file=sys.stderr)
+            return 1
+        print(f"inertia {args.command}: internal error ({type(exc).__name__}: {exc}). "
+              f"Run again with --debug for the traceback and please report it.", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Mass properties: the value type, primitives, meshes, assemblies, transforms, canonical form, validity."""

@@ -1,0 +1,79 @@
+"""Input coercion with messages that name the argument, the expected and the received shape."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch: bool = True) -> np.ndarray:
+    """Return ``value`` as a float64 array whose trailing shape is ``shape_tail``.
+
+    Raises InputError naming ``name`` when the value is not numeric, has the wrong
+    shape, or holds NaN/inf.
+    """
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be numeric, got {type(value).__name__}: {exc}") from None
+    k = len(shape_tail)
+    ok = arr.ndim >= k and arr.shape[arr.ndim - k:] == shape_tail if k else True
+    if ok and not allow_batch and arr.ndim != k:
+        ok = False
+    if not ok:
+        want = "(" + ", ".join(["..."] * allow_batch + [str(s) for s in shape_tail]) + ")"
+        raise InputError(f"{name} must have shape {want}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = np.argwhere(~np.isfinite(arr))[0]
+        raise InputError(f"{name} holds a non-finite value ({arr[tuple(bad)]}) at index {tuple(int(i) for i in bad)}")
+    return arr
+
+
+def as_vector3(value, name: str, *, allow_batch: bool = False) -> np.ndarray:
+    return as_float_array(value, name, (3,), allow_batch=allow_batch)
+
+
+def as_matrix3(value, name: str, *, allow_batch: bool = False) -> np.ndarray:
+    return as_float_array(value, name, (3, 3), allow_batch=allow_batch)
+
+
+def as_positive_scalar(value, name: str, *, allow_zero: bool = False) -> float:
+    """A finite positive float (or non-negative when ``allow_zero``)."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if not np.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
+        rel = "non-negative" if allow_zero else "positive"
+        raise InputError(f"{name} must be finite and {rel}, got {x!r}")
+    return x
+
+
+def as_rotation_matrix(value, name: str = "R", *, atol: float = 1e-9, allow_batch: bool = True) -> np.ndarray:
+    """A proper rotation matrix (..., 3, 3): orthonormal with det +1 to ``atol``."""
+    R = as_float_array(value, name, (3, 3), allow_batch=allow_batch)
+    err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
+    if err > atol:
+        raise InputError(f"{name} is not orthonormal: max |R^T R - 1| = {err:.3g} > {atol:g}")
+    det = np.linalg.det(R)
+    if np.any(det < 0):
+        raise InputError(f"{name} is a reflection (det = {float(np.min(det)):.6g}), not a proper rotation")
+    return R
+
+
+def resolve_mass(measure: float, density, mass, *, what: str, measure_name: str = "volume") -> tuple[float, float]:
+    """Return ``(mass, density)`` from exactly one of ``density`` or ``mass``.
+
+    ``measure`` is the volume (m^3) or, for thin shells, the area (m^2).
+    """
+    if (density is None) == (mass is None):
+        raise InputError(f"{what}: give exactly one of density= or mass=, got "
+                         f"{'both' if density is not None else 'neither'}")
+    if not np.isfinite(measure) or measure <= 0:
+        raise InputError(f"{what}: {measure_name} must be positive and finite, got {measure!r}")
+    if density is not None:
+        rho = as_positive_scalar(density, "density")
+        return rho * measure, rho
+    m = as_positive_scalar(mass, "mass")
+    return m, m / measure

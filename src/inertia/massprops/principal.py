@@ -1,0 +1,136 @@
+"""Principal moments and axes with a fully deterministic canonical form.
+
+The rule (the *canonical form* of the founding write-up):
+
+1. Moments ascending: ``I1 <= I2 <= I3``.
+2. Axes are the columns of ``R_FP`` (frame F from principal frame P), a proper rotation (det +1).
+3. Sign rule: axes 1 and 2 each have their largest-magnitude component positive (the first
+   such component on exact ties); axis 3 is ``e1 x e2``.
+4. Repeated moments (within ``DEGENERATE_RTOL * I3``):
+
+   * all three equal: ``R_FP`` is the identity;
+   * two equal: the distinct axis is taken from the eigensolver (with the sign rule),
+     and the first axis of the repeated pair is the projection onto the repeated plane of the
+     coordinate axis of F least aligned with the distinct axis (the first on ties); the
+     remaining axis completes a right-handed frame.
+
+   The groups of repeated moments are reported so that callers know which axes are a choice.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._arrays import as_float_array
+from .tolerances import DEGENERATE_RTOL
+
+
+def _sign_fix(v: np.ndarray) -> np.ndarray:
+    """Flip v (..., 3) so that its largest-magnitude component is positive."""
+    idx = np.argmax(np.abs(v), axis=-1)
+    s = np.sign(np.take_along_axis(v, idx[..., None], axis=-1))
+    s[s == 0] = 1.0
+    return v * s
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def _plane_axis(n: np.ndarray) -> np.ndarray:
+    """Deterministic unit vector perpendicular to n: the coordinate axis least aligned with n, projected."""
+    k = int(np.argmin(np.abs(n)))
+    e = np.zeros(3)
+    e[k] = 1.0
+    return _unit(e - np.dot(e, n) * n)
+
+
+def degenerate_groups(moments, rtol: float = DEGENERATE_RTOL) -> tuple[tuple[int, ...], ...]:
+    """Groups (tuples of indices, length >= 2) of ascending moments equal within ``rtol * max(moments)``."""
+    I = np.asarray(moments, float)
+    scale = max(abs(I[-1]), abs(I[0]), np.finfo(float).tiny)
+    close01 = abs(I[1] - I[0]) <= rtol * scale
+    close12 = abs(I[2] - I[1]) <= rtol * scale
+    if close01 and close12:
+        return ((0, 1, 2),)
+    if close01:
+        return ((0, 1),)
+    if close12:
+        return ((1, 2),)
+    return ()
+
+
+def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float) -> np.ndarray:
+    groups = degenerate_groups(moments, rtol)
+    if groups == ((0, 1, 2),):
+        return np.eye(3)  # sphere-like: every frame is principal; choose F itself
+    if groups == ((0, 1),):
+        e3 = _sign_fix(vecs[:, 2])
+        e1 = _plane_axis(e3)
+        e2 = np.cross(e3, e1)
+    elif groups == ((1, 2),):
+        e1 = _sign_fix(vecs[:, 0])
+        e2 = _plane_axis(e1)
+        e3 = np.cross(e1, e2)
+    else:
+        e1 = _sign_fix(vecs[:, 0])
+        e2 = _sign_fix(vecs[:, 1])
+        e3 = np.cross(e1, e2)
+    return np.stack([e1, e2, e3], axis=-1)
+
+
+def principal_axes(inertia, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments and axes of a symmetric inertia matrix, in canonical form.
+
+    Parameters
+    ----------
+    inertia : (..., 3, 3) float, kg m^2, about the COM, in frame F.
+    rtol : float
+        Relative tolerance under which moments count as repeated (see module docstring).
+
+    Returns
+    -------
+    moments : (..., 3) float, kg m^2, ascending.
+    R_FP : (..., 3, 3) float, principal axes as columns (det +1), so that
+        ``inertia = R_FP @ diag(moments) @ R_FP.T``.
+    """
+    I = as_float_array(inertia, "inertia", (3, 3))
+    I = 0.5 * (I + np.swapaxes(I, -1, -2))
+    moments, vecs = np.linalg.eigh(I)
+    flat_m = moments.reshape(-1, 3)
+    flat_v = vecs.reshape(-1, 3, 3)
+    out = np.empty_like(flat_v)
+    for k in range(flat_m.shape[0]):
+        out[k] = _canonical_axes_single(flat_m[k], flat_v[k], rtol)
+    return moments, out.reshape(vecs.shape)
+
+
+@dataclass(frozen=True)
+class PrincipalFrame:
+    """Principal moments and axes, with the repeated-moment report.
+
+    Attributes
+    ----------
+    moments : (3,) float, kg m^2, ascending.
+    R_FP : (3, 3) float, axes as columns in the original frame F, det +1.
+    degenerate : tuple of tuples of int
+        Indices of moments equal within ``rtol`` (e.g. ``((0, 1),)`` for a cylinder
+        about its axis); empty when all three are distinct.
+    rtol : float
+        The tolerance that decided ``degenerate``.
+    """
+
+    moments: np.ndarray
+    R_FP: np.ndarray
+    degenerate: tuple
+    rtol: float
+
+
+def principal_frame(inertia, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
+    """Single-body version of :func:`principal_axes` that also reports degeneracy."""
+    moments, R = principal_axes(as_float_array(inertia, "inertia", (3, 3), allow_batch=False), rtol=rtol)
+    moments.setflags(write=False)
+    R.setflags(write=False)
+    return PrincipalFrame(moments, R, degenerate_groups(moments, rtol), rtol)

@@ -1,0 +1,295 @@
+"""The mass-properties value type.
+
+Sign convention: the inertia matrix holds negated products of inertia
+(``I_xy = -sum m x y``) so that angular momentum is ``L = I @ omega``.  Import and
+export products in the positive (CAD) convention through
+:meth:`MassProperties.from_elements` / :meth:`MassProperties.elements` with
+``convention='cad'``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from . import tensor as _t
+from ._arrays import as_float_array, as_matrix3, as_rotation_matrix, as_vector3
+from .principal import PrincipalFrame, principal_frame
+from .tolerances import DEGENERATE_RTOL
+from .validity import Violation, check_inertia, raise_if_invalid
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class MassProperties:
+    """Mass, center of mass and central inertia of a rigid body, in a named frame.
+
+    Immutable: every operation returns a new value.
+
+    Attributes
+    ----------
+    mass : float, kg.
+    com : (3,) float, m, position of the center of mass from the frame origin, in the frame.
+    inertia_com : (3, 3) float, kg m^2, inertia about the center of mass, axes of the frame,
+        negated-product convention (``L = I @ omega``).
+    frame : str
+        Name of the frame the vectors are expressed in (bookkeeping only; ``"body"`` by default).
+    volume : float, m^3
+        Volume of the solid when known (NaN otherwise, e.g. for point masses or thin shells).
+    warnings : tuple of str
+        Warnings raised while computing the value (e.g. mesh defects accepted on request).
+
+    Construction validates by default (positive mass, finite, symmetric, positive definite,
+    triangle inequality) and raises :class:`inertia.errors.InvalidInertiaError`; pass
+    ``validate=False`` to build intermediate, non-physical values (e.g. a hole to subtract).
+    """
+
+    mass: float
+    com: np.ndarray
+    inertia_com: np.ndarray
+    frame: str = "body"
+    volume: float = math.nan
+    warnings: tuple = ()
+    validate: bool = field(default=True, repr=False)
+
+    def __post_init__(self):
+        try:
+            mass = float(self.mass)
+        except (TypeError, ValueError):
+            raise InputError(f"mass must be a number, got {self.mass!r}") from None
+        com = as_vector3(self.com, "com")
+        inertia = as_matrix3(self.inertia_com, "inertia_com")
+        object.__setattr__(self, "mass", mass)
+        object.__setattr__(self, "com", _frozen(com))
+        object.__setattr__(self, "inertia_com", _frozen(inertia))
+        object.__setattr__(self, "volume", float(self.volume))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+        if not isinstance(self.frame, str):
+            raise InputError(f"frame must be a string name, got {self.frame!r}")
+        if self.validate:
+            raise_if_invalid(inertia, mass, com)
+        elif not math.isfinite(mass):
+            raise InputError(f"mass must be finite, got {mass!r}")
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_point_masses(cls, masses, positions, *, frame: str = "body", validate: bool = True) -> "MassProperties":
+        """Mass properties of point masses (N,) kg at positions (N, 3) m in ``frame``.
+
+        One or two points (or collinear points) have a zero principal moment; pass
+        ``validate=False`` to accept such a degenerate value.
+        """
+        m = as_float_array(masses, "masses", (), allow_batch=True)
+        r = as_float_array(positions, "positions", (3,), allow_batch=True)
+        if m.ndim != 1 or r.shape != (m.shape[0], 3):
+            raise InputError(f"expected masses (N,) and positions (N, 3), got {m.shape} and {r.shape}")
+        if m.size == 0:
+            raise InputError("no point masses given")
+        if np.any(m < 0):
+            k = int(np.argmax(m < 0))
+            raise InputError(f"point mass {k} is negative ({m[k]:.6g} kg)")
+        M = float(m.sum())
+        if M <= 0:
+            raise InputError("point masses sum to zero")
+        com = (m @ r) / M
+        inertia = _t.point_mass_inertia(m, r - com)
+        return cls(M, com, inertia, frame=frame, validate=validate)
+
+    @classmethod
+    def from_inertia_about(cls, mass, com, inertia_point, point, *, frame: str = "body",
+                           validate: bool = True) -> "MassProperties":
+        """Build from an inertia matrix given about ``point`` (not the COM): parallel axis to the COM."""
+        m = float(mass)
+        com = as_vector3(com, "com")
+        point = as_vector3(point, "point")
+        I_P = as_matrix3(inertia_point, "inertia_point")
+        return cls(m, com, _t.inertia_about_com(I_P, m, com, point), frame=frame, validate=validate)
+
+    @classmethod
+    def from_elements(cls, mass, com, ixx, iyy, izz, ixy=0.0, ixz=0.0, iyz=0.0, *, convention: str = "tensor",
+                      frame: str = "body", validate: bool = True) -> "MassProperties":
+        """Build from moments and products about the COM; ``convention`` names the product sign
+        (``'tensor'``: matrix entries as URDF/MJCF/SDF write them; ``'cad'``: positive products)."""
+        I = _t.inertia_from_elements(ixx, iyy, izz, ixy, ixz, iyz, convention=convention)
+        return cls(mass, com, I, frame=frame, validate=validate)
+
+    # ------------------------------------------------------------------ queries
+    def about(self, point) -> np.ndarray:
+        """Inertia matrix (3, 3) [kg m^2] about ``point`` (3,) [m], axes of this frame (parallel axis)."""
+        return _t.inertia_about_point(self.inertia_com, self.mass, self.com, as_vector3(point, "point"))
+
+    @property
+    def inertia_origin(self) -> np.ndarray:
+        """Inertia matrix (3, 3) about the frame origin."""
+        return self.about(np.zeros(3))
+
+    def moment_about_axis(self, direction, point=None) -> float:
+        """Moment of inertia [kg m^2] about the line through ``point`` (default: the COM) along ``direction``.
+
+        Computes ``D^T I_com D + m |d_perp|^2`` with ``D`` the unit direction.
+        """
+        d = as_vector3(direction, "direction")
+        p = None if point is None else as_vector3(point, "point")
+        return float(_t.moment_about_line(self.inertia_com, self.mass, self.com, d, p))
+
+    def elements(self, *, convention: str = "tensor", about=None) -> dict:
+        """Moments and products (floats) about the COM (or ``about`` a point), in the named product convention."""
+        I = self.inertia_com if about is None else self.about(about)
+        return {k: float(v) for k, v in _t.elements_from_inertia(I, convention=convention).items()}
+
+    def principal(self, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+        """``(moments, axes)``: moments ascending (3,) kg m^2 and axes as columns of a proper rotation (3, 3).
+
+        See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules.
+        """
+        pf = principal_frame(self.inertia_com, rtol=rtol)
+        return pf.moments, pf.R_FP
+
+    def principal_frame(self, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
+        """Principal moments, axes and the report of repeated moments."""
+        return principal_frame(self.inertia_com, rtol=rtol)
+
+    def canonical(self, *, rtol: float = DEGENERATE_RTOL) -> "CanonicalForm":
+        """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
+        pf = principal_frame(self.inertia_com, rtol=rtol)
+        props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
+                               volume=self.volume, warnings=self.warnings, validate=False)
+        return CanonicalForm(props=props, R_frame_principal=pf.R_FP, p_frame_com=self.com,
+                             degenerate=pf.degenerate, rtol=rtol, frame=self.frame)
+
+    def check(self) -> list[Violation]:
+        """Every physical-validity violation (empty when valid); see :mod:`inertia.massprops.validity`."""
+        return check_inertia(self.inertia_com, self.mass, self.com)
+
+    def is_physical(self) -> bool:
+        return not self.check()
+
+    @property
+    def density(self) -> float:
+        """Mean density mass / volume [kg/m^3] (NaN when the volume is unknown)."""
+        return self.mass / self.volume if self.volume and not math.isnan(self.volume) else math.nan
+
+    @property
+    def radii_of_gyration(self) -> np.ndarray:
+        """Principal radii of gyration sqrt(I_k / m) [m], ascending with the moments."""
+        return np.sqrt(np.clip(self.principal()[0], 0, None) / self.mass)
+
+    # ------------------------------------------------------------------ transforms
+    def _replace(self, **kw) -> "MassProperties":
+        args = dict(mass=self.mass, com=self.com, inertia_com=self.inertia_com, frame=self.frame,
+                    volume=self.volume, warnings=self.warnings, validate=False)
+        args.update(kw)
+        return MassProperties(**args)
+
+    def translated(self, offset) -> "MassProperties":
+        """The same body moved by ``offset`` (3,) m: the COM moves, the central inertia does not."""
+        return self._replace(com=self.com + as_vector3(offset, "offset"))
+
+    def rotated(self, R) -> "MassProperties":
+        """The same body rotated by ``R`` about the frame origin: ``com' = R com``, ``I' = R I R^T``."""
+        R = as_rotation_matrix(R, "R", allow_batch=False)
+        return self._replace(com=R @ self.com, inertia_com=_t.rotate_inertia(self.inertia_com, R))
+
+    def transformed(self, R, t) -> "MassProperties":
+        """Rotate by ``R`` about the origin, then translate by ``t`` (the pose of the body in the new frame)."""
+        return self.rotated(R).translated(t)
+
+    def expressed_in(self, frame: str, R_new_old, p_new_old=(0.0, 0.0, 0.0)) -> "MassProperties":
+        """The same body expressed in another frame.
+
+        ``R_new_old`` maps vectors of this frame into ``frame``; ``p_new_old`` is this frame's
+        origin in ``frame`` [m].  So ``com_new = R_new_old @ com + p_new_old`` and
+        ``I_new = R_new_old I R_new_old^T``.
+        """
+        out = self.transformed(R_new_old, as_vector3(p_new_old, "p_new_old"))
+        return out._replace(frame=frame)
+
+    def with_mass(self, mass) -> "MassProperties":
+        """Same shape and mass distribution, scaled to a new total ``mass`` [kg]."""
+        m = float(mass)
+        if not (math.isfinite(m) and m > 0):
+            raise InputError(f"mass must be positive and finite, got {mass!r}")
+        return self._replace(mass=m, inertia_com=self.inertia_com * (m / self.mass))
+
+    def with_warnings(self, *warnings: str) -> "MassProperties":
+        return self._replace(warnings=self.warnings + tuple(warnings))
+
+    def __add__(self, other: "MassProperties") -> "MassProperties":
+        """Combine two bodies expressed in the same frame (rigidly joined)."""
+        if not isinstance(other, MassProperties):
+            return NotImplemented
+        from .assembly import combine
+        return combine([self, other])
+
+    # ------------------------------------------------------------------ export
+    def to_dict(self) -> dict:
+        """Plain-Python dict (JSON-ready): mass, volume, com, inertia_com, principal moments/axes, frame, warnings."""
+        moments, axes = self.principal()
+        return {
+            "mass": self.mass,
+            "volume": None if math.isnan(self.volume) else self.volume,
+            "com": self.com.tolist(),
+            "inertia_com": self.inertia_com.tolist(),
+            "principal_moments": moments.tolist(),
+            "principal_axes": axes.tolist(),
+            "frame": self.frame,
+            "warnings": list(self.warnings),
+        }
+
+    def __eq__(self, other):
+        if not isinstance(other, MassProperties):
+            return NotImplemented
+        return (self.mass == other.mass and self.frame == other.frame and np.array_equal(self.com, other.com)
+                and np.array_equal(self.inertia_com, other.inertia_com))
+
+    def isclose(self, other: "MassProperties", *, rtol: float = 1e-12, atol: float = 0.0) -> bool:
+        """Same mass, COM and inertia within tolerances (inertia compared relative to its largest entry)."""
+        scale_I = max(np.abs(self.inertia_com).max(), np.abs(other.inertia_com).max())
+        scale_c = max(np.abs(self.com).max(), np.abs(other.com).max(), math.sqrt(scale_I / max(self.mass, 1e-300)))
+        return (math.isclose(self.mass, other.mass, rel_tol=rtol, abs_tol=atol)
+                and np.allclose(self.com, other.com, rtol=0, atol=atol + rtol * scale_c)
+                and np.allclose(self.inertia_com, other.inertia_com, rtol=0, atol=atol + rtol * scale_I))
+
+    def __repr__(self) -> str:
+        with np.printoptions(precision=6, suppress=False):
+            return (f"MassProperties(mass={self.mass:.6g}, com={self.com}, inertia_com={self.inertia_com.tolist()}, "
+                    f"frame={self.frame!r})")
+
+
+@dataclass(frozen=True)
+class CanonicalForm:
+    """Canonical form of a body: ``props`` in its principal frame P (COM at the origin,
+    diagonal inertia, moments ascending), and the pose of P in the original frame F.
+
+    Attributes
+    ----------
+    props : MassProperties in frame ``"principal"``.
+    R_frame_principal : (3, 3) proper rotation, columns are the principal axes expressed in F.
+    p_frame_com : (3,) m, COM in F (the origin of P).
+    degenerate : tuple of tuples of int, repeated moments (see :func:`inertia.principal_axes`).
+    rtol : float, tolerance used to decide repeated moments.
+    frame : str, name of F.
+    """
+
+    props: MassProperties
+    R_frame_principal: np.ndarray
+    p_frame_com: np.ndarray
+    degenerate: tuple
+    rtol: float
+    frame: str
+
+    @property
+    def moments(self) -> np.ndarray:
+        return np.diag(self.props.inertia_com).copy()
+
+    def to_frame(self) -> MassProperties:
+        """Back to the original frame F (inverse of the canonicalisation)."""
+        return self.props.expressed_in(self.frame, self.R_frame_principal, self.p_frame_com)
