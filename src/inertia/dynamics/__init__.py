@@ -1,0 +1,1 @@
+"""Rotational dynamics: Euler's equations, integrators, the exact solution, the flip, 6-DOF transitions."""
