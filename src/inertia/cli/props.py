@@ -1,14 +1,164 @@
-"""`inertia props` (placeholder until implemented)."""
+"""``inertia props SOURCE``: mass, center of mass, inertia, principal axes and validity.
+
+Output (``--format table`` or ``json``) is in SI units; the inertia matrix is about the
+center of mass, in the axes of the mesh file (or primitive), with negated products of
+inertia (``L = I w``).  Principal moments are ascending and the principal axes are the
+columns of a proper rotation ``R_body_principal`` (det +1).
+"""
 
 from __future__ import annotations
 
+from . import _format as fmt
+from ._source import add_source_arguments
+
+CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass in the body axes, "
+               "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
+               "are the columns of R_body_principal (det +1)")
+
+EPILOG = """\
+examples:
+  inertia props box:0.1,0.2,0.4 --mass 2
+  inertia props part.stl --units mm --density 2700 --format json
+  inertia props sphere:5 --units cm            (water, 1000 kg/m^3, by default)
+
+exit status: 0 on success, 1 on bad input (the message on stderr names the problem), 2 on bad usage."""
+
 
 def register(sub) -> None:
-    p = sub.add_parser("props", help="(not yet implemented)")
+    import argparse
+    import textwrap
+
+    p = sub.add_parser(
+        "props", help="mass properties of a mesh file or primitive",
+        description=textwrap.fill("Mass, volume, center of mass, inertia about the center of mass, principal "
+                    "moments and axes, repeated-moment report and physical validity of a mesh file "
+                    "or a primitive shape.  Default density: 1000 kg/m^3 (water) when neither "
+                    "--mass nor --density is given."),
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_source_arguments(p)
+    add_format_argument(p)
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    from inertia.errors import InertiaError
+def add_format_argument(p) -> None:
+    p.add_argument("--format", choices=("table", "json"), default="table",
+                   help="table: aligned text for people (default); json: machine-readable")
 
-    raise InertiaError("'props' is not implemented yet")
+
+def run(args) -> int:
+    from ._source import load_source
+
+    props, info = load_source(args)
+    if args.format == "json":
+        fmt.emit(fmt.to_json(props_dict(props, info)))
+    else:
+        fmt.emit(props_lines(props, info))
+    return 0
+
+
+# ---------------------------------------------------------------------------- content
+
+
+def degenerate_text(groups) -> str:
+    """Readable report of repeated principal moments (``groups`` as from principal_frame)."""
+    groups = [tuple(g) for g in groups]
+    if not groups:
+        return "none: three distinct moments, principal axes unique up to sign"
+    out = []
+    for g in groups:
+        names = " = ".join(f"I{k + 1}" for k in g)
+        if len(g) == 3:
+            out.append(f"{names}: every axis through the COM is principal (axes reported as the body axes)")
+        else:
+            other = ({0, 1, 2} - set(g)).pop() + 1
+            out.append(f"{names}: any pair of perpendicular axes normal to axis {other} is principal "
+                       f"(axes {g[0] + 1} and {g[1] + 1} are a deterministic choice)")
+    return "; ".join(out)
+
+
+def props_dict(props, info) -> dict:
+    """JSON-ready dict of the mass properties and how they were obtained."""
+    pf = props.principal_frame()
+    violations = props.check()
+    out = dict(info.to_dict())
+    out.update({
+        "frame": props.frame,
+        "mass": props.mass,
+        "volume": props.volume,
+        "com": props.com,
+        "inertia_com": props.inertia_com,
+        "principal_moments": pf.moments,
+        "principal_axes": pf.R_FP,
+        "degenerate_moments": [list(g) for g in pf.degenerate],
+        "radii_of_gyration": props.radii_of_gyration,
+        "validity": [{"code": v.code, "message": v.message} for v in violations],
+        "physical": not violations,
+        "warnings": list(props.warnings),
+        "conventions": CONVENTIONS,
+    })
+    return out
+
+
+XYZ = ("x", "y", "z")
+
+
+def props_lines(props, info, *, title: str | None = None) -> list[str]:
+    """Readable tables of the mass properties (used by ``props`` and ``demo``)."""
+    lines = summary_lines(props, info, title=title or f"Mass properties of {info.source}")
+    lines += inertia_lines(props)
+    lines += canonical_lines(props)
+    lines += fmt.heading("Validity")
+    lines += validity_lines(props.check())
+    lines += fmt.heading("Warnings")
+    lines += warnings_lines(props.warnings)
+    return lines
+
+
+def summary_lines(props, info, *, title: str) -> list[str]:
+    """Title, source, mass, volume, density, center of mass."""
+    lines = fmt.heading(title)[1:]  # no blank line before the first heading
+    src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, results in SI units)")]
+    if info.kind == "primitive":
+        src.append(("dimensions", info.dimensions_text))
+    volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
+    lines += fmt.key_values(src + [
+        ("mass", f"{fmt.num(props.mass)} kg"),
+        ("volume", volume),
+        ("density", info.density_text()),
+        ("center of mass", fmt.vector(props.com) + f" m (in frame {props.frame!r})"),
+    ])
+    return lines
+
+
+def inertia_lines(props, *, heading: bool = True) -> list[str]:
+    """The central inertia matrix, labelled (as its own section, or as a block of the previous one)."""
+    text = "Inertia about the center of mass [kg m^2] (body axes, products negated: L = I w)"
+    lines = fmt.heading(text) if heading else ["  " + text[0].lower() + text[1:] + ":"]
+    return lines + fmt.matrix_lines(props.inertia_com, row_labels=XYZ, col_labels=XYZ, style="e")
+
+
+def canonical_lines(props, *, title: str = "Principal moments and axes (canonical form)") -> list[str]:
+    """Principal moments (ascending), radii of gyration, repeated-moment report, axes (det +1)."""
+    pf = props.principal_frame()
+    lines = fmt.heading(title)
+    lines += fmt.key_values([
+        ("moments I1 <= I2 <= I3", fmt.vector(pf.moments) + " kg m^2"),
+        ("radii of gyration", fmt.vector(props.radii_of_gyration) + " m"),
+        ("repeated moments", degenerate_text(pf.degenerate)),
+        ("principal frame", "origin at the COM, I_body = R diag(I1, I2, I3) R^T with"),
+        ("axes", "R = R_body_principal (columns = principal axes, proper rotation, det +1):"),
+    ])
+    lines += fmt.matrix_lines(pf.R_FP, row_labels=XYZ, col_labels=("axis 1", "axis 2", "axis 3"),
+                              indent=4, style="f")
+    return lines
+
+
+def validity_lines(violations) -> list[str]:
+    """'physical: ...' or one line per violated condition."""
+    if not violations:
+        return ["  physical: positive mass, finite, symmetric, positive definite, triangle inequality hold"]
+    return ["  NOT physical:"] + [f"  - [{v.code}] {v.message}" for v in violations]
+
+
+def warnings_lines(warnings) -> list[str]:
+    return ["  - " + w for w in warnings] or ["  none"]

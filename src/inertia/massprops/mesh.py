@@ -1,35 +1,215 @@
-"""Mass properties of triangle meshes given as arrays (defect checks, then the exact kernel)."""
+"""Mass properties of triangle meshes given as arrays (defect checks, then the exact kernel).
+
+Policy: the mesh is checked first (:func:`inertia.massprops.mesh_checks.check_mesh`).  By
+default any defect that makes the result wrong raises :class:`inertia.errors.MeshError`
+naming every defect with its count and an example location; keyword options let the
+caller choose otherwise:
+
+* ``fix_orientation=True``: re-orient faces consistently per component and outward;
+* ``shell=True``: a thin shell of uniform surface density (open surfaces allowed,
+  orientation irrelevant);
+* ``on_defect="warn"``: accept the remaining defects, with :class:`MeshDefectWarning`
+  warnings that are also recorded in ``MassProperties.warnings``.
+
+Empty meshes, non-finite coordinates and out-of-range indices are always refused (there is
+nothing meaningful to compute), and so is a solid whose signed volume is not positive.
+"""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, MeshError
 from ._arrays import resolve_mass
+from .mesh_checks import MeshDefectWarning, _analyse, _orient, validate_inputs
 from .mesh_kernel import central_inertia, shell_integrals, solid_integrals
 
+__all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
 
-def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, frame: str = "body"):
-    """Mass properties of a triangle mesh.
+#: Accepted values of ``on_defect``.
+ON_DEFECT = ("raise", "warn")
+
+# Nothing can be computed with these, whatever the options.
+_FATAL = ("empty", "non_finite", "bad_index")
+# Defects of the closed-surface topology: they matter for a solid only.
+_SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted"})
+_ORIENTATION = frozenset({"inconsistent_winding", "inverted"})
+
+
+def _check_mass_args(density, mass, what: str) -> None:
+    """Fail early (before any mesh work) when not exactly one of density / mass is given."""
+    if (density is None) == (mass is None):
+        raise InputError(f"{what}: give exactly one of density= or mass=, got "
+                         f"{'both' if density is not None else 'neither'}")
+
+
+def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
+    """The sentence suggesting what the caller can do about ``codes``."""
+    if codes & set(_FATAL):
+        fixes = []
+        if "empty" in codes:
+            fixes.append("give a mesh with at least one triangle")
+        if "non_finite" in codes:
+            fixes.append("remove or repair the NaN/inf vertices")
+        if "bad_index" in codes:
+            fixes.append("make every face index a valid vertex index (0 <= i < V; negative indices are "
+                         "not wrapped)")
+        return "Nothing can be computed from such a mesh: " + "; ".join(fixes) + "."
+    opts = []
+    if codes & _ORIENTATION and not fix_orientation:
+        opts.append("fix_orientation=True to re-orient the faces consistently and outward")
+    if codes & {"open_edges", "non_manifold_edges"} and not shell:
+        opts.append("shell=True to treat the surface as a thin shell (density in kg/m^2; open surfaces allowed)")
+    opts.append("on_defect='warn' to accept the result with the defects recorded as warnings")
+    how = []
+    if "open_edges" in codes:
+        how.append("close the holes, or merge near-coincident vertices as inertia.load_mesh does")
+    if "duplicate_faces" in codes:
+        how.append("remove the duplicate faces")
+    if "non_manifold_edges" in codes:
+        how.append("separate parts that share edges")
+    opts.append("repair the mesh" + (f" ({', '.join(how)})" if how else ""))
+    return "Options: " + "; ".join(opts) + "."
+
+
+def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: bool, kind: str) -> MeshError:
+    """One-paragraph MeshError naming each defect (code, count, example) and the options."""
+    parts = "; ".join(f"{d.code}: {d.message}" for d in defects)
+    codes = {d.code for d in defects}
+    if codes & set(_FATAL):
+        why = ""
+    elif shell:
+        why = " Duplicate faces count their area twice in a shell."
+    else:
+        why = (" The volume integrals of a surface that is not closed and consistently outward-wound "
+               "are wrong.")
+    msg = (f"{what} cannot be used as {kind}: {parts}.{why} "
+           f"{_options_text(codes, shell=shell, fix_orientation=fix_orientation)}")
+    return MeshError(msg, report=report)
+
+
+def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
+                     stacklevel):
+    """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller)."""
+    from .properties import MassProperties
+
+    what = f"mesh {name}" if name else "mesh"
+    kind = "a thin shell" if shell else "a solid"
+    if on_defect not in ON_DEFECT:
+        raise InputError(f"on_defect must be one of {ON_DEFECT}, got {on_defect!r}")
+    _check_mass_args(density, mass, what)
+    v, f = validate_inputs(vertices, faces)
+
+    analysis = _analyse(v, f)
+    report = analysis.report
+    fatal = [d for d in report.defects if d.code in _FATAL]
+    if fatal:
+        raise _defect_error(what, fatal, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
+
+    notes: list[str] = []
+    if fix_orientation and not shell and set(report.codes) & _ORIENTATION:
+        f, n_flipped, analysis = _orient(v, f, analysis, what)
+        report = analysis.report
+        notes.append(f"{what}: fix_orientation flipped {n_flipped} of {len(f)} faces")
+
+    errors = [d for d in report.errors if not (shell and d.code in _SOLID_ONLY)]
+    if errors and on_defect == "raise":
+        raise _defect_error(what, errors, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
+    for d in errors:  # on_defect == "warn": accepted on request, loudly
+        text = f"{what}: {d.code} accepted (on_defect='warn'): {d.message}"
+        warnings.warn(text, MeshDefectWarning, stacklevel=stacklevel)
+        notes.append(text)
+    # Degenerate (zero-area) faces are a note, not an error: the solid kernel weights every
+    # term of a face by det = a.(b x c) = a.((b - a) x (c - a)), i.e. by its area vector, and
+    # the shell kernel by its area, so a zero-area face contributes exactly nothing.  The
+    # topology checks already skip faces that repeat a vertex and keep zero-area faces with
+    # distinct corners, so the closedness verdict stands with them.  Recorded, not raised.
+    for d in report.defects:
+        if d.severity == "note":
+            notes.append(f"{what}: {d.code} ignored (zero area adds nothing to the integrals): {d.message}")
+
+    # integrate over the referenced vertices only (unreferenced ones would move the
+    # kernel's reference point and cost precision)
+    used, inv = np.unique(f.ravel(), return_inverse=True)
+    vc, fc = v[used], inv.reshape(-1, 3)
+    if shell:
+        area, first, second, r = shell_integrals(vc, fc)
+        if not area > 0:
+            raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report)
+        m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
+        com, inertia = central_inertia(area, first, second, r, rho)
+        return MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
+    volume, first, second, r = solid_integrals(vc, fc)
+    if not volume > 0:
+        # refused even with on_defect="warn": a non-positive volume has no mass distribution
+        hint = ("; fix_orientation=True re-orients an inward-wound closed mesh" if volume < 0 and not fix_orientation
+                else "")
+        raise MeshError(f"{what} has signed volume {volume:.6g} <= 0, so it does not enclose a solid "
+                        f"(faces wound inward, or a flat or open surface){hint}.", report=report)
+    m, rho = resolve_mass(volume, density, mass, what=what)
+    com, inertia = central_inertia(volume, first, second, r, rho)
+    return MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
+
+
+def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fix_orientation=False,
+                    on_defect="raise", frame: str = "body", name: str | None = None):
+    """Mass properties of a triangle mesh, checked for defects first.
 
     Parameters
     ----------
-    vertices : (V, 3) float, m.
-    faces : (F, 3) int, vertex indices, counter-clockwise seen from outside.
+    vertices : (V, 3) float, m, in the frame ``frame``.
+    faces : (F, 3) int, vertex indices, counter-clockwise seen from outside (float arrays of
+        integral values are accepted).
     density : float, kg/m^3 (kg/m^2 when ``shell``); or
     mass : float, kg (exactly one of the two).
-    shell : bool, treat the surface as a thin shell of uniform surface density.
-    """
-    from .properties import MassProperties
+    shell : bool
+        Treat the surface as a thin shell of uniform surface density: open surfaces and
+        any orientation are allowed.  Empty meshes, NaN/inf coordinates, bad indices and
+        duplicate faces are still refused.
+    fix_orientation : bool
+        Re-orient the faces consistently per edge-connected component (breadth-first over
+        the face adjacency) and outward (positive signed volume; cavities nested in another
+        component inward).  Raises MeshError when a component is not orientable.
+    on_defect : {"raise", "warn"}
+        ``"raise"`` (default): a defect that makes the result wrong raises MeshError.
+        ``"warn"``: accept it; a :class:`MeshDefectWarning` is issued and the text is
+        recorded in the result's ``warnings``.  A solid of non-positive volume is refused
+        either way.
+    frame : str, name of the frame of ``vertices`` (bookkeeping).
+    name : str, optional, how messages name the mesh (e.g. its file path).
 
-    v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces)
-    if shell:
-        measure, first, second, r = shell_integrals(v, f)
-        m, rho = resolve_mass(measure, density, mass, what="mesh shell", measure_name="area")
-        com, inertia = central_inertia(measure, first, second, r, rho)
-        return MassProperties(m, com, inertia, frame=frame)
-    measure, first, second, r = solid_integrals(v, f)
-    m, rho = resolve_mass(measure, density, mass, what="mesh solid")
-    com, inertia = central_inertia(measure, first, second, r, rho)
-    return MassProperties(m, com, inertia, frame=frame, volume=measure)
+    Returns
+    -------
+    MassProperties
+        ``mass`` kg, ``com`` (3,) m, ``inertia_com`` (3, 3) kg m^2 about the COM in ``frame``
+        (negated products), ``volume`` m^3 (NaN for shells), ``warnings`` (notes and
+        accepted defects).
+
+    Raises
+    ------
+    MeshError
+        The mesh has defects (``.report`` holds the full :class:`MeshReport`).
+    InputError
+        Wrong array shapes or types, both or neither of density/mass, bad ``on_defect``.
+
+    Notes
+    -----
+    Degenerate (zero-area) faces are recorded in ``warnings`` but never raise: they add
+    nothing to the integrals.  The integrals are exact for a closed, consistently
+    outward-wound surface (divergence theorem; Eberly, "Polyhedral mass properties").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    >>> f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> p = mesh_properties(v, f, density=6.0)
+    >>> round(p.mass, 12), p.com.shape, p.inertia_com.shape
+    (1.0, (3,), (3, 3))
+    """
+    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
+                            stacklevel=3)
+

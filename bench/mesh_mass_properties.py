@@ -1,0 +1,135 @@
+"""Benchmark: solid mass properties of triangle meshes, inertia vs trimesh.
+
+Run by hand::
+
+    python bench/mesh_mass_properties.py [--repeat 7] [--min-time 0.2]
+
+Meshes: icospheres (trimesh.creation.icosphere, subdivisions 3..8: 1.3k .. 1.3M faces)
+and the largest real mesh of the shared data, koala_large.obj (loaded with
+``trimesh.load(..., process=True)``).
+
+What is timed, per call, from the same (vertices, faces) arrays in the same process:
+
+* ours: ``central_inertia(*solid_integrals(vertices, faces, backend=...), 1.0)``, i.e.
+  the whole of mesh_kernel's work from the arrays to (volume, COM, central inertia):
+  input checks, reference point, kernel pass(es), COM and inertia.
+* trimesh: ``trimesh.triangles.mass_properties(vertices[faces])``.  This is exactly
+  what ``Trimesh.mass_properties`` runs on a fresh mesh (it gathers ``triangles =
+  vertices[faces]`` and their cross products, then integrates), without the Trimesh
+  constructor, its processing, or its result cache -- so trimesh is not charged for
+  anything but its mass-properties computation.
+
+Each entry is the minimum over ``--repeat`` measurements (each measurement runs the
+call enough times to last ``--min-time`` seconds, garbage collector off, via timeit);
+``spread`` is (median - min) / min over the repeats, a measure of machine noise.
+numba is warmed up (compiled or loaded from its cache) before any timing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import sys
+import timeit
+from pathlib import Path
+
+import numpy as np
+
+MESH_DIR = Path(os.environ.get("INERTIA_MESH_DIR", "/work/shared/data/meshes"))
+
+
+def load_meshes():
+    """[(name, vertices (V, 3) float64, faces (F, 3) int64)] in increasing size."""
+    import trimesh
+
+    meshes = []
+    for sub in range(3, 9):
+        m = trimesh.creation.icosphere(subdivisions=sub)
+        meshes.append((f"icosphere({sub})", np.ascontiguousarray(m.vertices, dtype=np.float64),
+                       np.ascontiguousarray(m.faces, dtype=np.int64)))
+    koala = MESH_DIR / "koala_large.obj"
+    if koala.exists():
+        m = trimesh.load(koala, process=True, force="mesh")
+        meshes.append(("koala_large.obj", np.ascontiguousarray(m.vertices, dtype=np.float64),
+                       np.ascontiguousarray(m.faces, dtype=np.int64)))
+    else:
+        print(f"(skipping koala_large.obj: not found in {MESH_DIR})", file=sys.stderr)
+    return sorted(meshes, key=lambda t: len(t[2]))
+
+
+def time_call(fn, repeat: int, min_time: float):
+    """(min seconds per call, relative spread (median - min) / min) over ``repeat`` measurements."""
+    t1 = timeit.Timer(fn).timeit(1)
+    number = max(1, int(min_time / max(t1, 1e-9)))
+    per_call = [t / number for t in timeit.Timer(fn).repeat(repeat=repeat, number=number)]
+    best = min(per_call)
+    return best, (statistics.median(per_call) - best) / best
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--repeat", type=int, default=7, help="measurements per entry (default 7)")
+    ap.add_argument("--min-time", type=float, default=0.2, help="seconds per measurement (default 0.2)")
+    args = ap.parse_args(argv)
+
+    import trimesh
+    from trimesh.triangles import mass_properties as trimesh_mass_properties
+
+    from inertia.massprops import mesh_kernel as mk
+
+    backends = ["numpy"]
+    try:
+        import numba
+        backends.append("numba")
+        numba_version = numba.__version__
+    except ImportError:
+        numba_version = "not installed"
+
+    print(f"python {platform.python_version()}, numpy {np.__version__}, numba {numba_version}, "
+          f"trimesh {trimesh.__version__}, {os.cpu_count()} CPUs ({platform.processor() or platform.machine()})")
+    print(f"min of {args.repeat} measurements of >= {args.min_time} s each; spread = (median - min) / min\n")
+
+    meshes = load_meshes()
+    # warm up: compile (or load from cache) the numba kernels, touch every code path once
+    v0, f0 = meshes[0][1], meshes[0][2]
+    for be in backends:
+        mk.central_inertia(*mk.solid_integrals(v0, f0, backend=be), 1.0)
+
+    cols = ["trimesh"] + backends
+    head = f"{'mesh':<16} {'faces':>9} | " + " | ".join(f"{c + ' Mface/s':>15} {'us/call':>10} {'spread':>6}"
+                                                      for c in cols)
+    head += " | " + " ".join(f"{'x ' + b:>9}" for b in backends) + " | max rel diff"
+    print(head)
+    print("-" * len(head))
+    for name, v, f in meshes:
+        n = len(f)
+
+        def run_trimesh(v=v, f=f):
+            return trimesh_mass_properties(v[f])
+
+        results = {"trimesh": time_call(run_trimesh, args.repeat, args.min_time)}
+        ref = run_trimesh()
+        scale = np.abs(ref.inertia).max()
+        diff = 0.0
+        for be in backends:
+            def run_ours(v=v, f=f, be=be):
+                return mk.central_inertia(*mk.solid_integrals(v, f, backend=be), 1.0)
+
+            results[be] = time_call(run_ours, args.repeat, args.min_time)
+            com, inertia = run_ours()
+            diff = max(diff, np.abs(inertia - ref.inertia).max() / scale)
+        row = f"{name:<16} {n:>9} | "
+        row += " | ".join(f"{n / results[c][0] / 1e6:>15.2f} {results[c][0] * 1e6:>10.1f} {results[c][1]:>6.1%}"
+                          for c in cols)
+        row += " | " + " ".join(f"{results['trimesh'][0] / results[b][0]:>9.1f}" for b in backends)
+        row += f" | {diff:.1e}"
+        print(row, flush=True)
+    print("\nx <backend> = trimesh time / our time (throughput ratio, higher is better);"
+          " max rel diff = max |I_ours - I_trimesh| / max |I_trimesh| (both near the origin).")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

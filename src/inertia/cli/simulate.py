@@ -1,0 +1,360 @@
+"""``inertia simulate``: torque-free rotation of a rigid body, exactly or with an integrator.
+
+The body is either ``--moments I1,I2,I3`` (principal moments in kg m^2; the body axes are
+the principal axes) or a SOURCE (a mesh file or a primitive spec such as
+``box:0.1,0.2,0.4``, with the mass options of ``inertia props``).  For a SOURCE the motion
+is computed in its principal frame and reported in the SOURCE's own axes, about its
+center of mass: ``--omega`` and ``--q0`` are read in those axes too.
+
+Output per sample: time ``t`` [s], ``omega_body`` [rad/s] (body frame), ``q_world_body``
+(unit quaternion ``(w, x, y, z)``, body -> world), kinetic ``energy`` [J] and
+``angular_momentum_norm`` ``|I w|`` [kg m^2/s].  ``--method exact`` evaluates the closed-form
+solution (:mod:`inertia.dynamics.exact`); any name of
+``inertia.dynamics.integrators.METHODS`` integrates with fixed steps.
+
+Only the standard library is imported at module level (``inertia --help`` must start fast).
+"""
+
+from __future__ import annotations
+
+import math
+
+from . import _format as fmt
+
+#: samples refused beyond this (memory and time guard)
+MAX_SAMPLES = 5_000_000
+
+CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "
+               "body -> world; energy = 1/2 w.I w in J; angular_momentum_norm = |I w| in kg m^2/s")
+
+EPILOG = """\
+examples:
+  inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.5
+  inertia simulate --moments 1,2,3 --omega 0.01,1,0 --times 0,20.75,1e6 --format json
+  inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.01 --method rk4 --format csv
+  inertia simulate box:0.1,0.2,0.4 --mass 2 --omega 0,5,0.05 --duration 10 --step 0.1
+
+times: --duration T --step h samples t = 0, h, 2h, ... and T (the last step is shortened
+when T is not a whole number of steps); --times lists the sample times (integrators then
+take steps of at most --step between them, --method exact needs no --step).
+
+JSON keys: t (N), omega_body (N x 3), q_world_body (N x 4), energy (N),
+angular_momentum_norm (N), plus method, moments, regime, period, conventions.
+
+exit status: 0 on success, 1 on bad input (the message names the problem), 2 on bad usage."""
+
+
+# ============================================================================ shared with `flip`
+def allow_negative_lists(p) -> None:
+    """Let option values such as ``--omega -0.4,0.3,-0.7`` start with a minus sign.
+
+    argparse (before Python 3.13) only recognises plain negative numbers as values, so
+    ``-0.4,0.3,-0.7`` would be taken for an unknown option.  This widens the parser's
+    negative-number pattern (a private attribute, hence the guard); ``--omega=-0.4,...``
+    works everywhere regardless.
+    """
+    import re
+
+    if hasattr(p, "_negative_number_matcher"):
+        p._negative_number_matcher = re.compile(r"^-\.?\d")
+
+
+def add_body_arguments(p) -> None:
+    """SOURCE or --moments, --omega, and the SOURCE mass options."""
+    from ._source import add_source_arguments, source_help
+
+    allow_negative_lists(p)
+
+    p.add_argument("source", nargs="?", metavar="SOURCE",
+                   help="instead of --moments: " + source_help())
+    p.add_argument("--moments", metavar="I1,I2,I3",
+                   help="principal moments of inertia in kg m^2 along the body x, y, z axes (any order)")
+    p.add_argument("--omega", metavar="W1,W2,W3", required=True,
+                   help="initial angular velocity in rad/s in the body frame (SOURCE: in its axes)")
+    add_source_arguments(p, source_required=False)
+
+
+def parse_numbers(text, option: str, count: int | None = None, *, what: str = "numbers") -> list:
+    """Comma-separated finite floats; InputError naming ``option`` and the bad item."""
+    from inertia.errors import InputError
+
+    if text is None:
+        raise InputError(f"{option} is required")
+    parts = [s.strip() for s in str(text).split(",")]
+    if parts == [""]:
+        parts = []
+    if count is not None and len(parts) != count:
+        raise InputError(f"{option} takes {count} comma-separated {what}, got {len(parts)}: {text!r}")
+    if not parts:
+        raise InputError(f"{option} needs at least one number, got {text!r}")
+    values = []
+    for i, s in enumerate(parts):
+        try:
+            v = float(s)
+        except ValueError:
+            raise InputError(f"{option}: item {i + 1} = {s!r} is not a number (in {text!r})") from None
+        if not math.isfinite(v):
+            raise InputError(f"{option}: item {i + 1} = {s!r} must be finite (in {text!r})")
+        values.append(v)
+    return values
+
+
+class Body:
+    """The body to simulate: moments in the frame P of the computation and the map to the
+    output frame B (``R_BP``; identity for --moments)."""
+
+    def __init__(self, moments, R_BP, label: str, info=None):
+        self.moments = moments      # numpy (3,), in frame P
+        self.R_BP = R_BP            # numpy (3, 3)
+        self.label = label
+        self.info = info            # SourceInfo or None
+
+    def to_dict(self) -> dict:
+        out = {"moments": self.moments}
+        if self.info is not None:
+            out.update(self.info.to_dict())
+            out["principal_axes"] = self.R_BP
+        return out
+
+
+def resolve_body(args) -> Body:
+    """Body from SOURCE or --moments (exactly one), validated (physical principal moments)."""
+    import numpy as np
+
+    from inertia.dynamics.exact import as_moments
+    from inertia.errors import InputError
+
+    if args.source is not None and args.moments is not None:
+        raise InputError(f"give either SOURCE ({args.source!r}) or --moments ({args.moments!r}), not both")
+    if args.source is None and args.moments is None:
+        raise InputError("give the body: --moments I1,I2,I3 (principal moments in kg m^2) or a SOURCE "
+                         "(a mesh file or a primitive spec such as box:0.1,0.2,0.4)")
+    if args.source is None:
+        used = [flag for flag, on in (("--density", args.density is not None), ("--mass", args.mass is not None),
+                                      ("--shell", args.shell), ("--units", args.units not in (None, "m")),
+                                      ("--fix-orientation", args.fix_orientation),
+                                      ("--accept-defects", args.accept_defects)) if on]
+        if used:
+            raise InputError(f"{', '.join(used)} appl{'ies' if len(used) == 1 else 'y'} to a SOURCE only, "
+                             f"not to --moments")
+        I = as_moments(parse_numbers(args.moments, "--moments", 3, what="moments (kg m^2)"), "--moments")
+        return Body(I, np.eye(3), f"moments {fmt.vector(I)} kg m^2")
+    from ._source import load_source
+
+    props, info = load_source(args, source=args.source)
+    pf = props.principal_frame()
+    I = as_moments(pf.moments, f"principal moments of {args.source}")
+    return Body(I, np.asarray(pf.R_FP, float), f"{args.source} (principal moments {fmt.vector(I)} kg m^2)", info)
+
+
+def initial_state(args, body):
+    """``(omega0_P, q0_WP)`` in the computation frame P from --omega and --q0 (given in frame B)."""
+    import numpy as np
+
+    from inertia.dynamics.equations import QUAT_NORM_TOL
+    from inertia.dynamics.quaternion import matrix_to_quat, quat_multiply
+    from inertia.errors import InputError
+
+    w_B = np.array(parse_numbers(args.omega, "--omega", 3, what="components (rad/s)"))
+    q_text = getattr(args, "q0", None)
+    if q_text is None:
+        q_WB = np.array([1.0, 0.0, 0.0, 0.0])
+    else:
+        q_WB = np.array(parse_numbers(q_text, "--q0", 4, what="quaternion components (w, x, y, z)"))
+        norm = float(np.linalg.norm(q_WB))
+        if abs(norm - 1.0) > QUAT_NORM_TOL:
+            raise InputError(f"--q0 must be a unit quaternion (w, x, y, z) (|q| - 1 within {QUAT_NORM_TOL:g}), "
+                             f"got |q| = {norm:.12g}")
+        q_WB = q_WB / norm
+    w_P = body.R_BP.T @ w_B
+    q_WP = quat_multiply(q_WB, matrix_to_quat(body.R_BP))
+    return w_P, q_WP
+
+
+def to_output_frame(body, q_WP, w_P):
+    """Map (N, 4) quaternions and (N, 3) angular velocities from frame P back to the body frame B."""
+    from inertia.dynamics.quaternion import matrix_to_quat, quat_conjugate, quat_multiply
+
+    w_B = w_P @ body.R_BP.T
+    q_WB = quat_multiply(q_WP, quat_conjugate(matrix_to_quat(body.R_BP)))
+    return q_WB, w_B
+
+
+# ============================================================================ simulate
+def register(sub) -> None:
+    import argparse
+    import textwrap
+
+    p = sub.add_parser(
+        "simulate", help="torque-free rotation: exact solution or a fixed-step integrator",
+        description=textwrap.fill(
+            "Torque-free rotation of a rigid body from an initial angular velocity: the exact "
+            "closed-form solution (--method exact, any time at the same cost) or a fixed-step "
+            "integrator.  Prints the angular velocity, attitude quaternion, energy and |L| at "
+            "each sample time."),
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_body_arguments(p)
+    p.add_argument("--q0", metavar="W,X,Y,Z",
+                   help="initial attitude, unit quaternion body -> world, scalar first (default 1,0,0,0)")
+    t = p.add_argument_group("sample times (give --duration with --step, or --times)")
+    t.add_argument("--duration", type=float, metavar="T", help="end time in s (samples from t = 0)")
+    t.add_argument("--step", type=float, metavar="H",
+                   help="time step in s: the sample spacing with --duration, the largest integrator step "
+                        "with --times")
+    t.add_argument("--times", metavar="T1,T2,...", help="comma-separated sample times in s")
+    p.add_argument("--method", default="exact", metavar="NAME",
+                   help="exact (default) or an integrator of inertia.dynamics.integrators.METHODS: "
+                        "euler_explicit, euler_implicit, rk4, splitting, dmv, dmv4, midpoint")
+    p.add_argument("--format", choices=("table", "csv", "json"), default="table",
+                   help="table: aligned text (default); csv: one row per sample; json: arrays")
+    p.set_defaults(func=run)
+
+
+def available_methods() -> tuple:
+    """``("exact", <integrator names>...)``; only ``exact`` when the integrators are unavailable."""
+    try:
+        from inertia.dynamics.integrators import METHODS
+    except ImportError:
+        return ("exact",)
+    return ("exact",) + tuple(METHODS)
+
+
+def _check_positive(value, option: str, *, allow_zero: bool = False) -> float:
+    from inertia.errors import InputError
+
+    v = float(value)
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        rel = "non-negative" if allow_zero else "positive"
+        raise InputError(f"{option} must be a finite {rel} number of seconds, got {value!r}")
+    return v
+
+
+def sample_plan(args, method: str):
+    """``(times, h_max)``: the sample times (numpy (N,)) and the largest step for integrators."""
+    import numpy as np
+
+    from inertia.errors import InputError
+
+    if args.times is not None and args.duration is not None:
+        raise InputError(f"give either --times or --duration/--step, not both (got --times {args.times!r} "
+                         f"and --duration {args.duration!r})")
+    step = None if args.step is None else _check_positive(args.step, "--step")
+    if args.times is not None:
+        times = np.array(parse_numbers(args.times, "--times", what="times (s)"))
+        if len(times) > MAX_SAMPLES:
+            raise InputError(f"--times lists {len(times)} samples, more than the limit {MAX_SAMPLES}")
+        if method != "exact":
+            if step is None:
+                raise InputError(f"--method {method} integrates with fixed steps: give --step (the largest "
+                                 f"step in s) with --times")
+            if times[0] < 0 or np.any(np.diff(times) < 0):
+                raise InputError(f"--times must be non-negative and in increasing order for --method {method} "
+                                 f"(only --method exact evaluates any time), got {args.times!r}")
+        return times, step
+    if args.duration is None:
+        raise InputError("give the sample times: --duration T with --step H, or --times T1,T2,...")
+    duration = _check_positive(args.duration, "--duration", allow_zero=True)
+    if step is None:
+        raise InputError(f"--duration {args.duration!r} needs --step (the sample spacing in s)")
+    n = math.ceil(duration / step - 1e-9)
+    if n + 1 > MAX_SAMPLES:
+        raise InputError(f"--duration {duration:g} / --step {step:g} gives {n + 1} samples, more than the limit "
+                         f"{MAX_SAMPLES}; use a larger --step or --times")
+    times = np.arange(n + 1, dtype=float) * step
+    times[-1] = duration
+    return times, step
+
+
+def run_exact(body, w_P, q_WP, times):
+    from inertia.dynamics.exact import ExactSolution
+
+    sol = ExactSolution(body.moments, w_P, q_WP)
+    q, w = sol.at(times)
+    return q, w, sol
+
+
+def run_integrator(body, w_P, q_WP, times, h_max, method: str):
+    """Fixed steps of at most ``h_max`` between consecutive sample times (equal steps per interval)."""
+    import numpy as np
+
+    from inertia.dynamics.integrators import integrate
+
+    N = len(times)
+    qs = np.empty((N, 4))
+    ws = np.empty((N, 3))
+    q, w = np.asarray(q_WP, float), np.asarray(w_P, float)
+    t_now = 0.0
+    for i, t_next in enumerate(times):
+        gap = float(t_next) - t_now
+        if gap > 0:
+            n = max(1, math.ceil(gap / h_max - 1e-9))
+            traj = integrate(q, w, body.moments, gap / n, n, method=method, record_every=n)
+            q, w = traj.q_world_body[-1], traj.omega_body[-1]
+            t_now = float(t_next)
+        qs[i], ws[i] = q, w
+    return qs, ws
+
+
+def run(args) -> int:
+    import numpy as np
+
+    from inertia.errors import InputError
+
+    method = args.method
+    methods = available_methods()
+    if method not in methods:
+        raise InputError(f"--method must be one of {', '.join(methods)}, got {method!r}")
+    body = resolve_body(args)
+    w_P, q_WP = initial_state(args, body)
+    times, h_max = sample_plan(args, method)
+    sol = None
+    if method == "exact":
+        q_P, w_Pt, sol = run_exact(body, w_P, q_WP, times)
+    else:
+        q_P, w_Pt = run_integrator(body, w_P, q_WP, times, h_max, method)
+    I = body.moments
+    energy = 0.5 * np.sum(I * w_Pt * w_Pt, axis=-1)
+    L_norm = np.linalg.norm(I * w_Pt, axis=-1)
+    q_B, w_B = to_output_frame(body, q_P, w_Pt)
+    data = {"t": times, "omega_body": w_B, "q_world_body": q_B, "energy": energy, "angular_momentum_norm": L_norm}
+    if args.format == "json":
+        out = {"method": method}
+        out.update(body.to_dict())
+        if sol is not None:
+            out.update({"regime": sol.regime, "period": sol.period})
+        out.update(data)
+        out["conventions"] = CONVENTIONS
+        fmt.emit(fmt.to_json(out))
+    elif args.format == "csv":
+        fmt.emit(csv_lines(data))
+    else:
+        fmt.emit(table_lines(data, body, method, sol))
+    return 0
+
+
+COLUMNS = ("t", "omega_x", "omega_y", "omega_z", "q_w", "q_x", "q_y", "q_z", "energy", "angular_momentum_norm")
+
+
+def _rows(data):
+    for k in range(len(data["t"])):
+        yield ([float(data["t"][k])] + [float(x) for x in data["omega_body"][k]]
+               + [float(x) for x in data["q_world_body"][k]]
+               + [float(data["energy"][k]), float(data["angular_momentum_norm"][k])])
+
+
+def csv_lines(data) -> list:
+    """Header and one row per sample, full precision (``repr`` of each float)."""
+    return [",".join(COLUMNS)] + [",".join(repr(x) for x in row) for row in _rows(data)]
+
+
+def table_lines(data, body, method: str, sol) -> list:
+    pairs = [("body", body.label), ("method", method)]
+    if sol is not None:
+        pairs += [("regime", sol.regime), ("period of omega", f"{fmt.num(sol.period)} s")]
+    pairs += [("energy at t = 0", f"{fmt.num(data['energy'][0])} J"),
+              ("|L| at t = 0", f"{fmt.num(data['angular_momentum_norm'][0])} kg m^2/s")]
+    lines = fmt.key_values(pairs, indent=0)
+    lines.append("")
+    header = ["t [s]", "wx", "wy", "wz [rad/s]", "qw", "qx", "qy", "qz", "energy [J]", "|L|"]
+    lines += fmt.table(header, [[fmt.num(x) for x in row] for row in _rows(data)], indent=0)
+    return lines

@@ -1,0 +1,256 @@
+"""Rollouts of the 6-DOF transition function: many steps, one body or a batch of bodies.
+
+``rollout(x0, u, h, n_steps, body=..., method=..., backend=...)`` repeats
+:func:`inertia.dynamics.transition.step` with the same state layout, input layout, frames and
+schemes.  Two backends:
+
+* ``"numpy"``: the reference, a Python loop over vectorised NumPy steps (fast over large
+  batches, slow for one long trajectory);
+* ``"numba"``: compiled kernels (:mod:`inertia.dynamics._rollout_numba`) for the methods in
+  :data:`COMPILED_METHODS`, parallel over bodies.  numba is an optional extra
+  (``pip install inertia[fast]``), imported only when this backend is used; asking for it
+  without numba raises :class:`inertia.errors.MissingDependencyError`.  The kernels
+  transcribe the NumPy integrators operation by operation; the two backends agree to ~1e-13
+  after 1e3 steps (the tests check 1e-12).
+* ``"auto"`` (default): numba when it is installed and the method is compiled, else numpy.
+
+Both backends re-express the state in the principal frame of the body once, integrate there,
+and convert the saved states back.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError, MissingDependencyError
+from . import transition as _tr
+from .transition import INPUT_SIZE, STATE_SIZE, RigidBody
+
+__all__ = ["rollout", "COMPILED_METHODS", "BACKENDS", "numba_available"]
+
+#: Methods with a compiled (numba) kernel.
+COMPILED_METHODS = ("euler_explicit", "rk4", "splitting")
+
+#: Below this many bodies the numba backend runs the serial kernel (one body at a time, state
+#: in registers); from it on, chunks of bodies run vectorised and in parallel.
+_PARALLEL_MIN_BODIES = 256
+
+#: Accepted values of ``backend``.
+BACKENDS = ("auto", "numpy", "numba")
+
+
+def numba_available() -> bool:
+    """True when numba can be imported (the ``fast`` extra is installed)."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _as_count(value, name: str, minimum: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _choose_backend(backend, method) -> str:
+    if backend not in BACKENDS:
+        raise InputError(f"backend must be one of {BACKENDS}, got {backend!r}")
+    compiled = isinstance(method, str) and method in COMPILED_METHODS
+    if backend == "numpy":
+        return "numpy"
+    if backend == "auto":
+        return "numba" if compiled and numba_available() else "numpy"
+    if not numba_available():
+        raise MissingDependencyError("backend='numba' needs numba, which is not installed: "
+                                     "pip install numba (or the extra inertia[fast]), or use backend='numpy'")
+    if not compiled:
+        raise InputError(f"backend='numba' compiles the methods {COMPILED_METHODS}, got method={method!r}; "
+                         f"use backend='numpy' (or 'auto') for it")
+    return "numba"
+
+
+def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=None, force_frame: str = "world",
+            backend: str = "auto", save_every=1) -> np.ndarray:
+    """Roll the 6-DOF transition function forward over many steps.
+
+    Parameters
+    ----------
+    x0 : (..., 13) float
+        Initial states ``[p_world, v_world, q_world_body, omega_body]`` (see
+        :mod:`inertia.dynamics.transition`).
+    u : float array or None
+        Inputs ``[force (N), torque_body (N m)]``, held over each step.
+
+        * ``n_steps`` None: a time-major sequence (n_steps, ..., 6); step k uses ``u[k]``.
+        * ``n_steps`` given: one input (..., 6) held for every step (None means zero).
+    h : float, s, positive.
+    n_steps : int >= 0 or None
+        Number of steps when ``u`` is held constant; None takes it from ``u.shape[0]``.
+    body : RigidBody
+        One body, or a batch whose shape broadcasts with the state batch.
+    method : str or callable
+        Rotational scheme (see :func:`inertia.dynamics.transition.step`); default ``"rk4"``.
+    gravity : (3,) float, m/s^2, world frame, or None.
+    force_frame : {"world", "body"}
+        Frame of the force.
+    backend : {"auto", "numpy", "numba"}
+        See the module docstring.
+    save_every : int >= 1 or None
+        Save the state at steps 0, save_every, 2 save_every, ..., n_steps (``n_steps`` must be
+        a multiple).  None saves only the final state.
+
+    Returns
+    -------
+    (S, ..., 13) float with S = n_steps // save_every + 1 saved states (the first is x0
+    renormalised), or (..., 13) when ``save_every`` is None.  The batch shape is the broadcast
+    of those of x0, u (without its time axis) and body.
+
+    Raises
+    ------
+    InputError
+        Bad shapes or values, or ``backend="numba"`` with a method that is not compiled.
+    MissingDependencyError
+        ``backend="numba"`` without numba installed.
+
+    Examples
+    --------
+    >>> from inertia.dynamics.transition import pack_state
+    >>> body = RigidBody(1.0, np.diag([0.0042, 0.0142, 0.0167]))
+    >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 10.0, 0.01])
+    >>> rollout(x0, None, 1e-3, 100, body=body, backend="numpy").shape
+    (101, 13)
+    >>> rollout(np.broadcast_to(x0, (5, 13)), np.zeros((100, 6)), 1e-3, body=body,
+    ...         backend="numpy", save_every=None).shape
+    (5, 13)
+    """
+    body = _tr._check_body(body)
+    if n_steps is None:
+        if u is None:
+            raise InputError("give n_steps when u is None (zero input held for n_steps steps)")
+        u = _tr._as_array(u, "u", (INPUT_SIZE,))
+        if u.ndim < 2:
+            raise InputError(f"u must be a time-major sequence (n_steps, ..., 6) when n_steps is None, "
+                             f"got shape {u.shape}; pass n_steps to hold one input")
+        n = u.shape[0]
+        u_batch = u.shape[1:-1]
+        held = False
+    else:
+        n = _as_count(n_steps, "n_steps", 0)
+        u = np.zeros(INPUT_SIZE) if u is None else _tr._as_array(u, "u", (INPUT_SIZE,))
+        u_batch = u.shape[:-1]
+        held = True
+    if save_every is None:
+        every = 0
+    else:
+        every = _as_count(save_every, "save_every", 1)
+        if n % every:
+            raise InputError(f"n_steps ({n}) must be a multiple of save_every ({every})")
+    x0 = _tr._as_array(x0, "x0", (STATE_SIZE,)).copy()
+    x0[..., _tr.Q_WORLD_BODY] = _tr._as_unit_quat(x0[..., _tr.Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
+    hf = _tr._as_step(h)
+    force_frame = _tr._check_force_frame(force_frame)
+    body_force = force_frame == "body"
+    g = None if gravity is None else _tr._as_array(gravity, "gravity", (3,))
+    if g is not None and g.shape != (3,):
+        raise InputError(f"gravity must have shape (3,), got {g.shape}")
+    try:
+        batch = np.broadcast_shapes(x0.shape[:-1], u_batch, body.batch_shape)
+    except ValueError:
+        raise InputError(f"batch shapes do not broadcast: x0 {x0.shape}, u {u.shape} "
+                         f"({'held' if held else 'time-major'}), body {body.batch_shape}") from None
+    which = _choose_backend(backend, method)
+    rot_step = _tr.resolve_method(method)
+
+    # everything in the principal frame, once
+    x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
+    x_P, _ = _tr._state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
+    u_P = _inputs_to_principal(body, u, body_force)  # (..., 6) held, or (n, ..., 6)
+
+    if which == "numba":
+        # the kernels convert the saved states back to the body frame as they store them
+        out = _rollout_numba(x_P, u_P, held, n, hf, body, g, every, method, body_force, batch)
+    else:
+        out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
+        out = _tr._state_from_principal(body, out)
+    return out[0] if every == 0 else out
+
+
+def _inputs_to_principal(body, u, body_force):
+    """Torque (and a body-frame force) in the principal frame; u is (..., 6) or (n, ..., 6)."""
+    if body.principal_is_body:
+        return u
+    R = body.R_body_principal
+    to_P = lambda v: np.einsum("...ji,...j->...i", R, v)  # noqa: E731
+    tau_P = to_P(u[..., _tr.TORQUE_BODY])
+    F = to_P(u[..., _tr.FORCE]) if body_force else u[..., _tr.FORCE]
+    shape = np.broadcast_shapes(F.shape[:-1], tau_P.shape[:-1])
+    return np.concatenate([np.broadcast_to(F, shape + (3,)), np.broadcast_to(tau_P, shape + (3,))], axis=-1)
+
+
+def _rollout_numpy(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, batch):
+    """Reference path: a Python loop over :func:`transition._step_principal`."""
+    S = 1 if every == 0 else n // every + 1
+    out = np.empty((S,) + batch + (STATE_SIZE,))
+    mass = body.mass[..., None]
+    x = x_P
+    if every:
+        out[0] = x
+    for k in range(n):
+        uk = u_P if held else u_P[k]
+        x = _tr._step_principal(x, uk, h, mass, body.moments, rot_step, g, body_force)
+        if every and (k + 1) % every == 0:
+            out[(k + 1) // every] = x
+    if every == 0:
+        out[0] = x
+    return out
+
+
+def _kernel_array(a) -> np.ndarray:
+    """float64, C-contiguous, aligned and writeable: one numba type per rank, so one compilation."""
+    return np.require(a, dtype=np.float64, requirements=["C", "A", "W"])
+
+
+def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, batch):
+    """Compiled path: flatten the batch, call the kernel, restore the batch shape."""
+    from . import _rollout_numba as _k
+
+    N = int(np.prod(batch, dtype=np.int64))
+    x_flat = _kernel_array(np.broadcast_to(x_P, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
+    # inputs: (T, Nu, 6) with T in {1, n} and Nu in {1, N}
+    u_b = u_P
+    u_batch = u_b.shape[:-1] if held else u_b.shape[1:-1]
+    shared = all(s == 1 for s in u_batch)
+    if held:
+        u_k = u_b.reshape(1, 1, INPUT_SIZE) if shared else \
+            np.broadcast_to(u_b, batch + (INPUT_SIZE,)).reshape(1, N, INPUT_SIZE)
+    else:
+        u_k = u_b.reshape(n, 1, INPUT_SIZE) if shared else \
+            np.broadcast_to(u_b, (n,) + batch + (INPUT_SIZE,)).reshape(n, N, INPUT_SIZE)
+    u_k = _kernel_array(u_k)
+    if u_k.shape[0] == 0:
+        u_k = np.zeros((1, 1, INPUT_SIZE))
+    # bodies: (Nb, 3) and (Nb,) with Nb in {1, N}
+    if body.batch_shape:
+        moments = _kernel_array(np.broadcast_to(body.moments, batch + (3,)).reshape(N, 3))
+        mass = _kernel_array(np.broadcast_to(body.mass, batch).reshape(N))
+    else:
+        moments = _kernel_array(body.moments.reshape(1, 3))
+        mass = _kernel_array(body.mass.reshape(1))
+    gravity = np.zeros(3) if g is None else _kernel_array(g)
+    # principal -> body frame of the saved states: [q_BP, R_BP row-major] per body, none if P = B
+    if body.principal_is_body:
+        frame = np.zeros((0, 13))
+    else:
+        fr = np.concatenate([body.q_body_principal, body.R_body_principal.reshape(body.R_body_principal.shape[:-2]
+                                                                                  + (9,))], axis=-1)
+        frame = _kernel_array(fr.reshape(1, 13) if not body.batch_shape else
+                              np.broadcast_to(fr, batch + (13,)).reshape(N, 13))
+    S = 1 if every == 0 else n // every + 1
+    out = np.empty((S, N, STATE_SIZE))
+    # a few bodies: the serial kernel (no thread-pool start-up); many: chunks in parallel
+    kernel = _k.rollout_kernel_serial if N < _PARALLEL_MIN_BODIES else _k.rollout_kernel
+    kernel(x_flat, u_k, moments, mass, frame, gravity, float(h), int(n), int(every),
+           int(_k.METHOD_IDS[method]), bool(body_force), out)
+    return out.reshape((S,) + batch + (STATE_SIZE,))

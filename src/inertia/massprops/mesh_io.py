@@ -1,0 +1,186 @@
+"""Reading triangle meshes from files (through the optional dependency trimesh).
+
+Supported: STL (ASCII and binary, including binary files whose 80-byte header begins with
+"solid"), OBJ, PLY, OFF, GLB/GLTF (every mesh of the scene, with its node transform).
+
+Files are read with ``process=False`` (trimesh changes nothing), then vertices closer than
+:data:`MERGE_RTOL` times the size of the mesh are merged, so that files which repeat a
+vertex per face (STL) or per texture/normal seam (OBJ), or repeat it with float noise such
+as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates are then scaled to metres.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, MeshFileError, MissingDependencyError
+
+__all__ = ["load_mesh", "mesh_file_properties", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
+
+#: Length units accepted by ``units=``: metres per unit.
+UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+
+#: File extensions read by :func:`load_mesh` -> trimesh file type.
+SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "off",
+                        ".glb": "glb", ".gltf": "gltf"}
+
+#: Vertices closer than MERGE_RTOL * (bounding-box diagonal) are merged on loading (or
+#: closer than 64 ulps of the largest coordinate, when that is larger).  Far below the resolution of float32 files (6e-8 relative), far above double
+#: rounding noise (1e-16 relative): on the shared test meshes distinct vertices are >= 2e-7
+#: apart relative to the diagonal and split copies <= 1e-16.
+MERGE_RTOL = 1e-10
+
+
+def _import_trimesh():
+    """Import trimesh, or raise MissingDependencyError saying how to install it."""
+    try:
+        import trimesh
+    except ImportError:
+        raise MissingDependencyError(
+            'reading mesh files needs the optional dependency trimesh: pip install "inertia[mesh]"') from None
+    return trimesh
+
+
+def _unit_factor(units) -> float:
+    try:
+        return UNITS[units]
+    except (KeyError, TypeError):
+        raise InputError(f"unknown length unit {units!r}; valid units: {', '.join(UNITS)}") from None
+
+
+def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
+    """Merge vertices within ``rtol`` of the mesh size; drop unreferenced ones.
+
+    Exactly equal vertices are welded first (a sort); the rest is found with a k-d tree
+    (pairs within the tolerance, joined transitively).  Each group takes the coordinates
+    of its lowest-index member.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    from .mesh_checks import weld_vertices
+
+    v, f = weld_vertices(vertices, faces)
+    if len(v) < 2 or rtol <= 0 or not np.isfinite(v).all():
+        return v, f
+    # within rtol of the mesh size, or within 64 ulps of the largest coordinate (rounding noise
+    # of coordinates computed far from the origin)
+    diag = float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))
+    tol = max(rtol * diag, 64 * np.finfo(np.float64).eps * float(np.abs(v).max()))
+    if tol <= 0:
+        return v, f
+    pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0:
+        return v, f
+    n = len(v)
+    g = coo_matrix((np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    # representative = lowest index of each group
+    rep_of_label = np.full(label.max() + 1, n, dtype=np.int64)
+    np.minimum.at(rep_of_label, label, np.arange(n))
+    fm = rep_of_label[label][f]
+    used, inv = np.unique(fm.ravel(), return_inverse=True)
+    return v[used], inv.reshape(-1, 3).astype(np.int64)
+
+
+def _scene_triangles(trimesh, loaded, path: Path):
+    """(vertices, faces) of a Trimesh, or of every Trimesh of a Scene with node transforms applied."""
+    if isinstance(loaded, trimesh.Trimesh):
+        return np.asarray(loaded.vertices, dtype=np.float64), np.asarray(loaded.faces, dtype=np.int64)
+    if not isinstance(loaded, trimesh.Scene):
+        raise MeshFileError(f"{path}: holds no triangle mesh (trimesh read a {type(loaded).__name__})")
+    vs, fs, offset = [], [], 0
+    for node in loaded.graph.nodes_geometry:
+        T_scene_node, geom_name = loaded.graph[node]
+        geom = loaded.geometry.get(geom_name)
+        if not isinstance(geom, trimesh.Trimesh) or len(geom.faces) == 0:
+            continue  # paths, point clouds: no triangles
+        v = np.asarray(geom.vertices, dtype=np.float64)
+        f = np.asarray(geom.faces, dtype=np.int64)
+        T = np.asarray(T_scene_node, dtype=np.float64)
+        v = v @ T[:3, :3].T + T[:3, 3]
+        if np.linalg.det(T[:3, :3]) < 0:
+            f = f[:, [0, 2, 1]]  # a mirroring transform turns the winding inside out: undo it
+        vs.append(v)
+        fs.append(f + offset)
+        offset += len(v)
+    if not fs:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    return np.concatenate(vs), np.concatenate(fs)
+
+
+def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    """Read a triangle mesh file into arrays, in metres.
+
+    Parameters
+    ----------
+    path : str or os.PathLike, a .stl, .obj, .ply, .off, .glb or .gltf file.
+    units : str, the length unit of the file's coordinates: one of ``UNITS``
+        ("m", "cm", "mm", "um", "in", "ft").
+    merge_rtol : float, vertices closer than ``merge_rtol`` x the mesh size are merged
+        (0: merge exactly equal vertices only).
+
+    Returns
+    -------
+    vertices : (V, 3) float64, m, unreferenced vertices dropped.
+    faces : (F, 3) int64, vertex indices with the file's winding.
+
+    Raises
+    ------
+    MeshFileError
+        Missing file, unknown extension, unreadable or malformed content, no triangles.
+    InputError
+        Unknown ``units``.
+    MissingDependencyError
+        trimesh is not installed (``pip install "inertia[mesh]"``).
+    """
+    factor = _unit_factor(units)
+    p = Path(path)
+    ext = p.suffix.lower()
+    if ext not in SUPPORTED_EXTENSIONS:
+        raise MeshFileError(f"{p}: unsupported mesh file extension {ext!r}; supported: "
+                            f"{', '.join(SUPPORTED_EXTENSIONS)}")
+    if not p.exists():
+        raise MeshFileError(f"{p}: mesh file not found")
+    if not p.is_file():
+        raise MeshFileError(f"{p}: not a file")
+    trimesh = _import_trimesh()
+    try:
+        loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
+        vertices, faces = _scene_triangles(trimesh, loaded, p)
+    except MeshFileError:
+        raise
+    except Exception as exc:  # trimesh raises many types on malformed files
+        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    if len(faces) == 0 or len(vertices) == 0:
+        raise MeshFileError(f"{p}: mesh file holds no triangles")
+    if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
+        raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1}")
+    vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
+    return vertices * factor, faces
+
+
+def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
+                         fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
+                         merge_rtol: float = MERGE_RTOL):
+    """Mass properties of the triangle mesh in a file (see :func:`load_mesh` and
+    :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
+
+    ``density`` is kg/m^3 (kg/m^2 with ``shell=True``) whatever ``units`` the file uses:
+    coordinates are converted to metres first.  MeshError messages and recorded warnings
+    name the file.
+
+    Returns
+    -------
+    MassProperties in frame ``frame`` (the file's coordinate frame), SI units.
+    """
+    from .mesh import _mesh_properties
+
+    vertices, faces = load_mesh(path, units=units, merge_rtol=merge_rtol)
+    # stacklevel 3: warnings point at the caller of mesh_file_properties
+    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
+                            name=str(path), stacklevel=3)

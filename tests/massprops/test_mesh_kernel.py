@@ -1,0 +1,351 @@
+"""Tests of the exact mesh integrals (inertia.massprops.mesh_kernel), each against independent truth:
+closed forms, exact rational arithmetic on the very same float vertices (fractions.Fraction),
+trimesh near the origin, symmetries of the integrals, and the other backend.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import inertia.massprops
+from inertia.errors import InputError, MissingDependencyError
+from inertia.massprops import mesh_kernel as mk
+
+try:
+    import numba  # noqa: F401
+    HAVE_NUMBA = True
+except ImportError:
+    HAVE_NUMBA = False
+
+MESH_DIR = Path("/work/shared/data/meshes")
+BACKENDS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed"))]
+
+# unit cube [0, 1]^3, faces counter-clockwise seen from outside
+CUBE_V = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+CUBE_F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                   [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+FAR = 1e7 * np.ones(3) / np.sqrt(3.0)
+
+
+# ---------------------------------------------------------------------- helpers
+def props(vertices, faces, *, shell=False, backend="auto", density=1.0):
+    """(measure, com, inertia about the COM) through the public kernel functions."""
+    integrals = (mk.shell_integrals if shell else mk.solid_integrals)(vertices, faces, backend=backend)
+    com, inertia = mk.central_inertia(*integrals, density)
+    return integrals[0], com, inertia
+
+
+def rel_err(a, b):
+    """Largest entry of |a - b| relative to the largest entry of |b|."""
+    return float(np.abs(np.asarray(a) - b).max() / np.abs(b).max())
+
+
+def box(lo, hi):
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    return lo + CUBE_V * (hi - lo), CUBE_F.copy()
+
+
+def union(*parts):
+    """Several closed meshes as one (the integrals add)."""
+    vs, fs, n = [], [], 0
+    for v, f in parts:
+        vs.append(v)
+        fs.append(f + n)
+        n += len(v)
+    return np.vstack(vs), np.vstack(fs)
+
+
+def exact_solid(vertices, faces):
+    """Volume, COM and central inertia (unit density) computed in exact rational arithmetic
+    from the float vertices as given (Tonon's tetrahedron formulas about the origin), then rounded."""
+    V = [[Fraction(x) for x in row] for row in np.asarray(vertices, float).tolist()]
+    vol, F = Fraction(0), [Fraction(0)] * 3
+    S = [[Fraction(0)] * 3 for _ in range(3)]
+    for i, j, k in np.asarray(faces).tolist():
+        a, b, c = V[i], V[j], V[k]
+        det = (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2])
+               + a[2] * (b[0] * c[1] - b[1] * c[0]))
+        s = [a[m] + b[m] + c[m] for m in range(3)]
+        vol += det
+        for m in range(3):
+            F[m] += det * s[m]
+            for n in range(m, 3):
+                S[m][n] += det * (a[m] * a[n] + b[m] * b[n] + c[m] * c[n] + s[m] * s[n])
+    vol /= 6
+    com = [x / 24 / vol for x in F]
+    C = [[S[min(m, n)][max(m, n)] / 120 - vol * com[m] * com[n] for n in range(3)] for m in range(3)]
+    tr = C[0][0] + C[1][1] + C[2][2]
+    inertia = [[(tr if m == n else 0) - C[m][n] for n in range(3)] for m in range(3)]
+    return float(vol), np.array([float(x) for x in com]), np.array([[float(x) for x in r] for r in inertia])
+
+
+def random_hull(seed, n_points=40):
+    """A random closed convex mesh (outward winding), anisotropic so its principal moments differ."""
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(seed)
+    pts = rng.normal(size=(n_points, 3)) * np.array([2.0, 1.0, 0.5]) + rng.normal(size=3)
+    hull = ConvexHull(pts)
+    faces = hull.simplices.copy()                        # int32, winding not consistent
+    a, b, c = (pts[faces[:, k]] for k in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
+    faces[inward] = faces[inward][:, ::-1]
+    return pts, faces
+
+
+def rotation(q):
+    w, x, y, z = np.asarray(q, float) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+@functools.lru_cache(maxsize=None)
+def data_mesh(name):
+    trimesh = pytest.importorskip("trimesh")
+    path = MESH_DIR / name
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+    m = trimesh.load(path, process=True, force="mesh")
+    if name == "spot.obj":
+        m.merge_vertices(merge_tex=True, merge_norm=True)
+    assert m.is_watertight and m.is_winding_consistent
+    return np.array(m.vertices), np.array(m.faces)
+
+
+# ---------------------------------------------------------------------- closed forms
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_unit_cube_solid_is_exact(backend):
+    volume, com, inertia = props(CUBE_V, CUBE_F, backend=backend)
+    assert volume == pytest.approx(1.0, rel=1e-15, abs=0)
+    np.testing.assert_allclose(com, [0.5, 0.5, 0.5], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(inertia, np.eye(3) / 6, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_unit_cube_shell_is_exact(backend):
+    # hollow cube, unit surface density: area 6, I = 5/18 m a^2 = 5/3
+    area, com, inertia = props(CUBE_V, CUBE_F, shell=True, backend=backend)
+    assert area == pytest.approx(6.0, rel=1e-15, abs=0)
+    np.testing.assert_allclose(com, [0.5, 0.5, 0.5], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(inertia, np.eye(3) * 5 / 3, rtol=0, atol=5 / 3 * 1e-15)
+
+
+# ---------------------------------------------------------------------- far from the origin
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
+def test_cube_far_from_origin_keeps_its_central_tensor(backend, shell):
+    measure, com, inertia = props(CUBE_V + FAR, CUBE_F, shell=shell, backend=backend)
+    expected = np.eye(3) * (5 / 3 if shell else 1 / 6)
+    assert rel_err(inertia, expected) <= 1e-12
+    assert measure == pytest.approx(6.0 if shell else 1.0, rel=1e-12)
+    np.testing.assert_allclose(com, FAR + 0.5, rtol=1e-15)
+
+
+def test_trimesh_loses_the_far_cube_contrast():
+    """trimesh expands about the origin: the same cube comes out with garbage, negative moments."""
+    trimesh = pytest.importorskip("trimesh")
+    v = CUBE_V + FAR
+    theirs = trimesh.triangles.mass_properties(v[CUBE_F]).inertia
+    err_theirs = rel_err(theirs, np.eye(3) / 6)
+    if err_theirs < 1e-6:
+        pytest.skip(f"trimesh {trimesh.__version__} is now accurate here ({err_theirs:.1e}); no contrast left")
+    assert err_theirs > 1e3 and np.linalg.eigvalsh(theirs).min() < 0
+    assert rel_err(props(v, CUBE_F)[2], np.eye(3) / 6) <= 1e-12
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_rotated_cube_far_away_matches_exact_rationals(backend, seed):
+    rng = np.random.default_rng(seed)
+    R = rotation(rng.normal(size=4))
+    v = (CUBE_V - 0.5) @ R.T * rng.uniform(0.5, 2.0) + FAR * rng.uniform(0.3, 3.0, size=3)
+    vol, com, inertia = exact_solid(v, CUBE_F)
+    got = props(v, CUBE_F, backend=backend)
+    assert got[0] == pytest.approx(vol, rel=1e-13)
+    np.testing.assert_allclose(got[1], com, rtol=1e-15)
+    assert rel_err(got[2], inertia) <= 1e-12
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_lopsided_body_gets_a_second_pass_about_the_com(backend, monkeypatch):
+    # a unit cube with a needle 1e3 long and 1e-6 thick: the box center lies far out on
+    # the needle (kappa ~ 1e6), so one pass about it loses ~8 digits
+    v, f = union(box([0, 0, 0], [1, 1, 1]), box([1, 0.5 - 5e-7, 0.5 - 5e-7], [1001, 0.5 + 5e-7, 0.5 + 5e-7]))
+    vol, com, inertia = exact_solid(v, f)
+    two_pass = props(v, f, backend=backend)
+    assert rel_err(two_pass[2], inertia) <= 1e-14
+    np.testing.assert_allclose(two_pass[1], com, rtol=0, atol=1e-15)
+    monkeypatch.setattr(mk, "REFINE_KAPPA", np.inf)
+    one_pass = props(v, f, backend=backend)
+    assert rel_err(one_pass[2], inertia) > 1e-12     # the second pass is what makes the difference
+
+
+# ---------------------------------------------------------------------- other backend, trimesh
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
+def test_numba_and_numpy_backends_agree(seed, shell):
+    v, f = random_hull(seed)
+    v = v + np.random.default_rng(seed).uniform(-1e3, 1e3, size=3) * (seed % 2)
+    fn = mk.shell_integrals if shell else mk.solid_integrals
+    a = fn(v, f, backend="numpy")
+    b = fn(v, f, backend="numba")
+    np.testing.assert_array_equal(a[3], b[3])           # same expansion point
+    size = np.ptp(v, axis=0).max()
+    assert b[0] == pytest.approx(a[0], rel=1e-13)
+    np.testing.assert_allclose(b[1], a[1], rtol=0, atol=1e-13 * a[0] * size)   # first ~ measure * size
+    assert rel_err(b[2], a[2]) <= 1e-13
+    assert fn(v, f)[0] == b[0]                               # "auto" is numba when it imports
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("name", ["icosphere1", "icosphere3", "icosphere4", "wingnut.obj", "ballA.off",
+                                  "featuretype.stl", "spot.obj"])
+def test_agrees_with_trimesh_near_the_origin(backend, name):
+    trimesh = pytest.importorskip("trimesh")
+    if name.startswith("icosphere"):
+        m = trimesh.creation.icosphere(subdivisions=int(name[-1]))
+        v, f = np.array(m.vertices), np.array(m.faces)
+    else:
+        v, f = data_mesh(name)
+    theirs = trimesh.triangles.mass_properties(v[f])
+    volume, com, inertia = props(v, f, backend=backend)
+    size = np.ptp(v, axis=0).max()
+    assert volume == pytest.approx(theirs.volume, rel=1e-10)
+    np.testing.assert_allclose(com, theirs.center_mass, rtol=0, atol=1e-10 * size)
+    assert rel_err(inertia, theirs.inertia) <= 1e-10
+
+
+# ---------------------------------------------------------------------- symmetries
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
+def test_invariant_under_face_order_and_vertex_rotation(backend, shell):
+    v, f = data_mesh("wingnut.obj")
+    rng = np.random.default_rng(7)
+    base = props(v, f, shell=shell, backend=backend)
+    shuffled = props(v, f[rng.permutation(len(f))], shell=shell, backend=backend)
+    rolled = props(v, np.roll(f, rng.integers(1, 3), axis=1), shell=shell, backend=backend)   # (a,b,c) -> (c,a,b)
+    for other in (shuffled, rolled):
+        assert other[0] == pytest.approx(base[0], rel=1e-13)
+        np.testing.assert_allclose(other[1], base[1], rtol=0, atol=1e-13 * np.ptp(v, axis=0).max())
+        assert rel_err(other[2], base[2]) <= 1e-13
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_inward_winding_negates_the_solid_integrals(backend):
+    v, f = random_hull(3)
+    out = mk.solid_integrals(v, f, backend=backend)
+    inv = mk.solid_integrals(v, f[:, ::-1], backend=backend)
+    assert out[0] > 0 and inv[0] == pytest.approx(-out[0], rel=1e-14)
+    assert rel_err(-inv[2], out[2]) <= 1e-14
+    assert rel_err(mk.shell_integrals(v, f[:, ::-1], backend=backend)[2],
+                   mk.shell_integrals(v, f, backend=backend)[2]) <= 1e-14
+
+
+HULL_V, HULL_F = random_hull(11)
+_HULL = props(HULL_V, HULL_F)
+_HULL_SIZE = float(np.linalg.norm(np.ptp(HULL_V, axis=0)))
+
+
+@settings(max_examples=40, deadline=None)
+@given(q=st.lists(st.floats(-1, 1), min_size=4, max_size=4).filter(lambda q: np.linalg.norm(q) > 0.1),
+       t=st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3),
+       shell=st.booleans())
+def test_rigid_motion_rotates_the_tensor_and_moves_the_com(q, t, shell):
+    R, t = rotation(q), np.array(t)
+    base = props(HULL_V, HULL_F, shell=shell) if shell else _HULL
+    moved = props(HULL_V @ R.T + t, HULL_F, shell=shell)
+    # the moved vertices are rounded at u |t|: that, not the kernel, sets the tolerance
+    tol = 5e-14 * (1 + np.abs(t).max() / _HULL_SIZE)
+    assert moved[0] == pytest.approx(base[0], rel=tol)
+    np.testing.assert_allclose(moved[1], R @ base[1] + t, rtol=0, atol=tol * _HULL_SIZE)
+    assert rel_err(moved[2], R @ base[2] @ R.T) <= tol
+
+
+# ---------------------------------------------------------------------- reference point
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_integrals_move_exactly_to_a_given_reference(backend):
+    v, f = random_hull(5)
+    vol, first, second, p = mk.solid_integrals(v, f, backend=backend)
+    r = np.array([0.3, -2.0, 1.5])
+    vol_r, first_r, second_r, r_out = mk.solid_integrals(v, f, reference=r, backend=backend)
+    np.testing.assert_array_equal(r_out, r)
+    ex_vol, ex_com, ex_inertia = exact_solid(v, f)
+    assert vol_r == vol
+    np.testing.assert_allclose(first_r / vol_r + r, ex_com, rtol=0, atol=1e-14)
+    com, inertia = mk.central_inertia(vol_r, first_r, second_r, r_out, 1.0)
+    assert rel_err(inertia, ex_inertia) <= 1e-13
+
+
+def test_reference_point_is_the_box_center():
+    v = np.array([[0.0, -1.0, 2.0], [4.0, 3.0, 2.5], [1.0, 0.0, 3.0]])
+    np.testing.assert_array_equal(mk.reference_point(v), [2.0, 1.0, 2.5])
+    assert mk.solid_integrals(v, np.zeros((0, 3), int))[3].tolist() == [2.0, 1.0, 2.5]
+
+
+# ---------------------------------------------------------------------- bad input, backends
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("bad", [8, -1])
+def test_vertex_index_out_of_range_is_refused(backend, bad):
+    f = CUBE_F.copy()
+    f[5, 1] = bad
+    with pytest.raises(InputError, match=rf"^face 5 = \[0, {bad}, 1\] holds a vertex index outside \[0, 8\)$"):
+        mk.solid_integrals(CUBE_V, f, backend=backend)
+    with pytest.raises(InputError, match=r"^face 5 = "):
+        mk.shell_integrals(CUBE_V, f, backend=backend)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_non_finite_vertex_is_refused(backend):
+    v = CUBE_V.copy()
+    v[6, 2] = np.nan
+    with pytest.raises(InputError, match=r"^mesh integrals are not finite: vertex 6 = \[1.0, 1.0, nan\] is not finite$"):
+        mk.solid_integrals(v, CUBE_F, backend=backend)
+
+
+def test_bad_shapes_and_names_are_refused():
+    with pytest.raises(InputError, match=r"^vertices must have shape \(V, 3\), got \(8, 2\)$"):
+        mk.solid_integrals(CUBE_V[:, :2], CUBE_F)
+    with pytest.raises(InputError, match=r"^faces must have shape \(F, 3\), got \(12, 4\)$"):
+        mk.solid_integrals(CUBE_V, np.hstack([CUBE_F, CUBE_F[:, :1]]))
+    with pytest.raises(InputError, match=r"^faces must hold integer vertex indices, got dtype float64$"):
+        mk.solid_integrals(CUBE_V, CUBE_F.astype(float))
+    with pytest.raises(InputError, match=r"^vertices is empty"):
+        mk.solid_integrals(np.zeros((0, 3)), np.zeros((0, 3), int))
+    with pytest.raises(InputError, match=r"^reference must be a finite \(3,\) point, got "):
+        mk.solid_integrals(CUBE_V, CUBE_F, reference=[0.0, 1.0])
+    with pytest.raises(InputError, match=r"^backend must be one of \('auto', 'numpy', 'numba'\), got 'cuda'$"):
+        mk.solid_integrals(CUBE_V, CUBE_F, backend="cuda")
+    with pytest.raises(InputError, match=r"^cannot locate the center of mass: the measure \(volume or area\) is 0.0$"):
+        mk.central_inertia(0.0, np.zeros(3), np.zeros((3, 3)), np.zeros(3), 1.0)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_other_integer_dtypes_and_empty_faces(backend):
+    ref = mk.solid_integrals(CUBE_V, CUBE_F, backend=backend)
+    for dtype in (np.int32, np.uint16, np.int64):
+        got = mk.solid_integrals(CUBE_V, CUBE_F.astype(dtype), backend=backend)
+        assert got[0] == ref[0] and np.array_equal(got[2], ref[2])
+    empty = mk.solid_integrals(CUBE_V, np.zeros((0, 3), np.int64), backend=backend)
+    assert empty[0] == 0.0 and not empty[1].any() and not empty[2].any()
+
+
+def test_missing_numba_falls_back_or_raises(monkeypatch):
+    monkeypatch.setitem(sys.modules, "numba", None)              # `import numba` now fails
+    monkeypatch.delitem(sys.modules, "inertia.massprops._mesh_kernel_numba", raising=False)
+    monkeypatch.delattr(inertia.massprops, "_mesh_kernel_numba", raising=False)
+    monkeypatch.setattr(mk, "_numba_state", None)
+    with pytest.raises(MissingDependencyError, match=r"^backend='numba' needs numba, which cannot be imported"):
+        mk.solid_integrals(CUBE_V, CUBE_F, backend="numba")
+    auto = mk.solid_integrals(CUBE_V + FAR, CUBE_F)
+    ref = mk.solid_integrals(CUBE_V + FAR, CUBE_F, backend="numpy")
+    assert auto[0] == ref[0] and np.array_equal(auto[2], ref[2])
