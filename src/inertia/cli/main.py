@@ -11,7 +11,13 @@ import importlib
 import sys
 
 # sub-command modules, in the order --help lists them
-COMMANDS = ("props", "particles", "demo", "simulate", "flip")
+COMMANDS = (
+    "props",
+    "particles",
+    "demo",
+    "simulate",
+    "flip",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
