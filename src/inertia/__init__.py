@@ -69,8 +69,13 @@ _EXPORTS = {
 
 __all__ = sorted(_EXPORTS) + ["__version__"]
 
+# capability sub-packages, reachable as attributes (``inertia.dynamics``) without an import
+_SUBPACKAGES = ("errors", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
+
 
 def __getattr__(name: str):
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"{__name__}.{name}")
     mod = _EXPORTS.get(name)
     if mod is None:
         raise AttributeError(f"module 'inertia' has no attribute {name!r}")

@@ -22,7 +22,8 @@ def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch
     if ok and not allow_batch and arr.ndim != k:
         ok = False
     if not ok:
-        want = "(" + ", ".join(["..."] * allow_batch + [str(s) for s in shape_tail]) + ")"
+        dims = ["..."] * allow_batch + [str(s) for s in shape_tail]
+        want = "(" + ", ".join(dims) + ("," if len(dims) == 1 else "") + ")"
         raise InputError(f"{name} must have shape {want}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         bad = np.argwhere(~np.isfinite(arr))[0]
