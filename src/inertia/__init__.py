@@ -24,6 +24,9 @@ _EXPORTS = {
     "MeshError": "inertia.errors",
     "MeshFileError": "inertia.errors",
     "MissingDependencyError": "inertia.errors",
+    "IntegrationError": "inertia.errors",
+    "InertiaWarning": "inertia.errors",
+    "MeshDefectWarning": "inertia.errors",
     # value type and core functions
     "MassProperties": "inertia.massprops.properties",
     "CanonicalForm": "inertia.massprops.properties",

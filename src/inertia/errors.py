@@ -54,3 +54,15 @@ class MeshFileError(InertiaError, OSError):
 
 class MissingDependencyError(InertiaError, ImportError):
     """An optional dependency needed for this feature is not installed."""
+
+
+class IntegrationError(InertiaError, ArithmeticError):
+    """The numerical solution stopped being finite (the method diverged at this step size)."""
+
+
+class InertiaWarning(UserWarning):
+    """Base class of the warnings the package issues on purpose."""
+
+
+class MeshDefectWarning(InertiaWarning):
+    """A mesh defect accepted on request (``on_defect="warn"``)."""

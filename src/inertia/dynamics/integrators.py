@@ -42,7 +42,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InertiaError, InputError
+from ..errors import InputError, IntegrationError  # noqa: F401 (re-exported)
 from .equations import (_as_moments, _as_time_step, _as_unit_quat, _as_vec3, _cross,
                         _qmul_pure_right)
 from .quaternion import quat_from_rotvec
@@ -63,9 +63,6 @@ __all__ = [
     "IntegrationError",
 ]
 
-
-class IntegrationError(InertiaError, ArithmeticError):
-    """The numerical solution stopped being finite (the method diverged at this step size)."""
 
 
 #: Newton iterations allowed to the implicit methods (dmv, dmv4, midpoint) per step.  At

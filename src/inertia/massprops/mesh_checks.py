@@ -34,15 +34,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, MeshDefectWarning  # noqa: F401 (re-exported)
 from .tolerances import DEGENERATE_AREA_RTOL
 
 __all__ = ["Defect", "MeshReport", "MeshDefectWarning", "check_mesh", "validate_inputs", "weld_vertices",
            "orient_faces", "SEVERITY"]
 
-
-class MeshDefectWarning(UserWarning):
-    """A mesh defect accepted on request (``on_defect="warn"``)."""
 
 
 #: Severity of each code for a closed solid: "error" makes the solid integrals wrong
