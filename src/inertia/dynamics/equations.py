@@ -169,10 +169,15 @@ def _solve3(A, b):
     """
     if A.ndim == 2 and b.ndim == 1:
         return np.linalg.solve(A, b)
-    a00, a01, a02 = A[..., 0, 0], A[..., 0, 1], A[..., 0, 2]
-    a10, a11, a12 = A[..., 1, 0], A[..., 1, 1], A[..., 1, 2]
-    a20, a21, a22 = A[..., 2, 0], A[..., 2, 1], A[..., 2, 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    rows = tuple(tuple(A[..., i, j] for j in range(3)) for i in range(3))
+    return np.stack(solve3_components(rows, (b[..., 0], b[..., 1], b[..., 2])), axis=-1)
+
+
+def solve3_components(a, b):
+    """Solve 3x3 systems ``a x = b`` by the adjugate, with ``a`` given as rows of component
+    arrays ``((a00, a01, a02), ...)`` and ``b`` as ``(b0, b1, b2)``; returns ``(x0, x1, x2)``."""
+    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = a
+    b0, b1, b2 = b
     c00 = a11 * a22 - a12 * a21
     c01 = a12 * a20 - a10 * a22
     c02 = a10 * a21 - a11 * a20
@@ -183,9 +188,9 @@ def _solve3(A, b):
     c21 = a02 * a10 - a00 * a12
     c22 = a00 * a11 - a01 * a10
     inv_det = 1.0 / (a00 * c00 + a01 * c01 + a02 * c02)
-    return np.stack([(c00 * b0 + c10 * b1 + c20 * b2) * inv_det,
-                     (c01 * b0 + c11 * b1 + c21 * b2) * inv_det,
-                     (c02 * b0 + c12 * b1 + c22 * b2) * inv_det], axis=-1)
+    return ((c00 * b0 + c10 * b1 + c20 * b2) * inv_det,
+            (c01 * b0 + c11 * b1 + c21 * b2) * inv_det,
+            (c02 * b0 + c12 * b1 + c22 * b2) * inv_det)
 
 
 # ---------------------------------------------------------------------------- body frame

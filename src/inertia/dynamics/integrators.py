@@ -45,6 +45,7 @@ import numpy as np
 from ..errors import InputError, IntegrationError  # noqa: F401 (re-exported)
 from .equations import (_as_moments, _as_time_step, _as_unit_quat, _as_vec3, _cross,
                         _qmul_pure_right)
+from .equations import solve3_components as _solve3c
 from .quaternion import quat_from_rotvec
 
 __all__ = [
@@ -98,25 +99,6 @@ def _exp_step(q, omega, h):
     return _normalize(_qmul(q, quat_from_rotvec(h * omega)))
 
 
-def _solve3(a, b):
-    """Solve the 3x3 systems ``a x = b`` by the adjugate; a is rows of component arrays."""
-    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = a
-    b0, b1, b2 = b
-    c00 = a11 * a22 - a12 * a21
-    c01 = a12 * a20 - a10 * a22
-    c02 = a10 * a21 - a11 * a20
-    c10 = a02 * a21 - a01 * a22
-    c11 = a00 * a22 - a02 * a20
-    c12 = a01 * a20 - a00 * a21
-    c20 = a01 * a12 - a02 * a11
-    c21 = a02 * a10 - a00 * a12
-    c22 = a00 * a11 - a01 * a10
-    inv_det = 1.0 / (a00 * c00 + a01 * c01 + a02 * c02)
-    return ((c00 * b0 + c10 * b1 + c20 * b2) * inv_det,
-            (c01 * b0 + c11 * b1 + c21 * b2) * inv_det,
-            (c02 * b0 + c12 * b1 + c22 * b2) * inv_det)
-
-
 def _solve_quadratic(chat, f, with_alpha: bool, what: str, h: float):
     """Newton solve of ``c = beta(c) chat + f * (c_k c_l)`` (j, k, l cyclic), componentwise.
 
@@ -143,7 +125,7 @@ def _solve_quadratic(chat, f, with_alpha: bool, what: str, h: float):
             J = ((one, -f0 * c2, -f0 * c1),
                  (-f1 * c2, one, -f1 * c0),
                  (-f2 * c1, -f2 * c0, one))
-        e0, e1, e2 = _solve3(J, r)
+        e0, e1, e2 = _solve3c(J, r)
         c0, c1, c2 = c0 - e0, c1 - e1, c2 - e2
         size = np.maximum(np.maximum(np.abs(c0), np.abs(c1)), np.abs(c2))
         corr = np.maximum(np.maximum(np.abs(e0), np.abs(e1)), np.abs(e2))
@@ -195,7 +177,7 @@ def _k_euler_implicit(q, m, I, h, tau):
     A = ((I0, -g0 * w2, -g0 * w1),
          (-g1 * w2, I1, -g1 * w0),
          (-g2 * w1, -g2 * w0, I2))
-    wn = w + np.stack(_solve3(A, _split3(h * f)), axis=-1)
+    wn = w + np.stack(_solve3c(A, _split3(h * f)), axis=-1)
     return _exp_step(q, wn, h), I * wn
 
 
