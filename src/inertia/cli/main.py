@@ -17,6 +17,7 @@ COMMANDS = (
     "demo",
     "simulate",
     "flip",
+    "lagrangian",
 )
 
 

@@ -132,8 +132,11 @@ def singular_function(sequence: str) -> tuple[str, int]:
 def kinematic_matrix_inverse(sequence: str, q):
     """``E(q)^-1`` in closed form: the adjugate of E over the closed-form :func:`det_kinematic`.
 
-    No ``simplify``: the adjugate entries are short products of sines and cosines, and the
-    determinant is replaced by its known one-term form.
+    Nothing on the equations of motion is simplified: only the nine adjugate entries (each
+    at most a few products of sines and cosines) go through ``trigsimp``, which folds the
+    ``sin^2 + cos^2`` that the cofactors leave, and the determinant is replaced by its known
+    one-term form.
     """
-    E = kinematic_matrix(sequence, q)
-    return E.adjugate() / det_kinematic(sequence, q)
+    sp = require_sympy()
+    adj = kinematic_matrix(sequence, q).adjugate().applyfunc(sp.trigsimp)
+    return adj / det_kinematic(sequence, q)
