@@ -316,3 +316,18 @@ def test_scene_meshes_are_concatenated_with_transforms(tmp_path, fmt):
 def test_lazy_exports():
     assert inertia.load_mesh is load_mesh
     assert inertia.mesh_file_properties is mesh_file_properties
+
+
+def test_truncated_binary_stl_is_named(tmp_path, shared_data):
+    """A binary STL cut short must not read as fewer triangles (or none): its size is 84 + 50 N."""
+    src = shared_data / "meshes" / "featuretype.stl"
+    if not src.exists():
+        pytest.skip(f"shared test mesh not found: {src}")
+    data = src.read_bytes()
+    cut = tmp_path / "cut.stl"
+    cut.write_bytes(data[:-50])  # one triangle short
+    with pytest.raises(MeshFileError, match=r"header announces 3476 triangles \(173884 bytes\) but the file has 173834"):
+        load_mesh(cut)
+    # the intact file and the binary file whose header starts with "solid" still read
+    assert len(load_mesh(src)[1]) == 3476
+    assert len(load_mesh(shared_data / "meshes" / "idler_riser_binary_solid_header.stl")[1]) == 1572

@@ -18,6 +18,7 @@ COMMANDS = (
     "simulate",
     "flip",
     "lagrangian",
+    "batch",
 )
 
 

@@ -91,8 +91,12 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
 
 
 def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
-                     stacklevel):
-    """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller)."""
+                     stacklevel, with_report: bool = False):
+    """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
+
+    ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
+    (after any orientation fix), so batch callers need not analyse the mesh twice.
+    """
     from .properties import MassProperties
 
     what = f"mesh {name}" if name else "mesh"
@@ -140,7 +144,8 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
             raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report)
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
         com, inertia = central_inertia(area, first, second, r, rho)
-        return MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
+        props = MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
+        return (props, report) if with_report else props
     volume, first, second, r = solid_integrals(vc, fc)
     if not volume > 0:
         # refused even with on_defect="warn": a non-positive volume has no mass distribution
@@ -150,7 +155,8 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
                         f"(faces wound inward, or a flat or open surface){hint}.", report=report)
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, first, second, r, rho)
-    return MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
+    props = MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
+    return (props, report) if with_report else props
 
 
 def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fix_orientation=False,

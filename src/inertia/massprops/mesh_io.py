@@ -112,6 +112,33 @@ def _scene_triangles(trimesh, loaded, path: Path):
     return np.concatenate(vs), np.concatenate(fs)
 
 
+def _check_stl_size(p: Path) -> None:
+    """Refuse a truncated (or padded) binary STL by name instead of reading garbage or nothing.
+
+    A binary STL is an 80-byte header, a uint32 triangle count N and 50 bytes per triangle,
+    so its size is exactly 84 + 50 N.  A file of another size must be ASCII (``solid`` ...
+    ``facet``); the header alone cannot tell, since binary headers may also start with "solid".
+    """
+    size = p.stat().st_size
+    if size == 0:
+        raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)")
+    with open(p, "rb") as fh:
+        head = fh.read(1024)
+    if size >= 84:
+        n = int.from_bytes(head[80:84], "little")
+        if 84 + 50 * n == size:
+            return
+    text = head.lstrip().lower()
+    if text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024):
+        return
+    if size >= 84:
+        n = int.from_bytes(head[80:84], "little")
+        raise MeshFileError(f"{p}: malformed binary STL: its header announces {n} triangles "
+                            f"({84 + 50 * n} bytes) but the file has {size} bytes (truncated or corrupt), "
+                            "and it is not ASCII STL either")
+    raise MeshFileError(f"{p}: malformed STL: {size} bytes is too short for binary STL and it is not ASCII STL")
+
+
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
@@ -147,6 +174,8 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
         raise MeshFileError(f"{p}: mesh file not found")
     if not p.is_file():
         raise MeshFileError(f"{p}: not a file")
+    if ext == ".stl":
+        _check_stl_size(p)
     trimesh = _import_trimesh()
     try:
         loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)

@@ -1,0 +1,118 @@
+"""Tables of batch rows: pandas frames, part files, and the final Parquet / CSV / JSON Lines file.
+
+Every file is written atomically (temporary file in the same folder, then ``os.replace``),
+so an interrupted run leaves only whole part files behind.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+from ..errors import InputError
+from .record import COLUMNS
+
+FORMATS = ("parquet", "csv", "jsonl")
+_LIST_COLUMNS = ("warnings", "com", "inertia_com", "principal_moments", "principal_axes")
+
+
+def format_of(path, fmt: str | None = None) -> str:
+    """The output format: ``fmt`` if given, else from the file extension (default parquet)."""
+    if fmt is not None:
+        if fmt not in FORMATS:
+            raise InputError(f"unknown format {fmt!r}; use one of {', '.join(FORMATS)}")
+        return fmt
+    ext = Path(path).suffix.lower().lstrip(".")
+    return {"parquet": "parquet", "pq": "parquet", "csv": "csv", "jsonl": "jsonl", "ndjson": "jsonl"}.get(ext, "parquet")
+
+
+def to_frame(rows):
+    """A pandas DataFrame with the columns of :data:`COLUMNS`, in order."""
+    import pandas as pd
+
+    frame = pd.DataFrame(list(rows), columns=list(COLUMNS))
+    for col in ("size_bytes", "mtime_ns", "n_vertices", "n_faces"):
+        frame[col] = frame[col].astype("Int64")
+    for col in ("density", "mass", "volume", "elapsed_s"):
+        frame[col] = frame[col].astype("float64")
+    for col in ("watertight", "winding_consistent"):
+        frame[col] = frame[col].astype("boolean")
+    return frame
+
+
+def _atomic_target(path):
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=folder)
+    os.close(fd)
+    return path, tmp
+
+
+def write_frame(frame, path, fmt: str) -> None:
+    """Write ``frame`` to ``path`` in ``fmt`` atomically."""
+    path, tmp = _atomic_target(path)
+    try:
+        if fmt == "parquet":
+            frame.to_parquet(tmp, index=False)
+        elif fmt == "csv":
+            out = frame.copy()
+            for col in _LIST_COLUMNS:
+                out[col] = [json.dumps(v) if v is not None and not _isna(v) else "" for v in out[col]]
+            out.to_csv(tmp, index=False)
+        elif fmt == "jsonl":
+            with open(tmp, "w", encoding="utf-8") as fh:
+                for rec in frame.to_dict("records"):
+                    fh.write(json.dumps({k: _plain(v) for k, v in rec.items()}) + "\n")
+        else:
+            raise InputError(f"unknown format {fmt!r}")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _isna(v) -> bool:
+    try:
+        import pandas as pd
+
+        return bool(pd.isna(v)) if not isinstance(v, (list, tuple)) else False
+    except (TypeError, ValueError):
+        return False
+
+
+def _plain(v):
+    import numpy as np
+
+    if isinstance(v, np.ndarray):
+        return [_plain(x) for x in v.tolist()]
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.generic):
+        return v.item()
+    if v is None or _isna(v):
+        return None
+    return v
+
+
+def read_frame(path, fmt: str | None = None):
+    """Read a table written by :func:`write_frame` back into the same shape."""
+    import pandas as pd
+
+    fmt = format_of(path, fmt)
+    if fmt == "parquet":
+        frame = pd.read_parquet(path)
+        for col in _LIST_COLUMNS:
+            frame[col] = [None if v is None else list(v) for v in frame[col]]
+        return frame
+    if fmt == "csv":
+        frame = pd.read_csv(path, dtype={"reason": str, "message": str}, keep_default_na=False,
+                            na_values={c: [""] for c in COLUMNS if c not in ("reason", "message", "path")})
+        for col in _LIST_COLUMNS:
+            frame[col] = [json.loads(v) if isinstance(v, str) and v else None for v in frame[col]]
+        return to_frame(frame.to_dict("records"))
+    with open(path, encoding="utf-8") as fh:
+        return to_frame([json.loads(line) for line in fh if line.strip()])

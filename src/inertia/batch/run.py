@@ -1,0 +1,305 @@
+"""Run a batch on Dask: chunked tasks, part files as chunks complete, resume, Ctrl-C safety.
+
+Execution
+---------
+* ``scheduler=None`` (default): an embedded ``distributed.LocalCluster`` on this machine,
+  one single-threaded worker process per core, loopback only, no dashboard.  Nothing to
+  start by hand.
+* ``scheduler="tcp://HOST:PORT"``: an existing ``distributed`` scheduler.  Every worker
+  needs ``inertia`` installed and must see the files under the same paths.
+* ``scheduler="synchronous"``: in this process, no Dask (debugging, tiny runs).
+
+Files are grouped into chunks (:func:`make_chunks`) so that scheduler overhead stays small
+next to the work on tiny meshes, while a large file forms a chunk of its own.  Each file is
+read exactly once, on the worker that processes it.
+
+Nothing is lost
+---------------
+Each finished chunk becomes one part file, ``OUTPUT.parts/part-NNNNNN.parquet``, written
+atomically.  The final table is assembled from the parts at the end, written atomically,
+and then the parts are removed.  After an interruption (Ctrl-C, a killed process, a lost
+cluster) the parts on disk are whole, and ``resume=True`` skips every file already done,
+keyed by path, size and modification time.  A file that changed since is done again.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import sys
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from .output import format_of, read_frame, to_frame, write_frame
+from .record import process_chunk
+from .sources import Job, collect_jobs
+
+PART_PREFIX = "part-"
+
+#: a chunk closes when it reaches this many bytes of input (a large mesh is a chunk alone)
+CHUNK_BYTES = 32 * 2**20
+
+
+@dataclass
+class BatchSummary:
+    """What a run did. ``errors_by_reason`` maps each error code to its count."""
+
+    total: int = 0
+    skipped: int = 0
+    processed: int = 0
+    ok: int = 0
+    warnings: int = 0
+    errors: int = 0
+    errors_by_reason: dict = field(default_factory=dict)
+    elapsed_s: float = 0.0
+    output: str = ""
+
+    @property
+    def files_per_second(self) -> float:
+        return self.processed / self.elapsed_s if self.elapsed_s > 0 else float("nan")
+
+    def lines(self) -> list[str]:
+        out = [f"{self.processed} files processed in {self.elapsed_s:.1f} s ({self.files_per_second:.1f} files/s)"
+               + (f", {self.skipped} already done (resumed)" if self.skipped else ""),
+               f"ok {self.ok}, warnings {self.warnings}, errors {self.errors}"]
+        for reason, n in sorted(self.errors_by_reason.items(), key=lambda kv: (-kv[1], kv[0])):
+            out.append(f"  {reason}: {n}")
+        if self.output:
+            out.append(f"results: {self.output}")
+        return out
+
+
+class Progress:
+    """A one-line progress bar on stderr: files done, files/s, ETA.  Quiet when disabled."""
+
+    def __init__(self, total: int, *, enabled: bool = True, stream=None):
+        self.total, self.done = total, 0
+        self.stream = stream or sys.stderr
+        self.enabled = enabled and total > 0
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.t0 = self._last = time.perf_counter()
+
+    def update(self, n: int) -> None:
+        self.done += n
+        now = time.perf_counter()
+        if not self.enabled or (now - self._last < (0.2 if self.tty else 5.0) and self.done < self.total):
+            return
+        self._last = now
+        rate = self.done / max(now - self.t0, 1e-9)
+        eta = (self.total - self.done) / rate if rate > 0 else float("inf")
+        width = 30
+        filled = int(width * self.done / self.total)
+        line = (f"[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} files  "
+                f"{rate:.1f} files/s  ETA {eta:.0f} s")
+        self.stream.write(("\r" + line) if self.tty else (line + "\n"))
+        if self.tty and self.done >= self.total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[list[Job]]:
+    """Group jobs into chunks of at most ``chunk_files`` files and about :data:`CHUNK_BYTES`.
+
+    The default ``chunk_files`` gives each worker about eight chunks (so the load balances
+    and progress moves) with 1 to 64 files per chunk.
+    """
+    jobs = list(jobs)
+    if chunk_files is None:
+        chunk_files = max(1, min(64, math.ceil(len(jobs) / max(1, 8 * n_workers))))
+    chunks, current, size = [], [], 0
+    for job in jobs:
+        try:
+            nbytes = os.path.getsize(job.path)
+        except OSError:
+            nbytes = 0
+        if current and (len(current) >= chunk_files or size + nbytes > CHUNK_BYTES):
+            chunks.append(current)
+            current, size = [], 0
+        current.append(job)
+        size += nbytes
+    if current:
+        chunks.append(current)
+    return chunks
+
+
+def _key(row) -> tuple:
+    return (row["path"], row["size_bytes"], row["mtime_ns"])
+
+
+def _job_key(job: Job) -> tuple:
+    try:
+        st = os.stat(job.path)
+        return (job.path, int(st.st_size), int(st.st_mtime_ns))
+    except OSError:
+        return (job.path, None, None)
+
+
+def _part_files(parts_dir: Path) -> list[Path]:
+    return sorted(parts_dir.glob(f"{PART_PREFIX}*.parquet")) if parts_dir.is_dir() else []
+
+
+def _previous_rows(output: Path, fmt: str, parts_dir: Path) -> list[dict]:
+    """Rows from an earlier run: the final table (if any), then the parts (newer)."""
+    rows: list[dict] = []
+    if output.exists():
+        rows += read_frame(output, fmt).to_dict("records")
+    for part in _part_files(parts_dir):
+        rows += read_frame(part, "parquet").to_dict("records")
+    return rows
+
+
+class _Executor:
+    """Maps :func:`process_chunk` over chunks on the chosen scheduler; yields results as they finish."""
+
+    def __init__(self, scheduler, n_workers: int):
+        self.scheduler = scheduler
+        self.n_workers = n_workers
+        self.client = self.cluster = None
+
+    def __enter__(self):
+        if self.scheduler == "synchronous":
+            return self
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:
+            from ..errors import MissingDependencyError
+
+            raise MissingDependencyError("batch runs need Dask: pip install 'inertia[batch]' "
+                                         "(or use scheduler='synchronous')") from None
+        if self.scheduler in (None, "local"):
+            self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
+                                        host="127.0.0.1", dashboard_address=None)
+            self.client = Client(self.cluster)
+        elif isinstance(self.scheduler, str) and "://" in self.scheduler:
+            try:
+                self.client = Client(self.scheduler, timeout="20s")
+            except OSError as exc:
+                raise InputError(f"cannot reach the Dask scheduler at {self.scheduler}: {exc}") from None
+        elif hasattr(self.scheduler, "submit"):  # an existing distributed.Client
+            self.client = self.scheduler
+        else:
+            raise InputError(f"unknown scheduler {self.scheduler!r}: use none (local cluster), "
+                             "'synchronous' or a 'tcp://HOST:PORT' address")
+        return self
+
+    def map(self, chunks, options):
+        if self.client is None:
+            for i, chunk in enumerate(chunks):
+                yield i, process_chunk(chunk, options)
+            return
+        from distributed import as_completed
+
+        futures = [self.client.submit(process_chunk, chunk, options, pure=False, key=f"inertia-chunk-{i}-{id(self)}")
+                   for i, chunk in enumerate(chunks)]
+        index = {f.key: i for i, f in enumerate(futures)}
+        self._futures = futures
+        for fut in as_completed(futures):
+            yield index[fut.key], fut.result()
+
+    def __exit__(self, *exc):
+        futures = getattr(self, "_futures", None)
+        if futures and self.client is not None:
+            try:
+                self.client.cancel(futures)
+            except Exception:  # noqa: BLE001 - shutting down anyway
+                pass
+        if self.cluster is not None:  # we own client and cluster
+            self.client.close()
+            self.cluster.close()
+        return False
+
+
+def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None, chunk_files=None,
+            on_rows=None, progress: Progress | None = None) -> list[dict]:
+    """Process ``jobs`` and return their rows in job order (``on_rows(i, rows)`` per finished chunk)."""
+    n_workers = n_workers or os.cpu_count() or 1
+    chunks = make_chunks(jobs, n_workers, chunk_files)
+    if not chunks:  # nothing to do: do not start a cluster
+        return []
+    results: dict[int, list] = {}
+    with _Executor(scheduler, n_workers) as ex:
+        for i, rows in ex.map(chunks, options):
+            results[i] = rows
+            if on_rows is not None:
+                on_rows(i, rows)
+            if progress is not None:
+                progress.update(len(rows))
+    return [row for i in sorted(results) for row in results[i]]
+
+
+def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=None, units: str = "m",
+              shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise", scheduler=None,
+              n_workers: int | None = None, chunk_files: int | None = None, resume: bool = False,
+              overwrite: bool = False, progress: bool = True, on_part=None) -> BatchSummary:
+    """Mass properties of every mesh in ``sources``, written to ``output`` (see the module docstring).
+
+    ``on_part(part_path, rows)`` is called after each part file is written (progress hooks).
+    Returns a :class:`BatchSummary`; the table itself is in ``output``.
+    """
+    t0 = time.perf_counter()
+    output = Path(output)
+    fmt = format_of(output, fmt)
+    if on_defect not in ("raise", "warn"):
+        raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
+    jobs = sources if sources and all(isinstance(j, Job) for j in sources) else \
+        collect_jobs(sources, density=density, mass=mass, units=units)
+    parts_dir = output.with_name(output.name + ".parts")
+    if not resume:
+        if output.exists() and not overwrite:
+            raise InputError(f"{output} exists: pass resume=True (--resume) to continue it or "
+                             "overwrite=True (--force) to start again")
+        if parts_dir.exists():
+            _remove_parts_dir(parts_dir)
+    previous = _previous_rows(output, fmt, parts_dir) if resume else []
+    done = {_key(r) for r in previous}
+    todo = [j for j in jobs if _job_key(j) not in done]
+    parts_dir.mkdir(parents=True, exist_ok=True)
+    first_part = len(_part_files(parts_dir))
+    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
+    bar = Progress(len(todo), enabled=progress)
+    written = [first_part]
+
+    def write_part(_, rows):
+        path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
+        written[0] += 1
+        write_frame(to_frame(rows), path, "parquet")
+        if on_part is not None:
+            on_part(path, rows)
+
+    try:
+        new_rows = execute(todo, options=options, scheduler=scheduler, n_workers=n_workers,
+                           chunk_files=chunk_files, on_rows=write_part, progress=bar)
+    except KeyboardInterrupt:
+        n_done = sum(len(read_frame(p, "parquet")) for p in _part_files(parts_dir))
+        sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
+                         f"run again with --resume to finish\n")
+        raise
+
+    # assemble: latest row per path, in the order of the jobs (older rows for other paths kept)
+    latest: dict[str, dict] = {}
+    for row in previous + new_rows:
+        latest[row["path"]] = row
+    order = [j.path for j in jobs] + [p for p in latest if p not in {j.path for j in jobs}]
+    final = [latest[p] for p in dict.fromkeys(order) if p in latest]
+    write_frame(to_frame(final), output, fmt)
+    _remove_parts_dir(parts_dir)
+
+    counts = Counter(r["status"] for r in new_rows)
+    reasons = Counter(r["reason"] for r in new_rows if r["status"] == "error")
+    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(new_rows),
+                        ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
+                        errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output))
+
+
+def _remove_parts_dir(parts_dir: Path) -> None:
+    """Remove a parts folder, refusing if it holds anything but our part files."""
+    strangers = [p for p in parts_dir.iterdir()
+                 if not (p.name.startswith(PART_PREFIX) or p.name.startswith(f".{PART_PREFIX}"))]
+    if strangers:
+        raise InputError(f"{parts_dir} holds files this tool did not write ({strangers[0].name}); "
+                         "move them away or choose another output")
+    shutil.rmtree(parts_dir)

@@ -1,0 +1,145 @@
+"""Turn the SOURCES of a batch (files, folders, globs, manifests) into a list of jobs.
+
+A job is one mesh file with its own options: density, mass and units.  Manifests (``.csv``,
+``.parquet``) have a ``path`` column and optional ``density``, ``mass`` and ``units``
+columns, and relative paths are read relative to the manifest's folder.  Folders are
+searched recursively for the mesh extensions that :func:`inertia.load_mesh` reads.
+"""
+
+from __future__ import annotations
+
+import glob
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import InputError
+from ..massprops.mesh_io import SUPPORTED_EXTENSIONS, UNITS
+
+MANIFEST_EXTENSIONS = (".csv", ".parquet")
+
+
+@dataclass(frozen=True)
+class Job:
+    """One file to process. ``density`` [kg/m^3] or ``mass`` [kg] (not both); ``units`` of the file."""
+
+    path: str
+    density: float | None = None
+    mass: float | None = None
+    units: str = "m"
+
+
+def _is_glob(text: str) -> bool:
+    return any(ch in text for ch in "*?[")
+
+
+def _mesh_files_under(folder: Path) -> list[str]:
+    out = []
+    for root, dirs, files in os.walk(folder):
+        dirs.sort()
+        for name in sorted(files):
+            if os.path.splitext(name)[1].lower() in SUPPORTED_EXTENSIONS:
+                out.append(os.path.join(root, name))
+    return out
+
+
+def _optional_float(value, column: str, where: str):
+    if value is None:
+        return None
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        if str(value).strip() == "":
+            return None
+        raise InputError(f"{where}: column {column!r} must be a number, got {value!r}") from None
+    if math.isnan(x):
+        return None
+    if not (math.isfinite(x) and x > 0):
+        raise InputError(f"{where}: column {column!r} must be finite and positive, got {value!r}")
+    return x
+
+
+def read_manifest(path, *, default: Job) -> list[Job]:
+    """Jobs listed in a CSV or Parquet manifest (see the module docstring)."""
+    import pandas as pd
+
+    path = Path(path)
+    try:
+        table = pd.read_parquet(path) if path.suffix.lower() == ".parquet" else pd.read_csv(path, dtype=object)
+    except Exception as exc:  # pandas/pyarrow raise many types on malformed files
+        raise InputError(f"{path}: cannot read manifest ({type(exc).__name__}: {exc})") from None
+    if "path" not in table.columns:
+        raise InputError(f"{path}: manifest needs a 'path' column (has: {', '.join(map(str, table.columns))})")
+    jobs = []
+    base = path.parent
+    for i, row in enumerate(table.to_dict("records")):
+        where = f"{path}, row {i + 2 if path.suffix.lower() == '.csv' else i}"
+        p = row.get("path")
+        if p is None or (isinstance(p, float) and math.isnan(p)) or str(p).strip() == "":
+            raise InputError(f"{where}: empty path")
+        p = Path(str(p))
+        if not p.is_absolute():
+            p = base / p
+        density = _optional_float(row.get("density"), "density", where)
+        mass = _optional_float(row.get("mass"), "mass", where)
+        if density is not None and mass is not None:
+            raise InputError(f"{where}: give density or mass, not both")
+        units = row.get("units")
+        units = default.units if units is None or (isinstance(units, float) and math.isnan(units)) else str(units)
+        if units not in UNITS:
+            raise InputError(f"{where}: unknown units {units!r}; use one of {', '.join(UNITS)}")
+        if density is None and mass is None:
+            density, mass = default.density, default.mass
+        jobs.append(Job(str(p), density, mass, units))
+    return jobs
+
+
+def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[Job]:
+    """Jobs for every SOURCE, in order, without duplicates (first mention wins).
+
+    Each source is a file, a folder (recursive), a glob pattern or a manifest.  A source
+    that names nothing (missing path, glob without matches, empty folder) is an
+    :class:`InputError`: a typo should not pass as an empty dataset.  A named mesh file that
+    turns out unreadable is not an error here; it becomes an error row when processed.
+    """
+    if units not in UNITS:
+        raise InputError(f"unknown units {units!r}; use one of {', '.join(UNITS)}")
+    if density is not None and mass is not None:
+        raise InputError("give --density or --mass, not both")
+    default = Job("", density, mass, units)
+    if isinstance(sources, (str, os.PathLike)):
+        sources = [sources]
+    jobs: list[Job] = []
+    seen: set[str] = set()
+
+    def add(job: Job) -> None:
+        key = os.path.abspath(job.path)
+        if key not in seen:
+            seen.add(key)
+            jobs.append(Job(key, job.density, job.mass, job.units))
+
+    for src in sources:
+        text = os.fspath(src)
+        p = Path(text)
+        if p.is_dir():
+            found = _mesh_files_under(p)
+            if not found:
+                raise InputError(f"{text}: folder holds no mesh files ({', '.join(SUPPORTED_EXTENSIONS)})")
+            for f in found:
+                add(Job(f, density, mass, units))
+        elif p.is_file() and p.suffix.lower() in MANIFEST_EXTENSIONS:
+            for job in read_manifest(p, default=default):
+                add(job)
+        elif p.is_file():
+            add(Job(text, density, mass, units))
+        elif _is_glob(text):
+            matches = sorted(glob.glob(text, recursive=True))
+            files = [m for m in matches if os.path.isfile(m)]
+            if not files:
+                raise InputError(f"{text}: pattern matches no files")
+            for f in files:
+                add(Job(f, density, mass, units))
+        else:
+            raise InputError(f"{text}: no such file or folder")
+    return jobs

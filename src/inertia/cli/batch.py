@@ -1,0 +1,103 @@
+"""``inertia batch SOURCES... -o results.parquet``: mass properties of many mesh files on Dask.
+
+SOURCES are mesh files, folders (searched recursively by extension), glob patterns (quote
+them) or manifests (.csv/.parquet with a ``path`` column and optional ``density``, ``mass``,
+``units``).  One row per file; a file that fails becomes a row with its named reason and
+the run goes on.  Only the standard library is imported at module level.
+"""
+
+from __future__ import annotations
+
+EPILOG = """\
+examples:
+  inertia batch meshes/ -o results.parquet                 (local Dask cluster, all cores)
+  inertia batch 'parts/**/*.stl' --units mm --density 2700 -o parts.csv
+  inertia batch manifest.csv -o out.parquet --scheduler tcp://10.0.0.5:8786
+  inertia batch meshes/ -o results.parquet --resume        (after Ctrl-C: finish the rest)
+
+columns: path, size_bytes, mtime_ns, status (ok|warning|error), reason, message, warnings,
+units, density, mass, volume, com, inertia_com (9, row-major, negated products), principal_moments
+(ascending), principal_axes (9, row-major, columns are the axes), n_vertices, n_faces,
+watertight, winding_consistent, elapsed_s.  SI units.  Without --density/--mass (and no
+manifest value) the density of water, 1000 kg/m^3, is used and recorded in the density column.
+
+Finished chunks are saved atomically in OUTPUT.parts/ as the run goes; the output file is
+assembled at the end.  --resume skips files already done (same path, size and mtime).
+
+exit status: 0 the run completed (file errors are rows, counted in the summary), 1 bad input or
+the run could not start, 130 interrupted (resumable)."""
+
+
+def register(sub) -> None:
+    import argparse
+    import textwrap
+
+    from ._source import LENGTH_UNITS
+
+    p = sub.add_parser(
+        "batch", help="mass properties of many mesh files (local Dask cluster or a remote one)",
+        description=textwrap.fill(
+            "Mass properties of every mesh in folders, globs, files or manifests, in parallel on Dask, "
+            "one row per file, saved as it goes and resumable."),
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("sources", nargs="+", metavar="SOURCE", help="mesh file, folder, glob or manifest (.csv/.parquet)")
+    p.add_argument("-o", "--output", required=True, metavar="FILE", help="results table (.parquet, .csv or .jsonl)")
+    p.add_argument("--format", choices=("parquet", "csv", "jsonl"), help="output format (default: from -o's extension)")
+    m = p.add_mutually_exclusive_group()
+    m.add_argument("--density", type=float, metavar="RHO", help="kg/m^3 (kg/m^2 with --shell) for every file")
+    m.add_argument("--mass", type=float, metavar="KG", help="total mass of each body, kg")
+    p.add_argument("--units", choices=tuple(LENGTH_UNITS), default="m", help="length unit of the files (default m)")
+    p.add_argument("--shell", action="store_true", help="thin shells (surface density)")
+    p.add_argument("--fix-orientation", action="store_true", help="repair inward or inconsistent winding")
+    p.add_argument("--accept-defects", action="store_true",
+                   help="accept defective meshes with warnings instead of error rows")
+    p.add_argument("--scheduler", metavar="ADDR",
+                   help="tcp://HOST:PORT of a Dask scheduler, or 'synchronous' (default: a local cluster)")
+    p.add_argument("--dask-config", metavar="FILE", help="YAML Dask config (its scheduler-address is used)")
+    p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: all cores)")
+    p.add_argument("--chunk-files", type=int, metavar="N", help="files per task (default: automatic)")
+    p.add_argument("--resume", action="store_true", help="continue an earlier run into the same output")
+    p.add_argument("--force", action="store_true", help="overwrite an existing output and start again")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import sys
+
+    from inertia.batch.run import run_batch
+    from inertia.errors import InputError
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be at least 1, got {args.workers}")
+    if args.chunk_files is not None and args.chunk_files < 1:
+        raise InputError(f"--chunk-files must be at least 1, got {args.chunk_files}")
+    for name in ("density", "mass"):
+        v = getattr(args, name)
+        if v is not None and not (v > 0 and v != float("inf")):
+            raise InputError(f"--{name} must be finite and positive, got {v}")
+    scheduler = args.scheduler
+    if args.dask_config:
+        scheduler = scheduler or _scheduler_from_config(args.dask_config)
+    summary = run_batch(args.sources, args.output, fmt=args.format, density=args.density, mass=args.mass,
+                        units=args.units, shell=args.shell, fix_orientation=args.fix_orientation,
+                        on_defect="warn" if args.accept_defects else "raise", scheduler=scheduler,
+                        n_workers=args.workers, chunk_files=args.chunk_files, resume=args.resume,
+                        overwrite=args.force, progress=not args.no_progress)
+    sys.stderr.write("\n".join(summary.lines()) + "\n")
+    return 0
+
+
+def _scheduler_from_config(path):
+    import dask
+    import yaml
+
+    from inertia.errors import InputError
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            cfg = yaml.safe_load(fh) or {}
+    except (OSError, yaml.YAMLError) as exc:
+        raise InputError(f"--dask-config {path}: cannot read ({exc})") from None
+    dask.config.update(dask.config.config, cfg, priority="new")
+    return dask.config.get("scheduler-address", None) or dask.config.get("scheduler_address", None)

@@ -1,0 +1,220 @@
+"""Batch runs over a folder of real and broken meshes, on a real 2-worker Dask LocalCluster.
+
+Truth: every row equals what the single-file API (inertia.mesh_file_properties) gives for
+that file, bit for bit, and every broken file has its named reason; an interrupted run,
+resumed, ends with the same table as an uninterrupted one.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pd = pytest.importorskip("pandas")
+pytest.importorskip("pyarrow")
+distributed = pytest.importorskip("distributed")
+
+import inertia  # noqa: E402
+from inertia.batch import collect_jobs, mass_properties_dask, mass_properties_table, read_frame, run_batch  # noqa: E402
+from inertia.errors import InertiaError, InputError  # noqa: E402
+
+GOOD = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "tray_bottom_ascii.stl"]
+BAD_SHARED = {"teapot_open.stl": "open_edges", "soup.stl": "open_edges", "cycloidal.ply": "non_manifold_edges"}
+BROKEN = {"empty.obj": "empty", "garbage.ply": "unreadable", "truncated.stl": "malformed",
+          "nan_vertex.obj": "non_finite", "inward_cube.obj": "inverted"}
+
+
+def _cube_obj(path, *, inward=False, nan=False):
+    v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    f = [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6),
+         (3, 4, 8), (3, 8, 7), (4, 1, 5), (4, 5, 8)]
+    lines = [f"v {'nan' if nan and i == 6 else x} {y} {z}" for i, (x, y, z) in enumerate(v)]
+    lines += [f"f {a} {c} {b}" if inward else f"f {a} {b} {c}" for a, b, c in f]
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "meshes"
+    if not root.is_dir():
+        pytest.skip(f"shared meshes not found at {root}")
+    d = tmp_path_factory.mktemp("dataset")
+    (d / "sub").mkdir()
+    for name in GOOD:
+        shutil.copy(root / name, d / name)
+    for name in BAD_SHARED:
+        shutil.copy(root / name, d / "sub" / name)
+    (d / "empty.obj").write_text("")
+    (d / "garbage.ply").write_bytes(bytes(range(7, 250)) * 3)  # fixed bytes, not PLY
+    data = (root / "featuretype.stl").read_bytes()
+    (d / "truncated.stl").write_bytes(data[: len(data) // 2 + 7])
+    _cube_obj(d / "sub" / "nan_vertex.obj", nan=True)
+    _cube_obj(d / "sub" / "inward_cube.obj", inward=True)
+    (d / "notes.txt").write_text("not a mesh")  # ignored: not a mesh extension
+    return d
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                       dashboard_address=None)
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def _strip(frame):
+    return frame.drop(columns=["elapsed_s"]).reset_index(drop=True)
+
+
+@pytest.mark.slow
+def test_cluster_run_matches_single_file_api_and_names_every_error(dataset, client, tmp_path):
+    out = tmp_path / "results.parquet"
+    summary = run_batch([dataset], out, scheduler=client, progress=False)
+    table = read_frame(out)
+    names = {os.path.basename(p): row for p, row in zip(table["path"], table.to_dict("records"))}
+    assert set(names) == set(GOOD) | set(BAD_SHARED) | set(BROKEN)
+    assert len(table) == len(set(table["path"]))
+    for name in GOOD:
+        row = names[name]
+        props = inertia.mesh_file_properties(row["path"], density=1000.0)
+        moments, axes = props.principal()
+        assert row["status"] == "ok", row["message"]
+        assert row["mass"] == props.mass and row["volume"] == props.volume and row["density"] == 1000.0
+        assert np.array_equal(row["com"], props.com)
+        assert np.array_equal(np.reshape(row["inertia_com"], (3, 3)), props.inertia_com)
+        assert np.array_equal(row["principal_moments"], moments)
+        assert np.array_equal(np.reshape(row["principal_axes"], (3, 3)), axes)
+        assert row["watertight"] and row["winding_consistent"] and row["n_faces"] > 0
+        assert row["size_bytes"] == os.path.getsize(row["path"])
+    for name, reason in {**BAD_SHARED, **BROKEN}.items():
+        row = names[name]
+        assert row["status"] == "error" and row["reason"] == reason, (name, row["reason"], row["message"])
+        with pytest.raises(InertiaError) as exc:
+            inertia.mesh_file_properties(row["path"], density=1000.0)
+        assert str(exc.value) == row["message"]
+        assert row["mass"] is None or math.isnan(row["mass"])
+    assert summary.ok == len(GOOD) and summary.errors == len(BAD_SHARED) + len(BROKEN)
+    assert summary.errors_by_reason["open_edges"] == 2
+    assert not (tmp_path / "results.parquet.parts").exists()  # parts folded into the output
+
+
+def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path):
+    full = tmp_path / "full.parquet"
+    run_batch([dataset], full, scheduler="synchronous", chunk_files=2, progress=False)
+    out = tmp_path / "resumed.parquet"
+    parts_seen = []
+
+    def interrupt_after_two(path, rows):
+        parts_seen.append(path)
+        if len(parts_seen) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_batch([dataset], out, scheduler="synchronous", chunk_files=2, progress=False, on_part=interrupt_after_two)
+    assert not out.exists()
+    parts = sorted((tmp_path / "resumed.parquet.parts").glob("part-*.parquet"))
+    assert len(parts) == 2 and all(p.exists() for p in parts_seen)
+    summary = run_batch([dataset], out, scheduler="synchronous", chunk_files=2, progress=False, resume=True)
+    assert summary.skipped == 4 and summary.processed == summary.total - 4
+    a, b = _strip(read_frame(full)), _strip(read_frame(out))
+    assert b["path"].is_unique
+    pd.testing.assert_frame_equal(a, b)
+
+
+@pytest.mark.slow
+def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path):
+    out = tmp_path / "cli.parquet"
+    cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(dataset), "-o", str(out),
+           "--scheduler", "synchronous", "--chunk-files", "1", "--no-progress"]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    parts = tmp_path / "cli.parquet.parts"
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not list(parts.glob("part-*.parquet")):
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    if proc.returncode == 0:
+        pytest.skip("the run finished before the interrupt arrived")
+    assert proc.returncode == 130, err
+    assert "--resume" in err and not out.exists()
+    saved = len(pd.concat([read_frame(p) for p in parts.glob("part-*.parquet")]))
+    assert saved >= 1
+    subprocess.run(cmd + ["--resume"], check=True, capture_output=True)
+    done = read_frame(out)
+    assert done["path"].is_unique and len(done) == len(GOOD) + len(BAD_SHARED) + len(BROKEN)
+
+
+def test_manifest_options_per_file(dataset, tmp_path):
+    manifest = tmp_path / "list.csv"
+    rel = os.path.relpath(dataset / "wingnut.obj", tmp_path)
+    manifest.write_text(f"path,density,mass,units\n{rel},7850,,cm\n{dataset / 'ballA.off'},,2.5,mm\n"
+                        f"{dataset / 'featuretype.stl'},,,\n")
+    table = mass_properties_table([manifest], density=500.0)
+    wing, ball, feat = table.to_dict("records")
+    ref = inertia.mesh_file_properties(dataset / "wingnut.obj", units="cm", density=7850)
+    assert wing["mass"] == ref.mass and wing["units"] == "cm"
+    assert ball["mass"] == 2.5 and ball["units"] == "mm"
+    assert ball["volume"] == inertia.mesh_file_properties(dataset / "ballA.off", units="mm", mass=2.5).volume
+    assert feat["density"] == 500.0  # the command-line default fills empty cells
+
+
+def test_output_formats_round_trip(dataset, tmp_path):
+    jobs = collect_jobs([dataset / "wingnut.obj", dataset / "empty.obj"])
+    frames = {}
+    for ext in ("parquet", "csv", "jsonl"):
+        out = tmp_path / f"r.{ext}"
+        run_batch(jobs, out, scheduler="synchronous", progress=False)
+        frames[ext] = _strip(read_frame(out))
+    pd.testing.assert_frame_equal(frames["parquet"], frames["csv"], check_dtype=False)
+    pd.testing.assert_frame_equal(frames["parquet"], frames["jsonl"], check_dtype=False)
+
+
+def test_dask_dataframe_api_gives_the_same_rows(dataset):
+    import dask
+
+    jobs = collect_jobs([dataset / "wingnut.obj", dataset / "ballA.off", dataset / "empty.obj"])
+    eager = _strip(mass_properties_table(jobs))
+    with dask.config.set(scheduler="synchronous"):
+        lazy = _strip(mass_properties_dask(jobs, files_per_partition=2).compute())
+    pd.testing.assert_frame_equal(eager, lazy, check_dtype=False)
+
+
+def test_bad_sources_and_outputs_are_refused(dataset, tmp_path):
+    with pytest.raises(InputError, match="no such file or folder"):
+        collect_jobs([tmp_path / "missing"])
+    with pytest.raises(InputError, match="pattern matches no files"):
+        collect_jobs([str(tmp_path / "*.stl")])
+    (tmp_path / "m.csv").write_text("file\nx.stl\n")
+    with pytest.raises(InputError, match="needs a 'path' column"):
+        collect_jobs([tmp_path / "m.csv"])
+    out = tmp_path / "o.parquet"
+    out.write_text("precious")
+    with pytest.raises(InputError, match="exists: pass resume=True"):
+        run_batch([dataset / "wingnut.obj"], out, scheduler="synchronous", progress=False)
+    assert out.read_text() == "precious"
+
+
+def test_cli_summary_and_exit_status(dataset, tmp_path, capsys):
+    from inertia.cli.main import main
+
+    out = tmp_path / "cli.jsonl"
+    code = main(["batch", str(dataset / "wingnut.obj"), str(dataset / "sub"), "-o", str(out),
+                 "--scheduler", "synchronous", "--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 0
+    assert "ok 1, warnings 0, errors 5" in err and "open_edges: 2" in err
+    assert len(out.read_text().splitlines()) == 6
+    assert main(["batch", str(tmp_path / "nothing-here"), "-o", str(out), "--scheduler", "synchronous"]) == 1
+    assert "no such file or folder" in capsys.readouterr().err
