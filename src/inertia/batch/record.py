@@ -101,7 +101,8 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
             warnings.simplefilter("ignore")  # accepted defects are recorded in props.warnings
             props, report = _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                                              fix_orientation=fix_orientation, on_defect=on_defect,
-                                             frame="body", name=job.path, stacklevel=2, with_report=True)
+                                             frame="body", name=job.path, stacklevel=2, with_report=True,
+                                             welded=True)
         moments, axes = props.principal()
         measure = props.volume if props.volume is not None else float("nan")
         row.update(

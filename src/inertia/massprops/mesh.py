@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import InputError, MeshError
 from ._arrays import resolve_mass
-from .mesh_checks import MeshDefectWarning, _analyse, _orient, validate_inputs
+from .mesh_checks import MeshDefectWarning, _analyse, _orient, compact_vertices, validate_inputs
 from .mesh_kernel import central_inertia, shell_integrals, solid_integrals
 
 __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
@@ -91,11 +91,12 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
 
 
 def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
-                     stacklevel, with_report: bool = False):
+                     stacklevel, with_report: bool = False, welded: bool = False):
     """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
 
     ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
     (after any orientation fix), so batch callers need not analyse the mesh twice.
+    ``welded=True``: the vertices are known distinct (from :func:`load_mesh`); skips a sort.
     """
     from .properties import MassProperties
 
@@ -106,7 +107,7 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
     _check_mass_args(density, mass, what)
     v, f = validate_inputs(vertices, faces)
 
-    analysis = _analyse(v, f)
+    analysis = _analyse(v, f, welded=welded)
     report = analysis.report
     fatal = [d for d in report.defects if d.code in _FATAL]
     if fatal:
@@ -136,8 +137,7 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
 
     # integrate over the referenced vertices only (unreferenced ones would move the
     # kernel's reference point and cost precision)
-    used, inv = np.unique(f.ravel(), return_inverse=True)
-    vc, fc = v[used], inv.reshape(-1, 3)
+    vc, fc = compact_vertices(v, f)
     if shell:
         area, first, second, r = shell_integrals(vc, fc)
         if not area > 0:

@@ -239,8 +239,18 @@ def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
         return v[:0], f
     rep = _weld_map(v)
     fw = rep[f]
-    used, inv = np.unique(fw.ravel(), return_inverse=True)
-    return v[used], inv.reshape(-1, 3).astype(np.int64)
+    return compact_vertices(v, fw)
+
+
+def compact_vertices(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop unreferenced vertices and renumber the faces, keeping the vertices' order.
+
+    The same result as ``np.unique(faces, return_inverse=True)`` in O(V + F), without a sort.
+    """
+    used = np.zeros(len(vertices), dtype=bool)
+    used[faces.ravel()] = True
+    new_index = np.cumsum(used, dtype=np.int64) - 1
+    return vertices[used], new_index[faces]
 
 
 # ---------------------------------------------------------------------------------- formatting
@@ -325,8 +335,12 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
     return depth
 
 
-def _analyse(vertices: np.ndarray, faces: np.ndarray) -> _Analysis:
-    """Run every check on validated arrays; see :func:`check_mesh`."""
+def _analyse(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False) -> _Analysis:
+    """Run every check on validated arrays; see :func:`check_mesh`.
+
+    ``welded=True`` promises that no two vertices have equal coordinates (as
+    :func:`inertia.load_mesh` returns them), which skips the welding sort.
+    """
     V, F = len(vertices), len(faces)
     defects: list[Defect] = []
 
@@ -361,7 +375,7 @@ def _analyse(vertices: np.ndarray, faces: np.ndarray) -> _Analysis:
     fv = np.where(valid[:, None], faces, 0)  # safe indices; invalid rows are masked everywhere below
 
     # ---- weld exactly equal positions
-    rep = _weld_map(vertices)
+    rep = np.arange(V, dtype=np.int64) if welded else _weld_map(vertices)
     fw = rep[fv]
     n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
 

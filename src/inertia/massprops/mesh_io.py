@@ -61,7 +61,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    from .mesh_checks import weld_vertices
+    from .mesh_checks import compact_vertices, weld_vertices
 
     v, f = weld_vertices(vertices, faces)
     if len(v) < 2 or rtol <= 0 or not np.isfinite(v).all():
@@ -82,8 +82,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     rep_of_label = np.full(label.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep_of_label, label, np.arange(n))
     fm = rep_of_label[label][f]
-    used, inv = np.unique(fm.ravel(), return_inverse=True)
-    return v[used], inv.reshape(-1, 3).astype(np.int64)
+    return compact_vertices(v, fm)
 
 
 def _scene_triangles(trimesh, loaded, path: Path):
@@ -212,4 +211,4 @@ def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", she
     # stacklevel 3: warnings point at the caller of mesh_file_properties
     return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
-                            name=str(path), stacklevel=3)
+                            name=str(path), stacklevel=3, welded=merge_rtol > 0)
