@@ -1,0 +1,34 @@
+"""Robot description files: read, check, repair and write the inertials of URDF, MJCF and SDF.
+
+:func:`read_robot` picks the reader from the file (extension, then root element);
+:func:`check_model` lists each link's problems; :mod:`.fix` writes corrected copies;
+:mod:`.writers` prints ready-to-paste inertial blocks.  XML is parsed safely
+(:mod:`.xmlsafe`): no entities, no network.  Standard library + NumPy only.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+_EXPORTS = {
+    "read_robot": "io", "detect_format": "io", "read_urdf": "urdf_sdf", "read_sdf": "urdf_sdf",
+    "read_mjcf": "mjcf", "check_model": "check", "CheckReport": "check", "RobotFileError": "xmlsafe",
+    "RobotModel": "model", "Link": "model", "Inertial": "model", "Geometry": "model",
+    "link_geometry_properties": "geometry", "inertial_block": "writers", "fix_file": "fix",
+    "nearest_physical_inertia": "fix",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    mod = _EXPORTS.get(name)
+    if mod is None:
+        raise AttributeError(f"module 'inertia.robots' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{mod}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return __all__

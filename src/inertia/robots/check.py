@@ -1,0 +1,162 @@
+"""Check every link's declared inertial: errors that break simulators, warnings that smell.
+
+Errors (codes are stable; other tools rely on them):
+
+* ``non_positive_mass``: mass <= 0 (or not finite);
+* ``not_symmetric``: the tensor is not symmetric (only possible where a format stores all nine);
+* ``not_positive_definite``: a principal moment <= 0;
+* ``triangle_inequality``: I1 + I2 < I3 (the message gives the margin).
+
+Warnings:
+
+* ``com_outside_geometry``: the center of mass lies outside the bounding box of the link's
+  shapes (plus 5 % of its diagonal);
+* ``geometry_mismatch``: the tensor computed from the link's own geometry at the declared
+  mass disagrees with the declared one: a principal-moment ratio outside [1/3, 3], or
+  principal axes more than 45 degrees apart (visual shapes are used first: they describe the
+  body, while collision shapes are often simplified) (axes compared only where the moments are
+  distinct by more than 10 %);
+* ``mesh_not_found``, ``unsupported_geometry``, ``unsupported_pose``: the reader could not
+  use part of the file; the rest of the check goes on.
+
+Notes (``notes`` in the JSON): ``geometry_unusable`` when the shapes exist but cannot be
+integrated (an open or non-manifold mesh, an unsupported mesh format): the comparison with
+the geometry is skipped, which says nothing about the declared inertial.
+
+Links without an inertial are massless frames: neither an error nor a warning.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .geometry import geometry_bounds, link_geometry_properties
+
+MOMENT_RATIO_LIMIT = 3.0
+AXIS_ANGLE_LIMIT_DEG = 45.0
+COM_MARGIN = 0.05
+
+
+@dataclass
+class Finding:
+    code: str
+    message: str
+
+    def to_dict(self) -> dict:
+        return {"code": self.code, "message": self.message}
+
+
+@dataclass
+class LinkReport:
+    name: str
+    line: int | None
+    errors: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    notes: list = field(default_factory=list)  # what could not be checked, and why
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "line": self.line, "errors": [e.to_dict() for e in self.errors],
+                "warnings": [w.to_dict() for w in self.warnings], "notes": [n.to_dict() for n in self.notes]}
+
+
+@dataclass
+class CheckReport:
+    file: str
+    links: list
+
+    @property
+    def n_errors(self) -> int:
+        return sum(len(lk.errors) for lk in self.links)
+
+    @property
+    def n_warnings(self) -> int:
+        return sum(len(lk.warnings) for lk in self.links)
+
+    def to_dict(self) -> dict:
+        return {"file": self.file, "links": [lk.to_dict() for lk in self.links]}
+
+
+def _principal(inertia):
+    from ..massprops.principal import principal_axes
+
+    return principal_axes(inertia)
+
+
+def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
+    """The findings for one link (``where`` is ``file:line`` for messages)."""
+    from ..massprops.validity import check_inertia
+
+    rep = LinkReport(link.name, link.line)
+    for code, msg in link.notes:
+        rep.warnings.append(Finding(code, msg))
+    inertial = link.inertial
+    if inertial is None:
+        return rep
+    at = f"{where}: link {link.name!r}"
+    if inertial.line:  # errors point at the <inertial> itself
+        at = f"{where.rsplit(':', 1)[0]}:{inertial.line}: link {link.name!r}"
+    m = inertial.mass
+    if not (math.isfinite(m) and m > 0):
+        rep.errors.append(Finding("non_positive_mass", f"{at}: mass is {m!r} kg; a body needs a positive mass "
+                                  "(remove the <inertial> for a massless frame)"))
+    codes = {"mass_not_positive": None, "not_finite": "not_positive_definite", "not_symmetric": "not_symmetric",
+             "not_positive_definite": "not_positive_definite", "triangle_inequality": "triangle_inequality"}
+    for v in check_inertia(inertial.inertia_declared):
+        code = codes.get(v.code, v.code)
+        if code:
+            rep.errors.append(Finding(code, f"{at}: {v.message}"))
+    if rep.errors:
+        return rep  # comparisons with the geometry need a valid tensor
+
+    bounds = geometry_bounds(link, mesh_units=mesh_units)
+    if bounds is not None:
+        lo, hi = bounds
+        margin = COM_MARGIN * float(np.linalg.norm(hi - lo))
+        c = inertial.com_link
+        if np.any(c < lo - margin) or np.any(c > hi + margin):
+            rep.warnings.append(Finding("com_outside_geometry", (
+                f"{at}: center of mass {np.round(c, 6).tolist()} m lies outside the bounds of the link's shapes "
+                f"{np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()} m (link frame)")))
+    # compare with the visual shapes when there are any (they describe the body; collision
+    # shapes are often simplified stand-ins, like a foot sphere), else with the collision ones
+    role = "visual" if any(g.role == "visual" for g in link.geometries) else "collision"
+    computed, role, problems = link_geometry_properties(link, role=role, mass=m, mesh_units=mesh_units)
+    for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
+        rep.notes.append(Finding(code, f"{at}: {msg}; geometry comparison skipped"))
+    if computed is not None:
+        declared_m, declared_R = _principal(inertial.inertia_link)
+        comp_m, comp_R = _principal(computed.inertia_com)
+        ratios = declared_m / comp_m
+        worst = float(np.max(np.maximum(ratios, 1 / ratios)))
+        angle = _axes_angle(declared_m, declared_R, comp_R)
+        if worst > MOMENT_RATIO_LIMIT or (angle is not None and angle > AXIS_ANGLE_LIMIT_DEG):
+            rep.warnings.append(Finding("geometry_mismatch", (
+                f"{at}: declared principal moments {np.array2string(declared_m, precision=4)} kg m^2 vs "
+                f"{np.array2string(comp_m, precision=4)} from its {role} geometry at the declared mass "
+                f"(ratios {np.array2string(ratios, precision=3)}"
+                + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")")))
+    return rep
+
+
+def _axes_angle(moments, R_a, R_b):
+    """Largest angle [deg] between matching principal axes that are well defined (distinct moments)."""
+    worst = None
+    for i in range(3):
+        others = [moments[j] for j in range(3) if j != i]
+        if min(abs(moments[i] - o) for o in others) < 0.1 * moments[i]:
+            continue
+        c = abs(float(R_a[:, i] @ R_b[:, i]))
+        ang = math.degrees(math.acos(min(1.0, c)))
+        worst = ang if worst is None else max(worst, ang)
+    return worst
+
+
+def check_model(model, *, mesh_units: str = "m") -> CheckReport:
+    links = []
+    for link in model.links:
+        where = f"{model.path}:{link.line}" if link.line else str(model.path)
+        links.append(check_link(link, where, mesh_units=mesh_units))
+    return CheckReport(str(model.path), links)

@@ -1,0 +1,78 @@
+"""What the readers return: links with their declared inertial and their geometry.
+
+Frames: every pose is in the **link frame** (URDF link, SDF link, MJCF body).
+``Inertial.inertia_link`` is the declared tensor about the center of mass, expressed in the
+link axes (negated products, ``L = I w``), after applying the inertial frame's rotation;
+``Inertial.inertia_declared`` is as written, in the inertial frame's axes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Inertial:
+    """A declared inertial: mass [kg], COM [m, link frame], tensor [kg m^2] and where it was written."""
+
+    mass: float
+    com_link: np.ndarray
+    R_link_inertial: np.ndarray
+    inertia_declared: np.ndarray
+    line: int | None = None
+    element: object = None
+
+    @property
+    def inertia_link(self) -> np.ndarray:
+        R = self.R_link_inertial
+        return R @ self.inertia_declared @ R.T
+
+
+@dataclass
+class Geometry:
+    """A collision or visual shape: ``kind`` with SI ``params``, pose in the link frame.
+
+    kinds and params: box ``size`` (full edge lengths), sphere ``radius``, cylinder and
+    capsule ``radius``, ``length`` (along the shape's z; capsule length excludes the caps),
+    ellipsoid ``semi_axes``, mesh ``path`` (resolved, or None), ``uri`` (as written),
+    ``scale`` (3,).  MJCF geoms may carry ``density`` [kg/m^3] or ``mass`` [kg].
+    """
+
+    kind: str
+    params: dict
+    R_link_geom: np.ndarray = field(default_factory=lambda: np.eye(3))
+    p_link_geom: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    role: str = "collision"
+    line: int | None = None
+    density: float | None = None
+    mass: float | None = None
+
+
+@dataclass
+class Link:
+    """One link (URDF/SDF) or body (MJCF)."""
+
+    name: str
+    line: int | None
+    inertial: Inertial | None
+    geometries: list = field(default_factory=list)
+    element: object = None
+    notes: list = field(default_factory=list)  # reader warnings for this link (e.g. mesh not found)
+
+
+@dataclass
+class RobotModel:
+    """A parsed robot file: its format ("urdf", "sdf", "mjcf"), links and the XML document."""
+
+    path: object
+    format: str
+    links: list
+    document: object = None
+
+    def link(self, name: str) -> Link:
+        for lk in self.links:
+            if lk.name == name:
+                return lk
+        raise KeyError(name)

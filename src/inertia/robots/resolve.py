@@ -1,0 +1,45 @@
+"""Mesh references in robot files to paths on disk.
+
+* plain paths: relative to the robot file's folder (or, for MJCF, to ``meshdir``);
+* ``package://NAME/rest``: looked up as ``DIR/NAME/rest`` and ``DIR/rest`` for each
+  search folder given (``--package-path``), then the robot file's parents (a package's
+  folder usually holds the file);
+* ``model://NAME/rest`` (SDF): ``DIR/NAME/rest`` for each search folder, then the parents;
+* ``file://`` URIs: the local path.
+
+Nothing is fetched from a network.  A reference that cannot be found resolves to None and
+the caller reports it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+
+def resolve_mesh(uri: str, base_dir: Path, search_paths=()) -> Path | None:
+    """The existing file ``uri`` names, or None."""
+    uri = uri.strip()
+    search = [Path(p) for p in search_paths]
+    if uri.startswith(("package://", "model://")):
+        scheme, rest = uri.split("://", 1)
+        name, _, tail = rest.partition("/")
+        parents = [base_dir, *base_dir.parents]
+        candidates = []
+        for d in search + parents:
+            candidates.append(d / name / tail)
+            if scheme == "package":
+                candidates.append(d / tail)
+        for c in candidates:
+            if c.is_file():
+                return c
+        return None
+    if uri.startswith("file://"):
+        p = Path(unquote(urlparse(uri).path))
+        return p if p.is_file() else None
+    if "://" in uri:
+        return None  # http(s) and friends: never fetched
+    p = Path(uri)
+    if not p.is_absolute():
+        p = base_dir / p
+    return p if p.is_file() else None

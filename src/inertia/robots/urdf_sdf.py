@@ -1,0 +1,220 @@
+"""URDF and SDF readers (the two formats share their inertial and geometry vocabulary).
+
+URDF: ``<link><inertial><origin xyz rpy/><mass value/><inertia ixx ixy ixz iyy iyz izz/>``
+with the tensor elements in the frame of ``<origin>`` (rpy = fixed-axis roll, pitch, yaw:
+``R = Rz(yaw) Ry(pitch) Rx(roll)``), and ``<collision>``/``<visual>`` geometry: ``box size``
+(full edges), ``cylinder radius length`` (along z), ``sphere radius``, ``mesh filename
+scale``.
+
+SDF: ``<link><inertial><pose>x y z roll pitch yaw</pose><mass>``
+``<inertia><ixx>...</inertia>``, and geometry ``<box><size>``, ``<cylinder><radius><length>``,
+``<sphere><radius>``, ``<capsule>``, ``<ellipsoid><radii>``, ``<mesh><uri><scale>``.  Poses
+with ``relative_to`` other than the link are not supported and are reported.
+
+Both write products as tensor elements (``ixy = -sum m x y``): our convention.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .model import Geometry, Inertial, Link, RobotModel
+from .resolve import resolve_mesh
+from .xmlsafe import RobotFileError, parse_xml
+
+
+def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """``Rz(yaw) Ry(pitch) Rx(roll)``: URDF/SDF fixed-axis roll-pitch-yaw."""
+    cr, sr, cp, sp, cy, sy = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw), math.sin(yaw)
+    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                     [-sp, cp * sr, cp * cr]])
+
+
+def floats(text, n: int | None, where: str, what: str) -> list[float]:
+    """Parse ``n`` whitespace-separated finite numbers; RobotFileError naming ``where`` otherwise."""
+    parts = (text or "").split()
+    try:
+        vals = [float(p) for p in parts]
+    except ValueError:
+        raise RobotFileError(f"{where}: {what} must be numbers, got {text!r}") from None
+    if n is not None and len(vals) != n:
+        raise RobotFileError(f"{where}: {what} needs {n} numbers, got {len(vals)} ({text!r})")
+    if not all(math.isfinite(v) for v in vals):
+        raise RobotFileError(f"{where}: {what} holds a non-finite number ({text!r})")
+    return vals
+
+
+def _inertia_matrix(ixx, iyy, izz, ixy, ixz, iyz) -> np.ndarray:
+    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], dtype=float)
+
+
+# ------------------------------------------------------------------------------------- URDF
+
+
+def read_urdf(path, *, search_paths=()) -> RobotModel:
+    doc = parse_xml(path)
+    root = doc.root
+    if root.tag != "robot":
+        raise RobotFileError(f"{doc.where(root)}: not a URDF file: the root element is <{root.tag}>, not <robot>")
+    base = Path(path).resolve().parent
+    links = []
+    for el in root.iter("link"):
+        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
+        link = Link(name, doc.line(el), None, element=el)
+        inertial = el.find("inertial")
+        if inertial is not None:
+            link.inertial = _urdf_inertial(doc, inertial)
+        for role in ("collision", "visual"):
+            for g in el.findall(role):
+                geom = _urdf_geometry(doc, g, role, base, search_paths, link)
+                if geom is not None:
+                    link.geometries.append(geom)
+        links.append(link)
+    return RobotModel(Path(path), "urdf", links, doc)
+
+
+def _urdf_origin(doc, parent):
+    origin = parent.find("origin")
+    if origin is None:
+        return np.eye(3), np.zeros(3)
+    where = doc.where(origin)
+    xyz = floats(origin.get("xyz", "0 0 0"), 3, where, "origin xyz")
+    rpy = floats(origin.get("rpy", "0 0 0"), 3, where, "origin rpy")
+    return rpy_matrix(*rpy), np.array(xyz)
+
+
+def _urdf_inertial(doc, el) -> Inertial:
+    where = doc.where(el)
+    R, p = _urdf_origin(doc, el)
+    m_el = el.find("mass")
+    if m_el is None or m_el.get("value") is None:
+        raise RobotFileError(f"{where}: <inertial> without <mass value=...>")
+    mass = floats(m_el.get("value"), 1, doc.where(m_el), "mass value")[0]
+    i_el = el.find("inertia")
+    if i_el is None:
+        raise RobotFileError(f"{where}: <inertial> without <inertia>")
+    vals = {}
+    for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"):
+        vals[k] = floats(i_el.get(k, "0"), 1, doc.where(i_el), f"inertia {k}")[0]
+    return Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(el), el)
+
+
+def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
+    g = el.find("geometry")
+    if g is None or len(g) == 0:
+        return None
+    R, p = _urdf_origin(doc, el)
+    shape = [c for c in g if isinstance(c.tag, str)][0]
+    where = doc.where(shape)
+    if shape.tag == "box":
+        params = {"size": floats(shape.get("size"), 3, where, "box size")}
+    elif shape.tag == "sphere":
+        params = {"radius": floats(shape.get("radius"), 1, where, "sphere radius")[0]}
+    elif shape.tag in ("cylinder", "capsule"):
+        params = {"radius": floats(shape.get("radius"), 1, where, f"{shape.tag} radius")[0],
+                  "length": floats(shape.get("length"), 1, where, f"{shape.tag} length")[0]}
+    elif shape.tag == "mesh":
+        uri = shape.get("filename") or ""
+        scale = floats(shape.get("scale", "1 1 1"), 3, where, "mesh scale")
+        found = resolve_mesh(uri, base, search_paths)
+        if found is None:
+            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
+                               f"(relative to {base}; package:// needs --package-path)"))
+        params = {"path": found, "uri": uri, "scale": scale}
+    else:
+        link.notes.append(("unsupported_geometry", f"{where}: {role} geometry <{shape.tag}> is not supported"))
+        return None
+    return Geometry(shape.tag, params, R, p, role, doc.line(shape))
+
+
+# ------------------------------------------------------------------------------------- SDF
+
+
+def _text(el, tag, default=None):
+    c = el.find(tag)
+    return default if c is None or c.text is None else c.text
+
+
+def _sdf_pose(doc, parent):
+    pose = parent.find("pose")
+    if pose is None:
+        return np.eye(3), np.zeros(3), None
+    where = doc.where(pose)
+    rel = pose.get("relative_to")
+    vals = floats(pose.text or "0 0 0 0 0 0", 6, where, "pose")
+    return rpy_matrix(*vals[3:]), np.array(vals[:3]), rel
+
+
+def read_sdf(path, *, search_paths=()) -> RobotModel:
+    doc = parse_xml(path)
+    root = doc.root
+    if root.tag != "sdf":
+        raise RobotFileError(f"{doc.where(root)}: not an SDF file: the root element is <{root.tag}>, not <sdf>")
+    base = Path(path).resolve().parent
+    search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder
+    links = []
+    for el in root.iter("link"):
+        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
+        link = Link(name, doc.line(el), None, element=el)
+        inertial = el.find("inertial")
+        if inertial is not None:
+            R, p, rel = _sdf_pose(doc, inertial)
+            if rel not in (None, "", name, "__model__") and rel != name:
+                link.notes.append(("unsupported_pose", f"{doc.where(inertial)}: inertial pose relative_to={rel!r} "
+                                   "is read as relative to the link"))
+            where = doc.where(inertial)
+            mass = floats(_text(inertial, "mass", "1"), 1, where, "mass")[0]
+            i_el = inertial.find("inertia")
+            vals = {k: 0.0 for k in ("ixy", "ixz", "iyz")} | {k: 1.0 for k in ("ixx", "iyy", "izz")}  # SDF defaults
+            if i_el is not None:
+                for k in vals:
+                    t = _text(i_el, k)
+                    if t is not None:
+                        vals[k] = floats(t, 1, doc.where(i_el.find(k)), f"inertia {k}")[0]
+            link.inertial = Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(inertial), inertial)
+        for role in ("collision", "visual"):
+            for g in el.findall(role):
+                geom = _sdf_geometry(doc, g, role, base, search, link)
+                if geom is not None:
+                    link.geometries.append(geom)
+        links.append(link)
+    return RobotModel(Path(path), "sdf", links, doc)
+
+
+def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
+    g = el.find("geometry")
+    if g is None:
+        return None
+    shapes = [c for c in g if isinstance(c.tag, str)]
+    if not shapes:
+        return None
+    shape = shapes[0]
+    R, p, _ = _sdf_pose(doc, el)
+    where = doc.where(shape)
+    if shape.tag == "box":
+        params = {"size": floats(_text(shape, "size"), 3, where, "box size")}
+    elif shape.tag == "sphere":
+        params = {"radius": floats(_text(shape, "radius"), 1, where, "sphere radius")[0]}
+    elif shape.tag in ("cylinder", "capsule"):
+        params = {"radius": floats(_text(shape, "radius"), 1, where, f"{shape.tag} radius")[0],
+                  "length": floats(_text(shape, "length"), 1, where, f"{shape.tag} length")[0]}
+    elif shape.tag == "ellipsoid":
+        params = {"semi_axes": floats(_text(shape, "radii"), 3, where, "ellipsoid radii")}
+    elif shape.tag == "mesh":
+        uri = (_text(shape, "uri") or "").strip()
+        scale = floats(_text(shape, "scale", "1 1 1"), 3, where, "mesh scale")
+        found = resolve_mesh(uri, base, search)
+        if found is None:
+            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
+                               "(model:// is searched next to the model folder and in --package-path)"))
+        params = {"path": found, "uri": uri, "scale": scale}
+    elif shape.tag in ("plane", "heightmap", "empty"):
+        return None
+    else:
+        link.notes.append(("unsupported_geometry", f"{where}: {role} geometry <{shape.tag}> is not supported"))
+        return None
+    return Geometry(shape.tag, params, R, p, role, doc.line(shape))
