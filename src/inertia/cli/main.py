@@ -19,6 +19,8 @@ COMMANDS = (
     "flip",
     "lagrangian",
     "batch",
+    "check",
+    "fix",
 )
 
 

@@ -36,11 +36,17 @@ def register(sub) -> None:
                     "--mass nor --density is given."),
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_source_arguments(p)
-    add_format_argument(p)
+    add_format_argument(p, robot=True)
     p.set_defaults(func=run)
 
 
-def add_format_argument(p) -> None:
+def add_format_argument(p, *, robot: bool = False) -> None:
+    if robot:
+        p.add_argument("--format", choices=("table", "json", "urdf", "mjcf", "sdf"), default="table",
+                       help="table: aligned text for people (default); json: machine-readable; urdf, mjcf, "
+                            "sdf: a ready-to-paste <inertial> block (COM and tensor in the mesh's axes, "
+                            "tensor-element products)")
+        return
     p.add_argument("--format", choices=("table", "json"), default="table",
                    help="table: aligned text for people (default); json: machine-readable")
 
@@ -49,6 +55,11 @@ def run(args) -> int:
     from ._source import load_source
 
     props, info = load_source(args)
+    if args.format in ("urdf", "mjcf", "sdf"):
+        from inertia.robots.writers import inertial_block
+
+        fmt.emit(inertial_block(props, args.format))
+        return 0
     if args.format == "json":
         fmt.emit(fmt.to_json(props_dict(props, info)))
     else:

@@ -203,7 +203,7 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
         p = (a0 + a1) / 2
         axis = a1 - a0
         half = np.linalg.norm(axis) / 2
-        R = _orientation({"zaxis": " ".join(map(repr, axis))}, comp, where)
+        R = _orientation({"zaxis": " ".join(repr(float(x)) for x in axis)}, comp, where)
         size = [size[0], half] if kind in ("capsule", "cylinder") else [size[0], size[1] if len(size) > 1 else size[0], half]
     need = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}
     if kind in need and len(size) < need[kind]:

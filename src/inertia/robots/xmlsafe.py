@@ -118,9 +118,10 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
     root = builder.close()
     decl = None
-    if declaration:
-        version, encoding = declaration[0]
-        decl = f'<?xml version="{version}"' + (f' encoding="{encoding}"' if encoding else "") + "?>"
+    if declaration:  # keep the declaration exactly as written
+        head = data.lstrip()
+        end = head.find(b"?>")
+        decl = head[: end + 2].decode("utf-8", "replace") if head.startswith(b"<?xml") and end > 0 else None
     return Document(root, path, lines, decl, tuple(outside["prolog"]), tuple(outside["epilog"]))
 
 
