@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import importlib
 
-_MODULES = ("equations", "integrators", "exact", "flip", "diagnostics", "transition", "rollout")
+_MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "diagnostics", "transition", "rollout",
+            "quaternion")
 
 # public name -> submodule that defines it
 _EXPORTS = {

@@ -1,0 +1,302 @@
+"""Robot files: reading, checking, fixing and writing inertials, against independent truth:
+the defects SOURCES.md documents in ../shared/data/robots, MuJoCo's own compiler, closed
+forms of primitives, and round trips through the files we write."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import inertia
+from inertia.cli.main import main
+from inertia.robots import check_model, fix_file, inertial_block, nearest_physical_inertia, read_robot
+from inertia.robots.geometry import link_geometry_properties
+from inertia.robots.mjcf import quat_matrix
+from inertia.robots.xmlsafe import RobotFileError
+
+ROBOTS = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "robots"
+SIMPLE_ARM = ROBOTS / "simple_arm_sdf_INVALID" / "simple_arm" / "model.sdf"
+GOOD = [ROBOTS / "double_pendulum_urdf" / "urdf" / "double_pendulum.urdf",
+        ROBOTS / "barkour_v0_mjcf" / "barkour_v0_mjx.xml",
+        ROBOTS / "cordless_drill_sdf" / "cordless_drill" / "model.sdf"]
+
+needs_robots = pytest.mark.skipif(not ROBOTS.is_dir(), reason=f"shared robot files not found at {ROBOTS}")
+
+
+def _run(capsys, *argv):
+    code = main(list(map(str, argv)))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+# ----------------------------------------------------------------------------- the shared robots
+
+
+@needs_robots
+def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys):
+    code, out, _ = _run(capsys, "check", SIMPLE_ARM, "--format", "json")
+    report = json.loads(out)
+    assert code == 1
+    assert report["file"] == str(SIMPLE_ARM)
+    errors = [(lk["name"], e["code"], e["message"]) for lk in report["links"] for e in lk["errors"]]
+    assert [(n, c) for n, c, _ in errors] == [("arm_base", "triangle_inequality")]
+    assert "I1 + I2 = 2.12 < I3 = 100.11 (margin -98" in errors[0][2]  # 1.01 + 1.11 < 100.11
+    assert f"{SIMPLE_ARM}:5" in errors[0][2]  # file:line of the <inertial>
+    arm_base = report["links"][0]
+    assert arm_base["name"] == "arm_base" and arm_base["line"] == 4
+    assert set(arm_base) >= {"name", "line", "errors", "warnings"}
+
+
+@needs_robots
+@pytest.mark.parametrize("path", GOOD, ids=lambda p: p.parent.name)
+def test_good_robots_have_no_errors_and_no_warnings(path, capsys):
+    code, out, _ = _run(capsys, "check", path, "--format", "json")
+    report = json.loads(out)
+    assert code == 0
+    assert all(not lk["errors"] and not lk["warnings"] for lk in report["links"]), report
+    counts = {"double_pendulum.urdf": 3, "barkour_v0_mjx.xml": 13, "model.sdf": 1}
+    assert len([lk for lk in report["links"]]) >= counts[path.name]
+
+
+@needs_robots
+def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys):
+    src = tmp_path / "model.sdf"
+    shutil.copy(SIMPLE_ARM, src)
+    before = src.read_bytes()
+    out = tmp_path / "fixed.sdf"
+    code, _, err = _run(capsys, "fix", src, "-o", out)
+    assert code == 0 and "arm_base" in err
+    assert src.read_bytes() == before
+    assert _run(capsys, "check", out)[0] == 0
+    # only the tensor lines of arm_base changed; comments and everything else are as written
+    a, b = before.decode().splitlines(), out.read_text().splitlines()
+    assert len(a) == len(b)
+    changed = [i for i, (x, y) in enumerate(zip(a, b)) if x != y]
+    assert changed and all(any(t in a[i] for t in ("<ixx>", "<iyy>", "<izz>", "<ixy>", "<ixz>", "<iyz>"))
+                           for i in changed)
+    fixed = read_robot(out).link("arm_base").inertial.inertia_declared
+    np.testing.assert_allclose(fixed, nearest_physical_inertia(np.diag([1.11, 100.11, 1.01])), rtol=1e-15)
+    assert inertia.is_physical(fixed)
+    # refusing to overwrite the input without --in-place
+    assert _run(capsys, "fix", src, "-o", src)[0] == 1
+
+
+def test_nearest_physical_inertia_is_the_projection():
+    """Nearest in the Frobenius norm among tensors with the same axes: for I1 + I2 < I3 with
+    positive moments the answer is the orthogonal projection onto the plane I1 + I2 = I3."""
+    w = np.array([1.11, 1.01, 100.11])
+    R = inertia.dynamics.quaternion.quat_to_matrix(np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2]))
+    I = R @ np.diag(w) @ R.T
+    fixed = nearest_physical_inertia(I)
+    n = np.array([1.0, 1.0, -1.0])
+    expected_w = w - (w @ n) / 3 * n
+    np.testing.assert_allclose(np.sort(np.linalg.eigvalsh(fixed)), np.sort(expected_w), rtol=1e-9)
+    np.testing.assert_allclose(R.T @ fixed @ R, np.diag(expected_w), atol=1e-8)  # same axes
+    assert inertia.is_physical(fixed)
+    ok = np.diag([1.0, 2.0, 2.5])
+    assert np.array_equal(nearest_physical_inertia(ok), ok)
+
+
+# ----------------------------------------------------------------------------- MJCF vs MuJoCo
+
+
+MJCF_TEST = """<mujoco model="t">
+  <compiler angle="{angle}" meshdir="{meshdir}" inertiafromgeom="true" eulerseq="{seq}"/>
+  <default>
+    <geom density="900"/>
+    <default class="light"><geom density="300"/></default>
+  </default>
+  <asset>
+    <mesh name="foot" file="foot.stl" inertia="exact"/>
+    <mesh name="handle" file="handle.stl" inertia="exact" scale="1.5 0.5 2"/>
+  </asset>
+  <worldbody>
+    <body name="a">
+      <freejoint/>
+      <geom type="mesh" mesh="foot" density="2700" pos="0.01 0.02 0.03" euler="{e1}"/>
+    </body>
+    <body name="b" pos="1 0 0" childclass="light">
+      <freejoint/>
+      <geom type="mesh" mesh="handle"/>
+      <geom type="box" size="0.01 0.02 0.03" pos="0 0.05 0" axisangle="1 1 0 {a1}" class="main"/>
+      <geom type="capsule" fromto="0 0 0 0.05 0.02 0.01" size="0.01" density="500"/>
+      <geom type="cylinder" size="0.02 0.01" pos="0 0 0.1" quat="0.8 0.2 0.3 0.4"/>
+      <geom type="ellipsoid" size="0.01 0.02 0.03" pos="0.05 0 0" xyaxes="0 1 0 -1 0 0"/>
+      <geom type="sphere" size="0.015" pos="-0.05 0 0" mass="0.2"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@needs_robots
+@pytest.mark.parametrize("angle,seq", [("radian", "xyz"), ("degree", "zyx"), ("radian", "XYZ")])
+def test_mjcf_geometry_inertia_equals_mujocos_compiler(tmp_path, angle, seq):
+    mujoco = pytest.importorskip("mujoco")
+    deg = angle == "degree"
+    e = "0.1 0.2 0.3" if not deg else "5.7 11.5 17.2"
+    xml = MJCF_TEST.format(angle=angle, seq=seq, meshdir=ROBOTS / "barkour_v0_mjcf", e1=e, a1="30" if deg else "0.5")
+    path = tmp_path / "t.xml"
+    path.write_text(xml)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    model = read_robot(path)
+    for i, name in ((1, "a"), (2, "b")):
+        ours, _, problems = link_geometry_properties(model.link(name))
+        assert not problems
+        R = quat_matrix(m.body_iquat[i])
+        I_mj = R @ np.diag(m.body_inertia[i]) @ R.T
+        assert abs(m.body_mass[i] / ours.mass - 1) < 1e-7
+        assert np.abs(m.body_ipos[i] - ours.com).max() < 1e-7 * max(1.0, np.abs(ours.com).max())
+        assert np.abs(I_mj - ours.inertia_com).max() < 1e-7 * np.abs(I_mj).max()
+
+
+# ----------------------------------------------------------------------------- writers and round trips
+
+
+@pytest.mark.parametrize("fmt", ["urdf", "mjcf", "sdf"])
+def test_written_inertial_reads_back_to_the_same_numbers(tmp_path, fmt):
+    R = inertia.dynamics.quaternion.quat_to_matrix(np.array([0.6, 0.0, 0.8, 0.0]))
+    body = inertia.box((0.1, 0.2, 0.4), mass=2.0).transformed(R, [0.01, -0.02, 0.3])
+    block = inertial_block(body, fmt, indent="    ")
+    if fmt == "urdf":
+        text = f'<robot name="r">\n  <link name="l">\n{block}  </link>\n</robot>\n'
+    elif fmt == "sdf":
+        text = f'<sdf version="1.7"><model name="m">\n  <link name="l">\n{block}  </link>\n</model></sdf>\n'
+    else:
+        text = f'<mujoco><worldbody>\n  <body name="l">\n{block}  </body>\n</worldbody></mujoco>\n'
+    path = tmp_path / f"r.{ 'xml' if fmt == 'mjcf' else fmt}"
+    path.write_text(text)
+    back = read_robot(path).link("l").inertial
+    assert back.mass == body.mass
+    assert np.array_equal(back.com_link, body.com)
+    np.testing.assert_allclose(back.inertia_link, body.inertia_com, rtol=0, atol=1e-17)
+    if fmt == "mjcf":  # the diaginertia + quat alternative in the comment is the same body
+        import re
+
+        alt = re.search(r"diaginertia=\"([^\"]+)\" quat=\"([^\"]+)\"", block)
+        d = np.array(alt.group(1).split(), float)
+        Rq = quat_matrix(np.array(alt.group(2).split(), float))
+        np.testing.assert_allclose(Rq @ np.diag(d) @ Rq.T, body.inertia_com, atol=1e-15)
+
+
+def test_props_prints_blocks_for_each_format(capsys):
+    for fmt, marker in (("urdf", "<inertia ixx="), ("mjcf", "fullinertia="), ("sdf", "<ixx>")):
+        code, out, _ = _run(capsys, "props", "box:0.1,0.2,0.4", "--mass", "2", "--format", fmt)
+        assert code == 0 and marker in out
+
+
+def test_fix_from_geometry_matches_the_primitives(tmp_path, capsys):
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text("""<?xml version="1.0"?>
+<!-- a two-shape link -->
+<robot name="r">
+  <link name="base">
+    <inertial><origin xyz="0 0 0" rpy="0 0 0"/><mass value="3"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+    <collision><origin xyz="0 0 0.1" rpy="0 0 0"/><geometry><box size="0.2 0.1 0.05"/></geometry></collision>
+    <collision><origin xyz="0.1 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.02" length="0.3"/></geometry></collision>
+  </link>
+  <link name="frame_only"/>
+</robot>
+""")
+    out = tmp_path / "fixed.urdf"
+    code, _, err = _run(capsys, "fix", urdf, "-o", out, "--from-geometry", "collision")
+    assert code == 0 and "base" in err
+    ry = inertia.dynamics.quaternion.quat_to_matrix(np.array([np.cos(np.pi / 4), 0, np.sin(np.pi / 4), 0]))
+    expected = (inertia.box((0.2, 0.1, 0.05), density=1.0).translated([0, 0, 0.1])
+                + inertia.cylinder(0.02, 0.3, density=1.0).transformed(ry, [0.1, 0, 0])).with_mass(3.0)
+    got = read_robot(out).link("base").inertial
+    assert got.mass == 3.0
+    np.testing.assert_allclose(got.com_link, expected.com, atol=1e-15)
+    np.testing.assert_allclose(got.inertia_link, expected.inertia_com, rtol=1e-12, atol=1e-15)
+    assert out.read_text().startswith('<?xml version="1.0"?>\n<!-- a two-shape link -->')
+    assert read_robot(out).link("frame_only").inertial is None
+
+
+# ----------------------------------------------------------------------------- safety and bad input
+
+
+def test_entity_bomb_and_external_entity_are_refused(tmp_path, capsys):
+    bomb = tmp_path / "bomb.urdf"
+    bomb.write_text('<?xml version="1.0"?>\n<!DOCTYPE r [\n <!ENTITY a "aaaaaaaaaa">\n <!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">\n'
+                    ' <!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">\n]>\n<robot name="&c;"/>\n')
+    xxe = tmp_path / "xxe.urdf"
+    xxe.write_text('<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n<robot name="&x;"/>\n')
+    for f in (bomb, xxe):
+        code, out, err = _run(capsys, "check", f)
+        assert code == 2 and out == ""
+        assert f"{f}:3: refused: the document declares entity" in err or f"{f}:2: refused" in err
+        assert "Traceback" not in err
+    with pytest.raises(RobotFileError, match="refused"):
+        read_robot(xxe)
+
+
+def test_malformed_file_names_file_and_line(tmp_path, capsys):
+    bad = tmp_path / "bad.urdf"
+    bad.write_text('<robot name="r">\n  <link name="a">\n    <inertial>\n  </link>\n</robot>\n')
+    code, _, err = _run(capsys, "check", bad)
+    assert code == 2 and f"{bad}:4: malformed XML: mismatched tag" in err
+    code, _, err = _run(capsys, "check", tmp_path / "missing.urdf")
+    assert code == 2 and "file not found" in err
+    nums = tmp_path / "nums.urdf"
+    nums.write_text('<robot name="r">\n<link name="a"><inertial><mass value="heavy"/>'
+                    '<inertia ixx="1" iyy="1" izz="1"/></inertial></link>\n</robot>\n')
+    code, _, err = _run(capsys, "check", nums)
+    assert code == 2 and f"{nums}:2: mass value must be numbers, got 'heavy'" in err
+
+
+def test_missing_mesh_is_a_warning_and_the_check_goes_on(tmp_path, capsys):
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text("""<robot name="r">
+  <link name="a">
+    <inertial><mass value="-1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><mesh filename="package://nowhere/meshes/a.stl"/></geometry></visual>
+  </link>
+  <link name="b">
+    <inertial><mass value="1"/><inertia ixx="1" iyy="2" izz="1.5" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+</robot>
+""")
+    code, out, _ = _run(capsys, "check", urdf, "--format", "json")
+    rep = json.loads(out)
+    a, b = rep["links"]
+    assert code == 1
+    assert [e["code"] for e in a["errors"]] == ["non_positive_mass"]
+    assert [w["code"] for w in a["warnings"]] == ["mesh_not_found"]
+    assert b["errors"] == [] and b["warnings"] == []
+
+
+@needs_robots
+def test_package_and_model_uris_resolve_with_search_paths(tmp_path, capsys):
+    pkg = tmp_path / "pkgs" / "my_robot" / "meshes"
+    pkg.mkdir(parents=True)
+    shutil.copy(ROBOTS / "double_pendulum_urdf" / "meshes" / "link1.stl", pkg / "link1.stl")
+    src = (ROBOTS / "double_pendulum_urdf" / "urdf" / "double_pendulum.urdf").read_text()
+    urdf = tmp_path / "robot" / "r.urdf"
+    urdf.parent.mkdir()
+    urdf.write_text(src.replace("../meshes/link1.stl", "package://my_robot/meshes/link1.stl"))
+    code, out, _ = _run(capsys, "check", urdf, "--format", "json")
+    link1 = [lk for lk in json.loads(out)["links"] if lk["name"] == "link1"][0]
+    assert "mesh_not_found" in [w["code"] for w in link1["warnings"]]
+    code, out, _ = _run(capsys, "check", urdf, "--format", "json", "--package-path", tmp_path / "pkgs")
+    link1 = [lk for lk in json.loads(out)["links"] if lk["name"] == "link1"][0]
+    assert link1["warnings"] == [] and code == 0
+
+
+def test_mass_units_convert_at_the_edge(tmp_path, capsys):
+    urdf = tmp_path / "g.urdf"
+    urdf.write_text('<robot name="r"><link name="a"><inertial><mass value="2000"/>'
+                    '<inertia ixx="10" iyy="20" izz="25" ixy="0" ixz="0" iyz="0"/></inertial>'
+                    '<collision><geometry><box size="1 1 1"/></geometry></collision></link></robot>')
+    code, out, _ = _run(capsys, "check", urdf, "--format", "json", "--mass-units", "g")
+    assert code == 0
+    model = read_robot(urdf)
+    from inertia.cli.check import scale_masses
+
+    scale_masses(model, 1e-3)
+    assert model.link("a").inertial.mass == 2.0
+    assert check_model(model).n_errors == 0
