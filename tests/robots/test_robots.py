@@ -300,3 +300,25 @@ def test_mass_units_convert_at_the_edge(tmp_path, capsys):
     scale_masses(model, 1e-3)
     assert model.link("a").inertial.mass == 2.0
     assert check_model(model).n_errors == 0
+
+
+@needs_robots
+def test_mjcf_bodies_without_inertial_are_checked_through_their_geoms(tmp_path, capsys):
+    """MuJoCo's inertiafromgeom="auto": a body without <inertial> gets the geoms' inertia, so
+    the check computes it; an open mesh there is a warning, a good box is nothing."""
+    xml = tmp_path / "ifg.xml"
+    xml.write_text(f"""<mujoco>
+  <compiler meshdir="{ROBOTS / 'barkour_v0_mjcf'}"/>
+  <asset><mesh name="body" file="body.stl"/></asset>
+  <worldbody>
+    <body name="ok"><geom type="box" size="0.1 0.2 0.3"/></body>
+    <body name="open"><geom type="mesh" mesh="body"/></body>
+  </worldbody>
+</mujoco>
+""")
+    code, out, _ = _run(capsys, "check", xml, "--format", "json")
+    ok, opened = json.loads(out)["links"]
+    assert code == 0
+    assert ok["errors"] == [] and ok["warnings"] == []
+    assert [w["code"] for w in opened["warnings"]] == ["geometry_unusable"]
+    assert "non_manifold_edges" in opened["warnings"][0]["message"]

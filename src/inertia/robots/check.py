@@ -93,6 +93,8 @@ def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
     for code, msg in link.notes:
         rep.warnings.append(Finding(code, msg))
     inertial = link.inertial
+    if link.inertia_from_geoms:  # MJCF: MuJoCo computes this body's inertia from its geoms
+        return _check_from_geoms(link, rep, where, mesh_units)
     if inertial is None:
         return rep
     at = f"{where}: link {link.name!r}"
@@ -138,6 +140,24 @@ def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
                 f"{np.array2string(comp_m, precision=4)} from its {role} geometry at the declared mass "
                 f"(ratios {np.array2string(ratios, precision=3)}"
                 + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")")))
+    return rep
+
+
+def _check_from_geoms(link, rep, where, mesh_units):
+    """A body whose inertia MuJoCo takes from its geoms: check what it would compute."""
+    from ..massprops.validity import check_inertia
+
+    at = f"{where}: body {link.name!r}"
+    props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units)
+    for code, msg in problems:
+        rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
+    if props is not None:
+        for v in check_inertia(props.inertia_com, props.mass):
+            rep.errors.append(Finding(v.code if v.code != "mass_not_positive" else "non_positive_mass",
+                                      f"{at}: the inertia computed from its geoms: {v.message}"))
+        if link.inertial is not None:
+            rep.notes.append(Finding("inertial_ignored", f"{at}: inertiafromgeom=\"true\": the declared "
+                                     "<inertial> is replaced by the geoms' inertia"))
     return rep
 
 

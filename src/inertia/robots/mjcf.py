@@ -177,6 +177,9 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
             geom = _geom(doc, attrs_of(g, "geom", cc), g, comp, meshes, link)
             if geom is not None:
                 link.geometries.append(geom)
+        has_mass_geoms = any(g.role == "collision" for g in link.geometries)
+        link.inertia_from_geoms = has_mass_geoms and (
+            comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and link.inertial is None))
         links.append(link)
         for child in body.findall("body"):
             visit(child, cc, index)

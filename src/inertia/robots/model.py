@@ -60,6 +60,9 @@ class Link:
     geometries: list = field(default_factory=list)
     element: object = None
     notes: list = field(default_factory=list)  # reader warnings for this link (e.g. mesh not found)
+    #: MJCF: the simulator takes this body's inertia from its geoms (no <inertial>, or
+    #: inertiafromgeom="true"), so the check computes it from them
+    inertia_from_geoms: bool = False
 
 
 @dataclass
