@@ -322,3 +322,53 @@ def test_mjcf_bodies_without_inertial_are_checked_through_their_geoms(tmp_path, 
     assert ok["errors"] == [] and ok["warnings"] == []
     assert [w["code"] for w in opened["warnings"]] == ["geometry_unusable"]
     assert "non_manifold_edges" in opened["warnings"][0]["message"]
+
+
+def test_cad_sign_products_are_diagnosed_and_flipped(tmp_path, capsys):
+    """A tensor whose products were entered with the CAD (positive-product) sign: invalid as
+    tensor elements, valid once negated; check says so and fix --flip-products repairs it."""
+    J = np.array([[1.15, -0.52, -0.25], [-0.52, 1.53, -0.34], [-0.25, -0.34, 1.9]]) * 1e-4  # physical
+    assert inertia.is_physical(J)
+    cad = 2 * np.diag(np.diag(J)) - J  # products with the wrong sign
+    assert not inertia.is_physical(cad)
+    urdf = tmp_path / "cad.urdf"
+    e = {k: repr(float(cad[i, j])) for k, (i, j) in
+         {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2), "izz": (2, 2)}.items()}
+    urdf.write_text('<robot name="r">\n  <link name="motor">\n    <inertial><mass value="0.15"/><inertia '
+                    + " ".join(f'{k}="{v}"' for k, v in e.items()) + '/></inertial>\n  </link>\n</robot>\n')
+    code, out, _ = _run(capsys, "check", urdf, "--format", "json")
+    (err,) = json.loads(out)["links"][0]["errors"]
+    assert code == 1 and err["code"] == "triangle_inequality" and "--flip-products" in err["message"]
+    fixed = tmp_path / "fixed.urdf"
+    assert _run(capsys, "fix", urdf, "-o", fixed, "--flip-products")[0] == 0
+    np.testing.assert_allclose(read_robot(fixed).link("motor").inertial.inertia_declared, J, rtol=1e-15)
+    assert _run(capsys, "check", fixed)[0] == 0
+
+
+def test_mjcf_include_is_expanded_and_messages_point_into_the_included_file(tmp_path, capsys):
+    (tmp_path / "body.xml").write_text('<mujoco>\n  <worldbody>\n    <body name="b">\n'
+                                       '      <inertial pos="0 0 0" mass="1" diaginertia="1 1 3"/>\n'
+                                       '    </body>\n  </worldbody>\n</mujoco>\n')
+    scene = tmp_path / "scene.xml"
+    scene.write_text('<mujoco model="s">\n  <include file="body.xml"/>\n</mujoco>\n')
+    code, out, _ = _run(capsys, "check", scene, "--format", "json")
+    (link,) = json.loads(out)["links"]
+    assert code == 1 and link["name"] == "b"
+    assert link["errors"][0]["message"].startswith(f"{tmp_path / 'body.xml'}:4: link 'b'")
+    assert _run(capsys, "fix", scene, "-o", tmp_path / "out.xml")[0] == 1  # would lose the fix: refused
+    (tmp_path / "loop.xml").write_text('<mujoco><include file="loop.xml"/></mujoco>')
+    assert _run(capsys, "check", tmp_path / "loop.xml")[0] == 2
+
+
+def test_declaration_after_a_comment_is_read_and_written_back(tmp_path, capsys):
+    text = ('<!-- license header -->\n<?xml version="1.0" ?>\n<sdf version="1.4">\n<model name="m">\n'
+            '  <link name="l"><inertial><mass>2</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>3</izz></inertia>'
+            '</inertial></link>\n</model>\n</sdf>\n')
+    f = tmp_path / "m.sdf"
+    f.write_text(text)
+    code, out, _ = _run(capsys, "check", f, "--format", "json")
+    assert code == 1 and json.loads(out)["links"][0]["errors"][0]["code"] == "triangle_inequality"
+    fixed = tmp_path / "fixed.sdf"
+    assert _run(capsys, "fix", f, "-o", fixed)[0] == 0
+    assert fixed.read_text().startswith('<!-- license header -->\n<?xml version="1.0" ?>\n<sdf version="1.4">')
+    assert _run(capsys, "check", fixed)[0] == 0

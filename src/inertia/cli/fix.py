@@ -40,6 +40,9 @@ def register(sub) -> None:
                       help="recompute every inertial from the link's geometry (default: collision, else visual)")
     mode.add_argument("--nearest-valid", action="store_true",
                       help="replace only non-physical tensors by the nearest physical one (the default)")
+    mode.add_argument("--flip-products", action="store_true",
+                      help="negate the products of non-physical tensors that the negation makes physical "
+                           "(products copied from CAD with the wrong sign)")
     p.add_argument("--density", type=float, metavar="RHO",
                    help="with --from-geometry: kg/m^3, the mass then follows from the volume")
     p.set_defaults(func=run)
@@ -60,7 +63,8 @@ def run(args) -> int:
     try:
         from inertia.robots.fix import fix_file
 
-        report = fix_file(args.file, args.output, mode="geometry" if args.from_geometry else "nearest",
+        mode = "geometry" if args.from_geometry else "flip" if args.flip_products else "nearest"
+        report = fix_file(args.file, args.output, mode=mode,
                           role=None if args.from_geometry in (None, "auto") else args.from_geometry,
                           density=args.density, in_place=args.in_place, search_paths=args.package_path,
                           mesh_units=args.mesh_units, mass_scale=MASS_UNITS[args.mass_units])

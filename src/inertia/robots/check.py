@@ -79,13 +79,19 @@ class CheckReport:
         return {"file": self.file, "links": [lk.to_dict() for lk in self.links]}
 
 
+def flip_products(inertia) -> np.ndarray:
+    """The tensor with its off-diagonal entries negated (tensor elements <-> CAD products)."""
+    I = np.asarray(inertia, float)
+    return 2 * np.diag(np.diag(I)) - I
+
+
 def _principal(inertia):
     from ..massprops.principal import principal_axes
 
     return principal_axes(inertia)
 
 
-def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
+def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str | None = None) -> LinkReport:
     """The findings for one link (``where`` is ``file:line`` for messages)."""
     from ..massprops.validity import check_inertia
 
@@ -97,19 +103,26 @@ def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
         return _check_from_geoms(link, rep, where, mesh_units)
     if inertial is None:
         return rep
-    at = f"{where}: link {link.name!r}"
-    if inertial.line:  # errors point at the <inertial> itself
-        at = f"{where.rsplit(':', 1)[0]}:{inertial.line}: link {link.name!r}"
+    at = f"{inertial_where or where}: link {link.name!r}"  # errors point at the <inertial> itself
     m = inertial.mass
     if not (math.isfinite(m) and m > 0):
         rep.errors.append(Finding("non_positive_mass", f"{at}: mass is {m!r} kg; a body needs a positive mass "
                                   "(remove the <inertial> for a massless frame)"))
     codes = {"mass_not_positive": None, "not_finite": "not_positive_definite", "not_symmetric": "not_symmetric",
              "not_positive_definite": "not_positive_definite", "triangle_inequality": "triangle_inequality"}
-    for v in check_inertia(inertial.inertia_declared):
+    violations = check_inertia(inertial.inertia_declared)
+    hint = ""
+    if any(v.code in ("triangle_inequality", "not_positive_definite") for v in violations):
+        flipped = flip_products(inertial.inertia_declared)
+        if not check_inertia(flipped) and not np.array_equal(flipped, inertial.inertia_declared):
+            hint = ("; with the signs of its products of inertia flipped it is physical: they were probably "
+                    "copied from CAD, which lists positive products (this format wants the tensor elements "
+                    "ixy = -sum m x y); 'inertia fix --flip-products' flips them")
+    for v in violations:
         code = codes.get(v.code, v.code)
         if code:
-            rep.errors.append(Finding(code, f"{at}: {v.message}"))
+            extra = hint if code in ("triangle_inequality", "not_positive_definite") else ""
+            rep.errors.append(Finding(code, f"{at}: {v.message}{extra}"))
     if rep.errors:
         return rep  # comparisons with the geometry need a valid tensor
 
@@ -133,7 +146,7 @@ def check_link(link, where: str, *, mesh_units: str = "m") -> LinkReport:
         comp_m, comp_R = _principal(computed.inertia_com)
         ratios = declared_m / comp_m
         worst = float(np.max(np.maximum(ratios, 1 / ratios)))
-        angle = _axes_angle(declared_m, declared_R, comp_R)
+        angle = _axes_angle(declared_m, declared_R, comp_m, comp_R)
         if worst > MOMENT_RATIO_LIMIT or (angle is not None and angle > AXIS_ANGLE_LIMIT_DEG):
             rep.warnings.append(Finding("geometry_mismatch", (
                 f"{at}: declared principal moments {np.array2string(declared_m, precision=4)} kg m^2 vs "
@@ -161,12 +174,16 @@ def _check_from_geoms(link, rep, where, mesh_units):
     return rep
 
 
-def _axes_angle(moments, R_a, R_b):
-    """Largest angle [deg] between matching principal axes that are well defined (distinct moments)."""
+def _well_defined(moments, i: int) -> bool:
+    """Principal axis i is well defined: its moment is 10 % away from the other two."""
+    return all(abs(moments[i] - moments[j]) >= 0.1 * moments[i] for j in range(3) if j != i)
+
+
+def _axes_angle(moments_a, R_a, moments_b, R_b):
+    """Largest angle [deg] between matching principal axes well defined in both tensors, or None."""
     worst = None
     for i in range(3):
-        others = [moments[j] for j in range(3) if j != i]
-        if min(abs(moments[i] - o) for o in others) < 0.1 * moments[i]:
+        if not (_well_defined(moments_a, i) and _well_defined(moments_b, i)):
             continue
         c = abs(float(R_a[:, i] @ R_b[:, i]))
         ang = math.degrees(math.acos(min(1.0, c)))
@@ -176,7 +193,12 @@ def _axes_angle(moments, R_a, R_b):
 
 def check_model(model, *, mesh_units: str = "m") -> CheckReport:
     links = []
+    doc = model.document
     for link in model.links:
-        where = f"{model.path}:{link.line}" if link.line else str(model.path)
-        links.append(check_link(link, where, mesh_units=mesh_units))
+        if doc is not None and link.element is not None:
+            where = doc.where(link.element)
+            inertial_where = doc.where(link.inertial.element) if link.inertial is not None else where
+        else:
+            where = inertial_where = f"{model.path}:{link.line}" if link.line else str(model.path)
+        links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where))
     return CheckReport(str(model.path), links)

@@ -9,6 +9,8 @@ Two repairs, chosen per run:
   geometry cannot be used keep their inertial and are reported.
 * ``mode="nearest"`` (default): only links whose tensor is not physical change, to
   :func:`nearest_physical_inertia` of the declared one.
+* ``mode="flip"``: only links whose tensor is not physical but becomes physical with its
+  products negated get them negated (products copied from CAD with the wrong sign).
 
 The output is written atomically; the input is only replaced with ``in_place=True``.
 Everything else in the file (comments, other elements, attribute order) is kept; only the
@@ -153,8 +155,8 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     and written in the file's units.
     """
     path = Path(path)
-    if mode not in ("nearest", "geometry"):
-        raise InputError(f"mode must be 'nearest' or 'geometry', got {mode!r}")
+    if mode not in ("nearest", "geometry", "flip"):
+        raise InputError(f"mode must be 'nearest', 'geometry' or 'flip', got {mode!r}")
     if in_place:
         if output is not None and Path(output).resolve() != path.resolve():
             raise InputError("give either -o OUT or --in-place, not both")
@@ -165,6 +167,10 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     if output.resolve() == path.resolve() and not in_place:
         raise InputError(f"{output} is the input file: pass --in-place to overwrite it")
     model = read_robot(path, search_paths=search_paths)
+    included = getattr(model.document, "included", [])
+    if included:
+        raise InputError(f"{path} includes other files ({', '.join(p.name for p in included)}); fix the file "
+                         "that holds the inertials instead, so that no change is lost")
     setter = {"urdf": _set_urdf, "sdf": _set_sdf, "mjcf": _set_mjcf}[model.format]
     report = FixReport(str(output))
     for link in model.links:
@@ -172,6 +178,17 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
         if inertial is None:
             continue
         mass = inertial.mass * mass_scale
+        if mode == "flip":
+            # only where the declared tensor is not physical and the flipped one is
+            from ..massprops.validity import check_inertia
+            from .check import flip_products
+
+            own = inertial.inertia_declared * mass_scale
+            flipped = flip_products(own)
+            if check_inertia(own) and not check_inertia(flipped):
+                report.changed[link.name] = "products of inertia negated (CAD sign -> tensor elements)"
+                _set_tensor(model.format, inertial.element, flipped, mass_scale)
+            continue
         if mode == "nearest":
             # the projection commutes with rotations: fix the tensor in its declared axes and
             # rewrite nothing else (COM, mass and frame stay as written)

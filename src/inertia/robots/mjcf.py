@@ -115,10 +115,8 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
     root = doc.root
     if root.tag != "mujoco":
         raise RobotFileError(f"{doc.where(root)}: not an MJCF file: the root element is <{root.tag}>, not <mujoco>")
-    if root.find("include") is not None:
-        inc = root.find("include")
-        raise RobotFileError(f"{doc.where(inc)}: <include file=...> is not supported yet; pass the combined model")
     base = Path(path).resolve().parent
+    _expand_includes(doc, base, set())
     comp_el = root.find("compiler")
     comp = _Compiler(comp_el, doc.where(comp_el) if comp_el is not None else str(path))
     defaults: dict = {}
@@ -188,6 +186,38 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
     for body in world.findall("body"):
         visit(body, "main", counter)
     return RobotModel(Path(path), "mjcf", links, doc)
+
+
+def _expand_includes(doc, base: Path, seen: set) -> None:
+    """Replace each ``<include file=.../>`` by the children of that file's ``<mujoco>`` root.
+
+    As in MuJoCo, paths are relative to the main model's folder; included elements keep
+    their own file and line for messages (``doc.included`` lists the files).
+    """
+    doc.included = getattr(doc, "included", [])
+    for parent in list(doc.root.iter()):
+        for child in list(parent):
+            if child.tag != "include":
+                continue
+            file = child.get("file")
+            if not file:
+                raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
+            target = (base / file).resolve()
+            if target in seen:
+                raise RobotFileError(f"{doc.where(child)}: <include file={file!r}> includes itself (a cycle)")
+            if not target.is_file():
+                raise RobotFileError(f"{doc.where(child)}: included file {file!r} not found (relative to {base})")
+            sub = parse_xml(target)
+            if sub.root.tag != "mujoco":
+                raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
+                                     f"not <{sub.root.tag}>")
+            _expand_includes(sub, base, seen | {target})
+            doc.merge(sub)
+            doc.included += [target] + sub.included
+            at = list(parent).index(child)
+            parent.remove(child)
+            for k, c in enumerate(list(sub.root)):
+                parent.insert(at + k, c)
 
 
 def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:

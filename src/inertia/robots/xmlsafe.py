@@ -13,6 +13,7 @@ Standard library only (pyexpat builds the ``xml.etree.ElementTree`` tree).
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from xml.parsers import expat
@@ -27,13 +28,21 @@ class RobotFileError(InertiaError, ValueError):
 class Document:
     """A parsed XML file: the root element, the source path and each element's line."""
 
-    def __init__(self, root: ET.Element, path: Path, lines: dict, declaration: str | None,
-                 prolog: tuple = (), epilog: tuple = ()):
+    def __init__(self, root: ET.Element, path: Path, lines: dict, prolog: bytes = b"", epilog: bytes = b"\n"):
         self.root = root
         self.path = path
         self._lines = lines
-        self.declaration = declaration
-        self.prolog, self.epilog = prolog, epilog  # comments outside the root element
+        self._files: dict[int, Path] = {}  # elements merged in from other files (MJCF <include>)
+        # the source's bytes before and after the root element, written back unchanged
+        self.prolog, self.epilog = prolog, epilog
+        self.notes: list[str] = []
+
+    def merge(self, other: "Document") -> None:
+        """Adopt the line numbers of ``other``'s elements (they keep pointing into its file)."""
+        for el in other.root.iter():
+            if id(el) in other._lines:
+                self._lines[id(el)] = other._lines[id(el)]
+                self._files[id(el)] = other._files.get(id(el), other.path)
 
     def line(self, element) -> int | None:
         """1-based line of the element's start tag in the source (None for new elements)."""
@@ -42,7 +51,8 @@ class Document:
     def where(self, element) -> str:
         """``file:line`` for messages."""
         line = self.line(element)
-        return f"{self.path}:{line}" if line else str(self.path)
+        path = self._files.get(id(element), self.path)
+        return f"{path}:{line}" if line else str(path)
 
 
 def _refuse(path, parser, what: str):
@@ -63,32 +73,52 @@ def parse_xml(path) -> Document:
     return parse_xml_bytes(data, path)
 
 
+def _relocated_declaration(data: bytes) -> tuple[bytes, bool]:
+    """Blank out an XML declaration that follows leading comments (expat refuses it there).
+
+    Some real files (e.g. Gazebo models with a license header) put ``<?xml ...?>`` after a
+    comment.  The declaration is replaced by spaces of the same length, so line and column
+    numbers stay right, and the original bytes are still written back unchanged.
+    """
+    m = re.search(rb"<\?xml\s[^>]*\?>", data[:4096])
+    if m is None or m.start() == 0 or not data[: m.start()].strip():
+        return data, False
+    before = re.sub(rb"<!--.*?-->", b"", data[: m.start()], flags=re.S)
+    if before.strip():
+        return data, False
+    return data[: m.start()] + b" " * (m.end() - m.start()) + data[m.end():], True
+
+
 def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     """Parse XML bytes safely; ``path`` is used in messages."""
     path = Path(path) if not isinstance(path, Path) else path
+    source = data
+    data, relocated = _relocated_declaration(data)
     builder = ET.TreeBuilder(insert_comments=True)
     parser = expat.ParserCreate()
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     lines: dict[int, int] = {}
-    declaration = []
     depth = [0]
-    outside: dict[str, list] = {"prolog": [], "epilog": []}
-    seen_root = [False]
+    span = {"start": None, "end": None}
 
     def start(tag, attrs):
+        if depth[0] == 0:
+            span["start"] = parser.CurrentByteIndex
         el = builder.start(tag, attrs)
         lines[id(el)] = parser.CurrentLineNumber
         depth[0] += 1
-        seen_root[0] = True
 
     def end(tag):
         builder.end(tag)
         depth[0] -= 1
+        if depth[0] == 0:
+            i = parser.CurrentByteIndex
+            # an empty root (<robot/>) reports the start tag's index: find the tag's real end
+            j = data.find(b">", i) if 0 <= i < len(data) else -1
+            span["end"] = j + 1 if j >= 0 else len(data)
 
     def comment(text):
-        if depth[0] == 0:  # TreeBuilder drops comments outside the root: keep them ourselves
-            outside["epilog" if seen_root[0] else "prolog"].append(text)
-        else:
+        if depth[0] > 0:  # comments outside the root stay in the raw prolog / epilog bytes
             builder.comment(text)
 
     def entity_decl(name, is_param, value, base, system_id, public_id, notation):
@@ -96,9 +126,6 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
 
     def external_ref(context, base, system_id, public_id):
         _refuse(path, parser, f"reference to an external entity ({system_id or public_id})")
-
-    def xml_decl(version, encoding, standalone):
-        declaration.append((version, encoding))
 
     parser.ordered_attributes = False
     parser.StartElementHandler = start
@@ -108,7 +135,6 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     parser.EntityDeclHandler = entity_decl
     parser.UnparsedEntityDeclHandler = lambda *a: _refuse(path, parser, "an unparsed entity declaration")
     parser.ExternalEntityRefHandler = external_ref
-    parser.XmlDeclHandler = xml_decl
     try:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
@@ -117,18 +143,14 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
             msg += " (entities are not supported in robot files)"
         raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
     root = builder.close()
-    decl = None
-    if declaration:  # keep the declaration exactly as written
-        head = data.lstrip()
-        end = head.find(b"?>")
-        decl = head[: end + 2].decode("utf-8", "replace") if head.startswith(b"<?xml") and end > 0 else None
-    return Document(root, path, lines, decl, tuple(outside["prolog"]), tuple(outside["epilog"]))
+    doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n")
+    if relocated:
+        doc.notes.append(f"{path}: the XML declaration follows a comment (not allowed by XML); read anyway")
+    return doc
 
 
 def serialize(doc: Document) -> bytes:
-    """The document as bytes (declaration kept if the source had one), comments included."""
+    """The document as bytes: the source's own bytes around the root element, the root
+    element re-serialized (comments and attribute order kept)."""
     body = ET.tostring(doc.root, encoding="unicode", short_empty_elements=True)
-    head = (doc.declaration + "\n") if doc.declaration else ""
-    head += "".join(f"<!--{c}-->\n" for c in doc.prolog)
-    tail = "".join(f"<!--{c}-->\n" for c in doc.epilog)
-    return (head + body + "\n" + tail).encode("utf-8")
+    return doc.prolog + body.encode("utf-8") + doc.epilog
