@@ -15,6 +15,7 @@ import os
 import re
 import shlex
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -40,7 +41,8 @@ def run_cli(command: str) -> str:
     assert argv[0] == "inertia", command
     out, err = io.StringIO(), io.StringIO()
     cwd = os.getcwd()
-    os.chdir(REPO)
+    # the demo writes its report folder into the working folder: run it in a fresh one
+    os.chdir(tempfile.mkdtemp(prefix="inertia-readme-") if argv[1:2] == ["demo"] else REPO)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             try:

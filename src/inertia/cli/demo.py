@@ -21,6 +21,8 @@ SAMPLE_UNITS = "cm"
 SAMPLE_DENSITY = 7850.0  # steel, kg/m^3
 SAMPLE_CREDIT = ('"Wing nut" by Oded Stein, Eitan Grinspun and Keenan Crane '
                  "(github.com/odedstein/meshes), CC BY 4.0")
+#: where the report goes by default (relative to the working folder)
+DEFAULT_OUT = "inertia-report"
 
 EPILOG = f"""\
 default body: the bundled {SAMPLE_FILE}, "Wing nut" by Oded Stein, Eitan Grinspun and
@@ -62,6 +64,15 @@ def register(sub) -> None:
     p.add_argument("--accept-defects", action="store_true",
                    help="compute even for an open/defective mesh; the result carries warnings")
     add_format_argument(p)
+    r = p.add_argument_group("report (a folder with index.html, plots, an animation and a 3D page)")
+    r.add_argument("--out", metavar="DIR", default=DEFAULT_OUT,
+                   help=f"report folder (default: ./{DEFAULT_OUT}); a folder inertia did not create is refused "
+                        "unless --force")
+    r.add_argument("--no-video", action="store_true", help="skip the animation (the slowest part)")
+    r.add_argument("--video-format", choices=("gif", "mp4"), default="gif",
+                   help="animation format: gif (Pillow, default) or mp4 (the ffmpeg of imageio-ffmpeg)")
+    r.add_argument("--no-report", action="store_true", help="print the tables only; write no files")
+    r.add_argument("--force", action="store_true", help="write the report into an existing foreign folder")
     p.set_defaults(func=run)
 
 
@@ -98,11 +109,104 @@ def run(args) -> int:
     else:
         props, info = load_source(ns)
     report = build_report(props)
-    if args.format == "json":
-        fmt.emit(fmt.to_json(report_dict(props, info, report, bundled=bundled)))
+    title = ("a steel wing nut" if bundled and info.density_source.startswith("steel") else str(info.source))
+    files = None
+    if args.no_report:
+        from inertia.viz.flipdata import flip_study
+
+        study = flip_study(props.principal()[0])
     else:
-        fmt.emit(report_lines(props, info, report, bundled=bundled))
+        files = _write_report(args, props, title, bundled, ns)
+        study = files["study"]
+    if args.format == "json":
+        d = report_dict(props, info, report, bundled=bundled)
+        d["flip"] = _flip_dict(study)
+        if files is not None:
+            d["report"] = {"index": str(files["index"]), "files": sorted(f for v in files["files"].values() for f in v)}
+        fmt.emit(fmt.to_json(d))
+    else:
+        lines = report_lines(props, info, report, bundled=bundled) + flip_lines(study)
+        if files is not None:
+            lines += fmt.heading("8. Report") + [f"  {files['index']}  (open it in a browser; "
+                                                 f"{sum(len(v) for v in files['files'].values()) + 1} files)"]
+        fmt.emit(lines)
     return 0
+
+
+class _Progress:
+    """A progress bar on stderr while the report is built (only on a terminal)."""
+
+    STEPS = ("simulating the flip", "plotting", "animating", "writing the 3D page")
+
+    def __init__(self, enabled: bool):
+        import sys
+
+        self.enabled = enabled and sys.stderr.isatty()
+        self.k = 0
+
+    def __call__(self, name: str) -> None:
+        import sys
+
+        if not self.enabled:
+            return
+        self.k += 1
+        n = len(self.STEPS)
+        bar = "#" * (20 * self.k // n) + "." * (20 - 20 * self.k // n)
+        sys.stderr.write(f"\r[{bar}] {name}...".ljust(60))
+        sys.stderr.flush()
+
+    def done(self) -> None:
+        import sys
+
+        if self.enabled:
+            sys.stderr.write("\r" + " " * 60 + "\r")
+            sys.stderr.flush()
+
+
+def _write_report(args, props, title, bundled, ns):
+    from inertia.viz.report import build_report as build_folder
+
+    mesh = None
+    try:
+        from inertia.massprops.mesh_io import load_mesh
+
+        if bundled:
+            with sample_path() as path:
+                mesh = load_mesh(path, units=ns.units)
+        elif args.mesh:
+            mesh = load_mesh(args.mesh, units=ns.units)
+    except Exception:  # noqa: BLE001 - the page then shows the equivalent box only
+        mesh = None
+    bar = _Progress(True)
+    try:
+        return build_folder(args.out, props, title=f"inertia demo: {title}", credit=SAMPLE_CREDIT if bundled else None,
+                            mesh=mesh, video=not args.no_video, force=args.force, progress=bar,
+                            animation_format=args.video_format)
+    finally:
+        bar.done()
+
+
+def _flip_dict(study) -> dict:
+    return {"moments": study.moments.tolist(), "omega0_body_principal": study.omega0_body.tolist(),
+            "flip_interval": float(study.flip_interval), "flip_times": study.flip_times.tolist(),
+            "flips_detected": study.detected_flips.tolist(),
+            "integrators": {k: {"h": v["h"], "max_energy_error": float(v["energy_error"].max()),
+                                "max_momentum_error": float(v["momentum_error"].max())}
+                            for k, v in study.integrators.items()}}
+
+
+def flip_lines(study) -> list[str]:
+    """Section 7: the intermediate-axis flip, predicted and simulated."""
+    lines = fmt.heading("7. Spin about the intermediate axis: the Dzhanibekov flip")
+    w = study.omega0_body
+    lines += [f"  spin            omega0 = [{', '.join(fmt.num(x) for x in w)}] rad/s about principal axes 1, 2, 3",
+              f"  predicted       a flip every 2K(m)/lambda = {fmt.num(study.flip_interval)} s",
+              f"  exact solution  flips at {', '.join(f'{x:.4f}' for x in study.detected_flips)} s "
+              f"(predicted {', '.join(f'{x:.4f}' for x in study.flip_times[:len(study.detected_flips)])} s)"]
+    rows = [[name, fmt.num(v["h"]), f"{v['energy_error'].max():.2e}", f"{v['momentum_error'].max():.2e}"]
+            for name, v in study.integrators.items()]
+    lines += fmt.table(["integrator", "h [s]", "max |dE/E|", "max |d|L|/|L||"], rows)
+    return lines
 
 
 def _load_bundled(ns, path):
