@@ -117,7 +117,12 @@ def run(args) -> int:
         study = flip_study(props.principal()[0])
     else:
         files = _write_report(args, props, title, bundled, ns)
-        study = files["study"]
+        if files is None:  # plotting libraries missing: the tables still come
+            from inertia.viz.flipdata import flip_study
+
+            study = flip_study(props.principal()[0])
+        else:
+            study = files["study"]
     if args.format == "json":
         d = report_dict(props, info, report, bundled=bundled)
         d["flip"] = _flip_dict(study)
@@ -178,6 +183,14 @@ def _write_report(args, props, title, bundled, ns):
     except Exception:  # noqa: BLE001 - the page then shows the equivalent box only
         mesh = None
     bar = _Progress(True)
+    try:
+        import matplotlib  # noqa: F401 - the report needs it; the tables do not
+    except ImportError:
+        import sys
+
+        print("inertia demo: note: no report written: it needs matplotlib and Pillow "
+              "(pip install 'inertia[viz]' or '.[all]')", file=sys.stderr)
+        return None
     try:
         return build_folder(args.out, props, title=f"inertia demo: {title}", credit=SAMPLE_CREDIT if bundled else None,
                             mesh=mesh, video=not args.no_video, force=args.force, progress=bar,
