@@ -10,7 +10,7 @@ command line start without loading NumPy until a name is used.
 
 from __future__ import annotations
 
-import importlib
+from ._lazy import lazy_namespace
 
 __version__ = "0.1.0"
 
@@ -70,22 +70,9 @@ _EXPORTS = {
     "four_point_model": "inertia.particles.models",
 }
 
-__all__ = sorted(_EXPORTS) + ["__version__"]
-
 # capability sub-packages, reachable as attributes (``inertia.dynamics``) without an import
 _SUBPACKAGES = ("errors", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
 
 
-def __getattr__(name: str):
-    if name in _SUBPACKAGES:
-        return importlib.import_module(f"{__name__}.{name}")
-    mod = _EXPORTS.get(name)
-    if mod is None:
-        raise AttributeError(f"module 'inertia' has no attribute {name!r}")
-    value = getattr(importlib.import_module(mod), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return __all__
+__getattr__, __dir__, _names = lazy_namespace(__name__, _EXPORTS, _SUBPACKAGES)
+__all__ = _names + ["__version__"]

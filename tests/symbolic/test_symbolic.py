@@ -62,6 +62,18 @@ def _numeric_kwargs(system, props, rng):
     return kw
 
 
+def _flat_args(system, props, kw):
+    """Parameters and inputs in the generated functions' order."""
+    J = props.inertia_com
+    params = [J[0, 0], J[1, 1], J[2, 2], J[0, 1], J[0, 2], J[1, 2]]
+    if system.has_com:
+        params += [props.mass, *props.com]
+    if system.gravity:
+        params += list(kw["gravity"])
+    inputs = list(kw["torque_body"]) + (list(kw["force_world"]) if system.has_com else [])
+    return params, inputs
+
+
 # ----------------------------------------------------------------------------- kinematics
 
 
@@ -198,13 +210,7 @@ def test_euler_residual_vanishes_on_the_derived_accelerations():
         qd = rng.normal(size=s.n)
         kw = _numeric_kwargs(s, props, rng)
         qdd = eom.numeric()(q, qd, **kw)
-        J = props.inertia_com
-        params = [J[0, 0], J[1, 1], J[2, 2], J[0, 1], J[0, 2], J[1, 2]]
-        if s.has_com:
-            params += [props.mass, *props.com]
-        if s.gravity:
-            params += list(kw["gravity"])
-        inputs = list(kw["torque_body"]) + (list(kw["force_world"]) if s.has_com else [])
+        params, inputs = _flat_args(s, props, kw)
         r = np.array(res(*q, *qd, *params, *inputs, *qdd), float)
         assert np.abs(r).max() < 1e-12 * max(1.0, np.abs(qdd).max())
 
@@ -350,13 +356,7 @@ def test_generated_python_code_runs_and_agrees(variant):
     qd = rng.normal(size=s.n)
     kw = _numeric_kwargs(s, props, rng)
     expected = eom.numeric()(q, qd, **kw)
-    J = props.inertia_com
-    params = [J[0, 0], J[1, 1], J[2, 2], J[0, 1], J[0, 2], J[1, 2]]
-    if s.has_com:
-        params += [props.mass, *props.com]
-    if s.gravity:
-        params += list(kw["gravity"])
-    inputs = list(kw["torque_body"]) + (list(kw["force_world"]) if s.has_com else [])
+    params, inputs = _flat_args(s, props, kw)
     got = np.array(fn(*q, *qd, *params, *inputs))
     np.testing.assert_allclose(got, expected, rtol=1e-13, atol=1e-13)
 

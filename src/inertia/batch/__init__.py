@@ -8,7 +8,7 @@ pyarrow are imported only when used (``pip install "inertia[batch]"``).
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_namespace
 
 _EXPORTS = {
     "run_batch": "run", "BatchSummary": "run", "make_chunks": "run",
@@ -18,17 +18,4 @@ _EXPORTS = {
     "read_frame": "output",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    mod = _EXPORTS.get(name)
-    if mod is None:
-        raise AttributeError(f"module 'inertia.batch' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{mod}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return __all__
+__getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, ())

@@ -10,7 +10,7 @@ name is used.
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_namespace
 
 _MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "diagnostics", "transition", "rollout",
             "quaternion")
@@ -36,19 +36,4 @@ _EXPORTS = {
     "perturb_state": "transition", "state_error": "transition", "rollout": "rollout",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name in _MODULES:
-        return importlib.import_module(f"{__name__}.{name}")
-    mod = _EXPORTS.get(name)
-    if mod is None:
-        raise AttributeError(f"module 'inertia.dynamics' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{mod}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(__all__) | set(_MODULES))
+__getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

@@ -8,7 +8,7 @@
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_namespace
 
 _EXPORTS = {
     "read_robot": "io", "detect_format": "io", "read_urdf": "urdf_sdf", "read_sdf": "urdf_sdf",
@@ -18,17 +18,4 @@ _EXPORTS = {
     "nearest_physical_inertia": "fix",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    mod = _EXPORTS.get(name)
-    if mod is None:
-        raise AttributeError(f"module 'inertia.robots' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{mod}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return __all__
+__getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, ())

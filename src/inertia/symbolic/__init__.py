@@ -14,7 +14,7 @@ See ``docs/symbolic.md``.
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_namespace
 
 _EXPORTS = {
     "derive": "equations", "EquationsOfMotion": "equations", "GimbalLockError": "equations",
@@ -25,17 +25,4 @@ _EXPORTS = {
     "lagrangian": "rigid", "mass_matrix": "rigid", "euler_residual": "rigid", "accelerations": "rigid",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    mod = _EXPORTS.get(name)
-    if mod is None:
-        raise AttributeError(f"module 'inertia.symbolic' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{mod}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return __all__
+__getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, ())
