@@ -71,7 +71,7 @@ def ours(paths, workers: int, out_dir: str):
     from inertia.batch import run_batch
 
     cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       host="127.0.0.1", dashboard_address=None)
+                                       host="127.0.0.1", dashboard_address=":0")
     client = distributed.Client(cluster)
     try:
         client.run(lambda: __import__("inertia.batch.record"))  # warm imports outside the timing

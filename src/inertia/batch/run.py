@@ -3,7 +3,7 @@
 Execution
 ---------
 * ``scheduler=None`` (default): an embedded ``distributed.LocalCluster`` on this machine,
-  one single-threaded worker process per core, loopback only, no dashboard.  Nothing to
+  one single-threaded worker process per core, loopback only (dashboard on a free port).  Nothing to
   start by hand.
 * ``scheduler="tcp://HOST:PORT"``: an existing ``distributed`` scheduler.  Every worker
   needs ``inertia`` installed and must see the files under the same paths.
@@ -172,7 +172,7 @@ class _Executor:
                                          "(or use scheduler='synchronous')") from None
         if self.scheduler in (None, "local"):
             self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
-                                        host="127.0.0.1", dashboard_address=None)
+                                        host="127.0.0.1", dashboard_address=":0")
             self.client = Client(self.cluster)
         elif isinstance(self.scheduler, str) and "://" in self.scheduler:
             try:
