@@ -71,7 +71,8 @@ def ours(paths, workers: int, out_dir: str):
     from inertia.batch import run_batch
 
     cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       host="127.0.0.1", dashboard_address=":0")
+                                       host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                                       scheduler_kwargs={"dashboard": False})
     client = distributed.Client(cluster)
     try:
         client.run(lambda: __import__("inertia.batch.record"))  # warm imports outside the timing

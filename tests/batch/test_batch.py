@@ -60,6 +60,7 @@ def dataset(tmp_path_factory):
     (d / "truncated.stl").write_bytes(data[: len(data) // 2 + 7])
     _cube_obj(d / "sub" / "nan_vertex.obj", nan=True)
     _cube_obj(d / "sub" / "inward_cube.obj", inward=True)
+    _cube_obj(d / "sub" / "unit_cube.obj")
     (d / "notes.txt").write_text("not a mesh")  # ignored: not a mesh extension
     return d
 
@@ -67,7 +68,8 @@ def dataset(tmp_path_factory):
 @pytest.fixture(scope="module")
 def client():
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                       dashboard_address=":0")
+                                       dashboard_address="127.0.0.1:0",
+                                       scheduler_kwargs={"dashboard": False})
     c = distributed.Client(cluster)
     yield c
     c.close()
@@ -84,8 +86,14 @@ def test_cluster_run_matches_single_file_api_and_names_every_error(dataset, clie
     summary = run_batch([dataset], out, scheduler=client, progress=False)
     table = read_frame(out)
     names = {os.path.basename(p): row for p, row in zip(table["path"], table.to_dict("records"))}
-    assert set(names) == set(GOOD) | set(BAD_SHARED) | set(BROKEN)
+    assert set(names) == set(GOOD) | set(BAD_SHARED) | set(BROKEN) | {"unit_cube.obj"}
     assert len(table) == len(set(table["path"]))
+    # closed form for the 1 m cube of water: m = 1000 kg, COM at the centre, I = m a^2 / 6
+    cube = names["unit_cube.obj"]
+    assert cube["status"] == "ok" and math.isclose(cube["mass"], 1000.0, rel_tol=1e-12)
+    assert np.allclose(cube["com"], [0.5, 0.5, 0.5], atol=1e-12)
+    assert np.allclose(np.reshape(cube["inertia_com"], (3, 3)), np.eye(3) * 1000.0 / 6, atol=1e-9)
+    assert np.allclose(cube["principal_moments"], [1000.0 / 6] * 3, atol=1e-9)
     for name in GOOD:
         row = names[name]
         props = inertia.mesh_file_properties(row["path"], density=1000.0)
@@ -105,7 +113,7 @@ def test_cluster_run_matches_single_file_api_and_names_every_error(dataset, clie
             inertia.mesh_file_properties(row["path"], density=1000.0)
         assert str(exc.value) == row["message"]
         assert row["mass"] is None or math.isnan(row["mass"])
-    assert summary.ok == len(GOOD) and summary.errors == len(BAD_SHARED) + len(BROKEN)
+    assert summary.ok == len(GOOD) + 1 and summary.errors == len(BAD_SHARED) + len(BROKEN)
     assert summary.errors_by_reason["open_edges"] == 2
     assert not (tmp_path / "results.parquet.parts").exists()  # parts folded into the output
 
@@ -153,7 +161,7 @@ def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path)
     assert saved >= 1
     subprocess.run(cmd + ["--resume"], check=True, capture_output=True)
     done = read_frame(out)
-    assert done["path"].is_unique and len(done) == len(GOOD) + len(BAD_SHARED) + len(BROKEN)
+    assert done["path"].is_unique and len(done) == len(GOOD) + len(BAD_SHARED) + len(BROKEN) + 1
 
 
 def test_manifest_options_per_file(dataset, tmp_path):
@@ -214,7 +222,20 @@ def test_cli_summary_and_exit_status(dataset, tmp_path, capsys):
                  "--scheduler", "synchronous", "--no-progress"])
     err = capsys.readouterr().err
     assert code == 0
-    assert "ok 1, warnings 0, errors 5" in err and "open_edges: 2" in err
-    assert len(out.read_text().splitlines()) == 6
+    assert "ok 2, warnings 0, errors 5" in err and "open_edges: 2" in err
+    assert len(out.read_text().splitlines()) == 7
     assert main(["batch", str(tmp_path / "nothing-here"), "-o", str(out), "--scheduler", "synchronous"]) == 1
     assert "no such file or folder" in capsys.readouterr().err
+
+
+def test_accepted_defects_are_warning_rows_with_the_single_file_numbers(dataset):
+    import warnings
+
+    path = dataset / "sub" / "teapot_open.stl"  # open: refused by default, accepted here
+    row = mass_properties_table([path], on_defect="warn").to_dict("records")[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = inertia.mesh_file_properties(path, density=1000.0, on_defect="warn")
+    assert row["status"] == "warning" and row["reason"] == "" and len(row["warnings"]) >= 1
+    assert list(row["warnings"]) == list(ref.warnings)
+    assert row["mass"] == ref.mass and np.array_equal(row["com"], ref.com)

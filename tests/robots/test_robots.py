@@ -372,3 +372,39 @@ def test_declaration_after_a_comment_is_read_and_written_back(tmp_path, capsys):
     assert _run(capsys, "fix", f, "-o", fixed)[0] == 0
     assert fixed.read_text().startswith('<!-- license header -->\n<?xml version="1.0" ?>\n<sdf version="1.4">')
     assert _run(capsys, "check", fixed)[0] == 0
+
+
+@needs_robots
+def test_unusable_mesh_note_is_one_line_naming_the_defects_check_mesh_finds():
+    # truth: SOURCES.md lists head.stl as not watertight; check_mesh on the loaded file says why
+    from inertia import check_mesh, load_mesh
+
+    report = check_model(read_robot(GOOD[1]))
+    chassis = next(lk for lk in report.links if lk.name == "chassis")
+    notes = [n.message for n in chassis.notes if "head.stl" in n.message]
+    assert len(notes) == 1 and "\n" not in notes[0] and len(notes[0]) < 400
+    codes = check_mesh(*load_mesh(ROBOTS / "barkour_v0_mjcf" / "head.stl")).codes
+    assert codes and all(c in notes[0] for c in codes)
+    assert report.n_errors == 0 and report.n_warnings == 0
+
+
+@needs_robots
+def test_unusable_visual_falls_back_to_the_collision_mesh(tmp_path):
+    # truth: the drill's declared inertial (gazebo_models) and its own collision STL agree
+    src = ROBOTS / "cordless_drill_sdf"
+    shutil.copytree(src, tmp_path / "m")
+    sdf = tmp_path / "m" / "cordless_drill" / "model.sdf"
+    link = check_model(read_robot(sdf)).links[0]
+    assert not link.errors and not link.warnings
+    assert [n.code for n in link.notes] == ["geometry_unusable"]
+    assert ".dae" in link.notes[0].message and "collision shapes instead" in link.notes[0].message
+    # the comparison is real: a tensor 10x too large is caught against the collision mesh
+    text = sdf.read_text()
+    for tag in ("ixx", "iyy", "izz"):
+        start = text.index(f"<{tag}>") + len(tag) + 2
+        end = text.index(f"</{tag}>")
+        text = text[:start] + repr(10 * float(text[start:end])) + text[end:]
+    sdf.write_text(text)
+    link = check_model(read_robot(sdf)).links[0]
+    assert [w.code for w in link.warnings] == ["geometry_mismatch"]
+    assert "collision geometry" in link.warnings[0].message

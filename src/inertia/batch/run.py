@@ -171,8 +171,14 @@ class _Executor:
             raise MissingDependencyError("batch runs need Dask: pip install 'inertia[batch]' "
                                          "(or use scheduler='synchronous')") from None
         if self.scheduler in (None, "local"):
+            import logging
+
+            # No dashboard; the scheduler's HTTP server (health routes) still starts, so give it a
+            # free loopback port: with None it takes 8787, clashing with any other cluster.
+            # ERROR hides shutdown chatter ("worker still alive, killing").
             self.cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
-                                        host="127.0.0.1", dashboard_address=":0")
+                                        host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                                        scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
         elif isinstance(self.scheduler, str) and "://" in self.scheduler:
             try:

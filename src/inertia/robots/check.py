@@ -139,8 +139,19 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
     # shapes are often simplified stand-ins, like a foot sphere), else with the collision ones
     role = "visual" if any(g.role == "visual" for g in link.geometries) else "collision"
     computed, role, problems = link_geometry_properties(link, role=role, mass=m, mesh_units=mesh_units)
+    fallback = ""
+    if computed is None and role == "visual" and any(g.role == "collision" and g.kind == "mesh"
+                                                     for g in link.geometries):
+        # an unusable visual (a .dae, an open mesh) leaves the collision shapes to compare with,
+        # when they include a mesh: primitive-only collisions are usually stand-ins (a foot sphere)
+        computed, _, collision_problems = link_geometry_properties(link, role="collision", mass=m,
+                                                                   mesh_units=mesh_units)
+        if computed is not None:
+            role, fallback = "collision", "; compared with the collision shapes instead"
+        else:
+            problems = problems + collision_problems
     for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
-        rep.notes.append(Finding(code, f"{at}: {msg}; geometry comparison skipped"))
+        rep.notes.append(Finding(code, f"{at}: {msg}{fallback or '; geometry comparison skipped'}"))
     if computed is not None:
         declared_m, declared_R = _principal(inertial.inertia_link)
         comp_m, comp_R = _principal(computed.inertia_com)

@@ -75,7 +75,7 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             try:
                 part = shape_properties(g, density=density, mesh_units=mesh_units)
             except InertiaError as exc:
-                problems.append(("geometry_unusable", f"line {g.line}: {r} {g.kind}: {exc}"))
+                problems.append(("geometry_unusable", f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
                 continue
             total = part if total is None else total + part
         if problems:
@@ -84,6 +84,20 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             total = total.with_mass(mass)
         return total, r, []
     return None, None, []
+
+
+def _short(exc, geom) -> str:
+    """One line for a mesh that is not a solid: its defect codes, and where the details are.
+
+    The full defect report runs to many lines per mesh; a robot with a dozen such meshes
+    would bury its real findings, so the check names the codes only.
+    """
+    report = getattr(exc, "report", None)
+    path = geom.params.get("path") if geom.kind == "mesh" else None
+    if report is None or path is None or not report.codes:
+        return str(exc)
+    return (f"mesh {path} is not a closed, consistently wound solid "
+            f"({', '.join(dict.fromkeys(report.codes))}); details: inertia props {path}")
 
 
 def geometry_bounds(link, *, mesh_units: str = "m"):

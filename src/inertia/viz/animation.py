@@ -89,4 +89,6 @@ def write_animation(frames, path, *, fps: float = 12.0) -> dict:
             if os.path.exists(tmp):
                 os.unlink(tmp)
         return {"file": path.name, "frames": len(frames), "duration_s": len(frames) / fps}
-    raise ValueError(f"animation format {path.suffix!r}: use .gif or .mp4")
+    from ..errors import InputError
+
+    raise InputError(f"animation file {path}: format {path.suffix!r} is not supported; use .gif or .mp4")

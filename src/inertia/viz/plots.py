@@ -50,7 +50,7 @@ def omega_plot(study, out_dir, stem: str = "omega") -> dict:
     ax.set_xlabel("t [s]")
     ax.set_ylabel("omega_body [rad/s]")
     ax.set_title(f"Spin about the intermediate axis: a flip every {study.flip_interval:.4g} s (exact solution)")
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: the curves fill the axes
     ax.grid(alpha=0.3)
     files = _save(fig, Path(out_dir), stem)
     plt.close(fig)
@@ -111,9 +111,10 @@ def polhode_plot(study, out_dir, stem: str = "polhodes") -> dict:
     c = np.sqrt((1 / I[0] - 1 / I[1]) / (1 / I[1] - 1 / I[2]))
     for s in (1, -1):
         m1 = G * np.cos(th) / np.sqrt(1 + c**2)
-        ax.plot(m1, G * np.sin(th), s * c * m1, color="tab:red", lw=1.4, label="separatrix" if s == 1 else None)
+        ax.plot(m1, G * np.sin(th), s * c * m1, color="tab:red", lw=2.2, label="separatrix" if s == 1 else None)
     m = study.omega_exact * I
-    ax.plot(m[:, 0], m[:, 1], m[:, 2], color="k", lw=1.6, label="this spin")
+    # dashed and thinner: this spin runs next to the separatrix and would hide it
+    ax.plot(m[:, 0], m[:, 1], m[:, 2], color="k", lw=1.0, ls="--", label="this spin")
     ax.set_box_aspect((1, 1, 1))
     ax.set_xlabel("m1")
     ax.set_ylabel("m2")
