@@ -18,7 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .equations import _as_inertia, _as_moments, _quat_matrix
+from .equations import _as_inertia, _as_moments
+from .quaternion import quat_to_matrix
 
 def _as_array(value, name: str, tail: tuple[int, ...]) -> np.ndarray:
     """Float array with trailing shape ``tail``.  NaN and inf pass through: a diverged
@@ -90,7 +91,7 @@ def angular_momentum_world(q_world_body, omega_body, moments=None, *, inertia_bo
     """
     q = _as_array(q_world_body, "q_world_body", (4,))
     m = angular_momentum_body(omega_body, moments, inertia_body=inertia_body)
-    R = _quat_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
     return np.einsum("...ij,...j->...i", R, m)
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..massprops._arrays import as_float_array
+from .quaternion import quat_to_matrix
 
 __all__ = [
     "angular_acceleration_principal",
@@ -130,19 +131,6 @@ def _qmul_pure_left(v, q):
                      a * w + b * z - c * y,
                      b * w + c * x - a * z,
                      c * w + a * y - b * x], axis=-1)
-
-
-def _quat_matrix(q):
-    """``R_WB`` (..., 3, 3) of unit quaternions q (..., 4) (no normalisation)."""
-    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    xx, yy, zz = x * x, y * y, z * z
-    xy, xz, yz = x * y, x * z, y * z
-    wx, wy, wz = w * x, w * y, w * z
-    return np.stack([
-        np.stack([1 - 2 * (yy + zz), 2 * (xy - wz), 2 * (xz + wy)], -1),
-        np.stack([2 * (xy + wz), 1 - 2 * (xx + zz), 2 * (yz - wx)], -1),
-        np.stack([2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)], -1),
-    ], axis=-2)
 
 
 def _accel_principal(omega, moments, torque=None):
@@ -405,7 +393,7 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     """
     q = as_float_array(q_world_body, "q_world_body", (4,))
     L = _as_vec3(L_world, "L_world")
-    R = _quat_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
     a = np.asarray(inertia_body, dtype=float)
     if a.ndim >= 2 and a.shape[-2:] == (3, 3):
         w_W = omega_world_from_momentum(L, R, a)

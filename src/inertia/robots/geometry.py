@@ -13,6 +13,9 @@ import numpy as np
 from ..errors import InertiaError
 from ..massprops.mesh_io import SUPPORTED_EXTENSIONS
 
+#: the eight corners of the cube [-1, 1]^3; scaled by half-extents they bound a shape
+CORNER_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+
 #: geometry used when a link has both: collision first (it is what the simulator sees)
 ROLES = ("collision", "visual")
 
@@ -22,7 +25,6 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
 
     Raises InertiaError (with a message naming the shape) when it cannot be computed.
     """
-    from .. import massprops  # noqa: F401 - package import for the primitives below
     from ..massprops import primitives
     from ..massprops.mesh import mesh_properties
     from ..massprops.mesh_io import load_mesh
@@ -110,15 +112,15 @@ def geometry_bounds(link, *, mesh_units: str = "m"):
         p = g.params
         if g.kind == "box":
             h = np.asarray(p["size"]) / 2
-            corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * h
+            corners = CORNER_SIGNS * h
         elif g.kind == "sphere":
-            corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * p["radius"]
+            corners = CORNER_SIGNS * p["radius"]
         elif g.kind in ("cylinder", "capsule"):
             hz = p["length"] / 2 + (p["radius"] if g.kind == "capsule" else 0.0)
             r = p["radius"]
-            corners = np.array([[sx * r, sy * r, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+            corners = CORNER_SIGNS * (r, r, hz)
         elif g.kind == "ellipsoid":
-            corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * p["semi_axes"]
+            corners = CORNER_SIGNS * p["semi_axes"]
         elif g.kind == "mesh" and p.get("path") is not None and p["path"].suffix.lower() in SUPPORTED_EXTENSIONS:
             try:
                 v, _ = load_mesh(p["path"], units=mesh_units)

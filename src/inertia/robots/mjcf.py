@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..dynamics.quaternion import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
 from .urdf_sdf import floats
@@ -39,10 +40,13 @@ def _axis_rot(axis: int, angle: float) -> np.ndarray:
 
 
 def quat_matrix(q) -> np.ndarray:
-    w, x, y, z = np.asarray(q, float) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    """Rotation matrix of an MJCF ``quat`` (w x y z), which MuJoCo normalises."""
+    return quat_to_matrix(quat_normalize(q))
+
+
+def _axis_angle_matrix(axis, angle: float) -> np.ndarray:
+    """Rotation by ``angle`` [rad] about the unit vector ``axis``."""
+    return quat_to_matrix(quat_from_rotvec(np.asarray(axis, float) * angle))
 
 
 class _Compiler:
@@ -65,10 +69,7 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
         return quat_matrix(floats(attrs["quat"], 4, where, "quat"))
     if "axisangle" in attrs:
         v = floats(attrs["axisangle"], 4, where, "axisangle")
-        axis = np.asarray(v[:3]) / np.linalg.norm(v[:3])
-        a = comp.angle(v[3])
-        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-        return np.eye(3) + math.sin(a) * K + (1 - math.cos(a)) * K @ K
+        return _axis_angle_matrix(np.asarray(v[:3]) / np.linalg.norm(v[:3]), comp.angle(v[3]))
     if "euler" in attrs:
         v = [comp.angle(x) for x in floats(attrs["euler"], 3, where, "euler")]
         R = np.eye(3)
@@ -91,9 +92,7 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
         s = np.linalg.norm(axis)
         if s < 1e-12:
             return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
-        axis /= s
-        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-        return np.eye(3) + s * K + (1 - c) * K @ K
+        return _axis_angle_matrix(axis / s, math.atan2(s, c))
     return np.eye(3)
 
 

@@ -48,6 +48,15 @@ def floats(text, n: int | None, where: str, what: str) -> list[float]:
     return vals
 
 
+def _add_shapes(link, el, parse) -> None:
+    """Append every ``<collision>`` then ``<visual>`` shape of ``el`` that ``parse(element, role)`` reads."""
+    for role in ("collision", "visual"):
+        for g in el.findall(role):
+            geom = parse(g, role)
+            if geom is not None:
+                link.geometries.append(geom)
+
+
 def _inertia_matrix(ixx, iyy, izz, ixy, ixz, iyz) -> np.ndarray:
     return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], dtype=float)
 
@@ -68,11 +77,7 @@ def read_urdf(path, *, search_paths=()) -> RobotModel:
         inertial = el.find("inertial")
         if inertial is not None:
             link.inertial = _urdf_inertial(doc, inertial)
-        for role in ("collision", "visual"):
-            for g in el.findall(role):
-                geom = _urdf_geometry(doc, g, role, base, search_paths, link)
-                if geom is not None:
-                    link.geometries.append(geom)
+        _add_shapes(link, el, lambda g, role: _urdf_geometry(doc, g, role, base, search_paths, link))
         links.append(link)
     return RobotModel(Path(path), "urdf", links, doc)
 
@@ -176,11 +181,7 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
                     if t is not None:
                         vals[k] = floats(t, 1, doc.where(i_el.find(k)), f"inertia {k}")[0]
             link.inertial = Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(inertial), inertial)
-        for role in ("collision", "visual"):
-            for g in el.findall(role):
-                geom = _sdf_geometry(doc, g, role, base, search, link)
-                if geom is not None:
-                    link.geometries.append(geom)
+        _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link))
         links.append(link)
     return RobotModel(Path(path), "sdf", links, doc)
 

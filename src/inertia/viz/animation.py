@@ -16,7 +16,7 @@ def render_frames(study, six_body_principal, box_half, *, n_frames: int = 48, si
     """RGB frames (n, H, W, 3) uint8 of the body at ``n_frames`` evenly spaced times."""
     from ..dynamics.exact import exact_solution
     from ..dynamics.quaternion import quat_to_matrix
-    from .plots import _plt
+    from .plots import _plt, box_wire
 
     plt = _plt()
     t = np.linspace(study.t[0], study.t[-1], n_frames)
@@ -24,8 +24,7 @@ def render_frames(study, six_body_principal, box_half, *, n_frames: int = 48, si
     R = quat_to_matrix(q)
     L = study.L_world / np.linalg.norm(study.L_world)
     span = 1.25 * max(float(np.abs(six_body_principal).max()), float(np.max(box_half)))
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box_half
-    edges = [(i, j) for i in range(8) for j in range(i + 1, 8) if np.sum(corners[i] != corners[j]) == 1]
+    corners, edges = box_wire(box_half)
     dpi = 100
     fig = plt.figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
     ax = fig.add_subplot(projection="3d")

@@ -24,6 +24,16 @@ def _plt():
     return plt
 
 
+def box_wire(half):
+    """Corners (8, 3) of a box with half-extents ``half`` and its 12 edges as corner-index pairs."""
+    from ..robots.geometry import CORNER_SIGNS
+
+    corners = CORNER_SIGNS * np.asarray(half, float)
+    edges = [(i, j) for i in range(8) for j in range(i + 1, 8)
+             if np.count_nonzero(CORNER_SIGNS[i] != CORNER_SIGNS[j]) == 1]
+    return corners, edges
+
+
 def _save(fig, out_dir: Path, stem: str) -> list[str]:
     from ..atomic import write_bytes_atomic
 
@@ -136,13 +146,10 @@ def body_plot(props, six, out_dir, stem: str = "body") -> dict:
     fig = plt.figure(figsize=(5.2, 5.2))
     ax = fig.add_subplot(projection="3d")
     box = equivalent_box(props)
-    h = np.asarray(box.size) / 2
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * h
+    corners, edges = box_wire(np.asarray(box.size) / 2)
     world = corners @ R.T + c
-    for i in range(8):
-        for j in range(i + 1, 8):
-            if np.sum(np.abs(corners[i] - corners[j]) > 1e-15) == 1:
-                ax.plot(*zip(world[i], world[j]), color="0.6", lw=0.8)
+    for i, j in edges:
+        ax.plot(*zip(world[i], world[j]), color="0.6", lw=0.8)
     pts = six.positions_body
     ax.scatter(pts[:, 0], pts[:, 1], pts[:, 2], s=40, color="tab:orange", label="six point masses (M/6 each)")
     colors = ("tab:red", "tab:green", "tab:blue")
