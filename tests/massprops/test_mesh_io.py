@@ -267,8 +267,24 @@ def test_directory_is_not_a_file(tmp_path):
 def test_missing_trimesh_is_a_missing_dependency_error(monkeypatch):
     monkeypatch.setitem(sys.modules, "trimesh", None)  # makes `import trimesh` raise ImportError
     with pytest.raises(MissingDependencyError, match=r'pip install "inertia\[mesh\]"'):
-        load_mesh(mesh_file("soup.stl"))
+        load_mesh(mesh_file("wingnut.obj"))
     assert isinstance(MissingDependencyError("x"), ImportError)
+
+
+@pytest.mark.parametrize("name", ["featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl"])
+def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(name, monkeypatch):
+    from inertia.massprops.mesh_io import _read_binary_stl, _stl_kind
+
+    path = Path(mesh_file(name))
+    n = _stl_kind(path)
+    assert n > 0  # binary, even behind a header that starts with "solid"
+    loaded = trimesh.load(str(path), file_type="stl", process=False)
+    v, f = _read_binary_stl(path, n)
+    assert np.array_equal(v, loaded.vertices) and np.array_equal(f, loaded.faces)
+    expected = load_mesh(path)
+    monkeypatch.setitem(sys.modules, "trimesh", None)
+    got = load_mesh(path)
+    assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
 
 
 def test_importing_the_modules_does_not_import_trimesh():

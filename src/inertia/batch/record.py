@@ -129,3 +129,27 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
 def process_chunk(jobs, options: dict) -> list[dict]:
     """Rows for a list of jobs (the unit of work sent to a Dask worker)."""
     return [process_file(job, **options) for job in jobs]
+
+
+def warm_up() -> None:
+    """Load and compile (or fetch from numba's cache) everything a row needs, on a tiny mesh.
+
+    A worker's first file otherwise pays for importing numba and loading the compiled
+    kernels (a fraction of a second); benchmarks call this on every worker before timing.
+    """
+    import tempfile
+
+    import numpy as np
+
+    # an octahedron, outward wound, as a binary STL (the common dataset format)
+    v = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype="<f4")
+    f = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+    rec = np.zeros(len(f), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["v"] = v[np.array(f)]
+    with tempfile.TemporaryDirectory(prefix="inertia-warm-") as folder:
+        path = os.path.join(folder, "octahedron.stl")
+        with open(path, "wb") as fh:
+            fh.write(b"inertia warm-up".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes())
+        row = process_file(Job(path))
+    if row["status"] != "ok":
+        raise RuntimeError(f"warm-up mesh failed: {row['message']}")

@@ -195,14 +195,44 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     return v, f.astype(np.int64, copy=False)
 
 
+# ---------------------------------------------------------------------------------- compiled path
+# None: not tried yet; False: numba unavailable; else the module of compiled kernels
+_topology_state = None
+
+
+def _fast_topology():
+    """The numba welding/topology kernels (:mod:`._mesh_topology_numba`), or None without numba.
+
+    They give the same answers as the NumPy code here, in O(n) hash passes instead of sorts;
+    tests compare the two.
+    """
+    global _topology_state
+    if _topology_state is None:
+        try:
+            from . import _mesh_topology_numba as kernels
+        except ImportError:
+            kernels = False
+        _topology_state = kernels
+    return _topology_state or None
+
+
 # ---------------------------------------------------------------------------------- welding
 def _weld_map(vertices: np.ndarray) -> np.ndarray:
     """``rep[i]``: the lowest index of a vertex with exactly the coordinates of vertex i.
 
-    Non-finite vertices map to themselves; ``+ 0.0`` folds -0.0 onto 0.0.  The rows are
-    grouped by a 64-bit hash of their bits (one sort); equal hashes are confirmed by
-    comparing the rows, and a collision falls back to a lexicographic sort.
+    Non-finite vertices map to themselves; ``+ 0.0`` folds -0.0 onto 0.0.  Compiled: one
+    hash-table pass.  NumPy: the rows are grouped by a 64-bit hash of their bits (one sort);
+    equal hashes are confirmed by comparing the rows, and a collision falls back to a
+    lexicographic sort.
     """
+    kernels = _fast_topology()
+    if kernels is not None:
+        return kernels.weld_map(np.ascontiguousarray(vertices, dtype=np.float64))
+    return _weld_map_numpy(vertices)
+
+
+def _weld_map_numpy(vertices: np.ndarray) -> np.ndarray:
+    """NumPy version of :func:`_weld_map`."""
     n = len(vertices)
     rep = np.arange(n, dtype=np.int64)
     fin = np.flatnonzero(np.isfinite(vertices).all(axis=1))
@@ -237,6 +267,9 @@ def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     v, f = validate_inputs(vertices, faces)
     if len(f) == 0:
         return v[:0], f
+    kernels = _fast_topology()
+    if kernels is not None:
+        return kernels.weld_compact(np.ascontiguousarray(v), np.ascontiguousarray(f))
     rep = _weld_map(v)
     fw = rep[f]
     return compact_vertices(v, fw)
@@ -335,12 +368,44 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
     return depth
 
 
-def _analyse(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False) -> _Analysis:
+def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool) -> _Analysis | None:
+    """The analysis of a mesh without any defect, from the compiled kernel; None otherwise.
+
+    None also when numba is missing: the full analysis then runs and names the defects.
+    """
+    kernels = _fast_topology()
+    V = len(vertices)
+    if kernels is None or V == 0 or len(faces) == 0:
+        return None
+    if welded:
+        fw, n_welded = faces, 0
+    else:
+        if faces.min() < 0 or faces.max() >= V:
+            return None
+        rep = _weld_map(vertices)
+        fw = rep[faces]
+        n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
+    out = np.empty(2)
+    if not kernels.closed_single_shell(np.ascontiguousarray(vertices), np.ascontiguousarray(fw),
+                                       DEGENERATE_AREA_RTOL, out):
+        return None
+    volume = float(out[1])
+    report = MeshReport((), V, len(faces), n_welded, 1, volume, float(out[0]))
+    return _Analysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]), closed=True)
+
+
+def _analyse(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False) -> _Analysis:
     """Run every check on validated arrays; see :func:`check_mesh`.
 
     ``welded=True`` promises that no two vertices have equal coordinates (as
-    :func:`inertia.load_mesh` returns them), which skips the welding sort.
+    :func:`inertia.load_mesh` returns them), which skips the welding.  A mesh without any
+    defect is recognised by a compiled kernel when numba is present; ``full=True`` always
+    runs the NumPy analysis, which also fills the face-adjacency fields that re-orienting needs.
     """
+    if not full:
+        clean = _analyse_clean(vertices, faces, welded)
+        if clean is not None:
+            return clean
     V, F = len(vertices), len(faces)
     defects: list[Defect] = []
 
@@ -714,7 +779,7 @@ def orient_faces(vertices, faces) -> tuple[np.ndarray, int]:
     from ..errors import MeshError
 
     v, f = validate_inputs(vertices, faces)
-    an = _analyse(v, f)
+    an = _analyse(v, f, full=True)
     hard = [d for d in an.report.defects if d.code in ("empty", "non_finite", "bad_index")]
     if hard:
         raise MeshError("cannot orient the mesh: " + "; ".join(f"{d.code}: {d.message}" for d in hard),

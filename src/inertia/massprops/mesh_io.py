@@ -53,26 +53,43 @@ def _unit_factor(units) -> float:
 def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     """Merge vertices within ``rtol`` of the mesh size; drop unreferenced ones.
 
-    Exactly equal vertices are welded first (a sort); the rest is found with a k-d tree
-    (pairs within the tolerance, joined transitively).  Each group takes the coordinates
-    of its lowest-index member.
+    Exactly equal vertices are welded first; the rest is found among pairs within the
+    tolerance, joined transitively.  Each group takes the coordinates of its lowest-index
+    member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
+    and a k-d tree.  Both give the same groups.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
+    from .mesh_checks import _fast_topology, compact_vertices, validate_inputs, weld_vertices
 
-    from .mesh_checks import compact_vertices, weld_vertices
-
-    v, f = weld_vertices(vertices, faces)
+    kernels = _fast_topology()
+    if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
+        v, f = validate_inputs(vertices, faces)
+        if len(f) == 0:
+            return v[:0], f
+        v, f, done = kernels.weld_and_merge(np.ascontiguousarray(v), np.ascontiguousarray(f), float(rtol))
+        if done:
+            return v, f
+    else:
+        v, f = weld_vertices(vertices, faces)
     if len(v) < 2 or rtol <= 0 or not np.isfinite(v).all():
         return v, f
     # within rtol of the mesh size, or within 64 ulps of the largest coordinate (rounding noise
     # of coordinates computed far from the origin)
-    diag = float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))
-    tol = max(rtol * diag, 64 * np.finfo(np.float64).eps * float(np.abs(v).max()))
-    if tol <= 0:
+    extent = v.max(axis=0) - v.min(axis=0)
+    scale = float(extent.max())
+    if not np.isfinite(scale):
+        return v, f   # coordinates near the float64 limit: nothing sensible to merge
+    diag = scale * float(np.sqrt(np.sum((extent / scale) ** 2))) if scale > 0 else 0.0  # no overflow
+    tol = float(max(rtol * diag, 64 * np.finfo(np.float64).eps * float(np.abs(v).max())))
+    if not 0 < tol < np.inf:
         return v, f
-    pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    if np.isfinite(tol * tol) and tol * tol > 0:
+        pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    else:  # tol^2 would overflow (or underflow) inside the tree: measure in units of tol
+        pairs = cKDTree(v / tol).query_pairs(1.0, output_type="ndarray")
     if len(pairs) == 0:
         return v, f
     n = len(v)
@@ -111,31 +128,47 @@ def _scene_triangles(trimesh, loaded, path: Path):
     return np.concatenate(vs), np.concatenate(fs)
 
 
-def _check_stl_size(p: Path) -> None:
-    """Refuse a truncated (or padded) binary STL by name instead of reading garbage or nothing.
+#: one triangle of a binary STL: normal, three corners (float32), attribute byte count
+_STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+
+
+def _stl_kind(p: Path) -> int:
+    """The triangle count of a binary STL, or -1 for an ASCII STL; MeshFileError for neither.
 
     A binary STL is an 80-byte header, a uint32 triangle count N and 50 bytes per triangle,
     so its size is exactly 84 + 50 N.  A file of another size must be ASCII (``solid`` ...
     ``facet``); the header alone cannot tell, since binary headers may also start with "solid".
+    A truncated (or padded) binary STL is refused by name instead of read as garbage.
     """
     size = p.stat().st_size
     if size == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)")
     with open(p, "rb") as fh:
         head = fh.read(1024)
+    text = head.lstrip().lower()
+    ascii_like = text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024)
     if size >= 84:
         n = int.from_bytes(head[80:84], "little")
-        if 84 + 50 * n == size:
-            return
-    text = head.lstrip().lower()
-    if text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024):
-        return
+        if 84 + 50 * n == size and not (ascii_like and head.isascii()):
+            return n
+    if ascii_like:
+        return -1
     if size >= 84:
         n = int.from_bytes(head[80:84], "little")
         raise MeshFileError(f"{p}: malformed binary STL: its header announces {n} triangles "
                             f"({84 + 50 * n} bytes) but the file has {size} bytes (truncated or corrupt), "
                             "and it is not ASCII STL either")
     raise MeshFileError(f"{p}: malformed STL: {size} bytes is too short for binary STL and it is not ASCII STL")
+
+
+def _read_binary_stl(p: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The corners of a binary STL of ``n`` triangles as float64 (3 n, 3), faces ``arange``.
+
+    The same arrays as ``trimesh.load(..., process=False)`` gives, without trimesh's objects.
+    """
+    data = np.fromfile(p, dtype=_STL_RECORD, count=n, offset=84)
+    vertices = data["corners"].reshape(-1, 3).astype(np.float64)
+    return vertices, np.arange(3 * n, dtype=np.int64).reshape(n, 3)
 
 
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
@@ -173,16 +206,21 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
         raise MeshFileError(f"{p}: mesh file not found")
     if not p.is_file():
         raise MeshFileError(f"{p}: not a file")
-    if ext == ".stl":
-        _check_stl_size(p)
-    trimesh = _import_trimesh()
-    try:
-        loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
-        vertices, faces = _scene_triangles(trimesh, loaded, p)
-    except MeshFileError:
-        raise
-    except Exception as exc:  # trimesh raises many types on malformed files
-        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    n_binary = _stl_kind(p) if ext == ".stl" else -1
+    if n_binary >= 0:  # the common case of datasets: read directly (no trimesh needed)
+        try:
+            vertices, faces = _read_binary_stl(p, n_binary)
+        except OSError as exc:
+            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    else:
+        trimesh = _import_trimesh()
+        try:
+            loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
+            vertices, faces = _scene_triangles(trimesh, loaded, p)
+        except MeshFileError:
+            raise
+        except Exception as exc:  # trimesh raises many types on malformed files
+            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
     if len(faces) == 0 or len(vertices) == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):

@@ -1,0 +1,479 @@
+"""Numba kernels for welding and for the common case of the mesh checks (optional; needs ``numba``).
+
+Imported lazily by :mod:`inertia.massprops.mesh_checks` and :mod:`inertia.massprops.mesh_io`,
+which fall back to their NumPy code when numba cannot be imported.  Three jobs, each a
+single pass with an open-addressing hash table (linear probing, power-of-two capacity,
+load factor <= 1/2), so their cost is O(n) with no sort:
+
+* :func:`weld_map` -- the lowest index of a vertex with exactly the same coordinates
+  (the same map as the NumPy ``mesh_checks._weld_map``);
+* :func:`near_merge_map` -- the lowest index of each group of vertices joined by pairs at
+  distance <= ``tol`` (the same groups as ``cKDTree.query_pairs`` + connected components);
+* :func:`closed_single_shell` -- does a welded mesh pass every check of
+  :func:`inertia.massprops.mesh_checks.check_mesh` as one closed, consistently wound,
+  outward, non-degenerate component?  When it answers no (or cannot tell), the caller runs
+  the full NumPy analysis, which names each defect; so this kernel never has to explain
+  anything, only to be right when it answers yes.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+_JIT = dict(cache=True, nogil=True, boundscheck=False)
+
+_M1 = np.uint64(0x9E3779B97F4A7C15)
+_M2 = np.uint64(0xC2B2AE3D27D4EB4F)
+_M3 = np.uint64(0x165667B19E3779F9)
+_S29 = np.uint64(29)
+_S32 = np.uint64(32)
+
+
+@nb.njit(**_JIT)
+def _capacity(n):
+    """Power of two >= 2 n (and >= 16): the table size for n keys."""
+    cap = 16
+    while cap < 2 * n:
+        cap *= 2
+    return cap
+
+
+@nb.njit(**_JIT)
+def _mix3(a, b, c):
+    """64-bit hash of three 64-bit words (multiply, xor, fold the high bits down)."""
+    h = (a * _M1) ^ (b * _M2) ^ (c * _M3)
+    h ^= h >> _S29
+    h ^= h >> _S32
+    return h
+
+
+@nb.njit(**_JIT)
+def _weld_groups(vertices):
+    """Group the rows of ``vertices`` (V, 3) float64 by exactly equal coordinates.
+
+    Returns ``(group, first, n_groups)``: ``group[i]`` numbers i's group in order of first
+    appearance, ``first[g]`` is the lowest index in group g.  Non-finite rows are groups
+    of their own; -0.0 equals 0.0 (compared as floats, hashed as ``x + 0.0``).
+
+    The table holds group numbers and grows with the number of groups, not of rows: an STL
+    soup repeats each position about six times, so the table stays cache-sized.
+    Candidates are compared against a dense copy of each group's coordinates.
+    """
+    n = vertices.shape[0]
+    group = np.empty(n, dtype=np.int64)
+    first = np.empty(n, dtype=np.int64)
+    coords = np.empty((n, 3), dtype=np.float64)
+    hashes = np.empty(n, dtype=np.uint64)
+    cap = _capacity(max(16, n // 8))
+    mask = np.uint64(cap - 1)
+    table = np.full(cap, -1, dtype=np.int64)
+    word = np.empty(3, dtype=np.float64)
+    bits = word.view(np.uint64)
+    ng = 0
+    for i in range(n):
+        x = vertices[i, 0] + 0.0
+        y = vertices[i, 1] + 0.0
+        z = vertices[i, 2] + 0.0
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(z)):
+            group[i] = ng
+            first[ng] = i
+            coords[ng, 0] = x
+            coords[ng, 1] = y
+            coords[ng, 2] = z
+            hashes[ng] = 0
+            ng += 1
+            continue
+        word[0] = x
+        word[1] = y
+        word[2] = z
+        h = _mix3(bits[0], bits[1], bits[2])
+        slot = h & mask
+        while True:
+            g = table[slot]
+            if g < 0:
+                table[slot] = ng
+                group[i] = ng
+                first[ng] = i
+                coords[ng, 0] = x
+                coords[ng, 1] = y
+                coords[ng, 2] = z
+                hashes[ng] = h
+                ng += 1
+                break
+            if hashes[g] == h and coords[g, 0] == x and coords[g, 1] == y and coords[g, 2] == z:
+                group[i] = g
+                break
+            slot = (slot + np.uint64(1)) & mask
+        if 2 * ng > cap:  # keep the load <= 1/2: double the table and re-insert the groups
+            cap *= 2
+            mask = np.uint64(cap - 1)
+            table = np.full(cap, -1, dtype=table.dtype)
+            for g in range(ng):
+                if hashes[g] == 0 and not np.isfinite(coords[g, 0] + coords[g, 1] + coords[g, 2]):
+                    continue
+                slot = hashes[g] & mask
+                while table[slot] >= 0:
+                    slot = (slot + np.uint64(1)) & mask
+                table[slot] = g
+    return group, first, ng
+
+
+@nb.njit(**_JIT)
+def weld_map(vertices):
+    """``rep[i]``: the lowest index j with ``vertices[j] == vertices[i]`` (rows of (V, 3) float64).
+
+    Non-finite rows map to themselves; -0.0 equals 0.0.
+    """
+    group, first, _ = _weld_groups(vertices)
+    rep = np.empty(vertices.shape[0], dtype=np.int64)
+    for i in range(vertices.shape[0]):
+        rep[i] = first[group[i]]
+    return rep
+
+
+@nb.njit(**_JIT)
+def weld_compact(vertices, faces):
+    """Weld equal positions and drop unreferenced vertices, in one pass over each array.
+
+    The result of ``compact_vertices(vertices, _weld_map(vertices)[faces])``: each group's
+    coordinates are those of its lowest index, and the kept groups keep the order of their
+    lowest indices.  ``faces`` must index ``vertices`` (checked by the caller).
+    """
+    group, first, ng = _weld_groups(vertices)
+    nf = faces.shape[0]
+    new_id = np.full(ng, -1, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            new_id[group[faces[t, k]]] = 0
+    kept = 0
+    for g in range(ng):       # groups are numbered by their lowest index: order kept
+        if new_id[g] == 0:
+            new_id[g] = kept
+            kept += 1
+    out_v = np.empty((kept, 3), dtype=np.float64)
+    for g in range(ng):
+        j = new_id[g]
+        if j >= 0:
+            i = first[g]
+            out_v[j, 0] = vertices[i, 0]
+            out_v[j, 1] = vertices[i, 1]
+            out_v[j, 2] = vertices[i, 2]
+    out_f = np.empty((nf, 3), dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            out_f[t, k] = new_id[group[faces[t, k]]]
+    return out_v, out_f
+
+
+@nb.njit(**_JIT)
+def _find(parent, i):
+    """Root of i, halving the path as it goes."""
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@nb.njit(**_JIT)
+def _union_low(parent, a, b):
+    """Join the sets of a and b; the lower root becomes the root (so roots are group minima)."""
+    ra = _find(parent, a)
+    rb = _find(parent, b)
+    if ra < rb:
+        parent[rb] = ra
+    elif rb < ra:
+        parent[ra] = rb
+
+
+@nb.njit(**_JIT)
+def near_merge_map(vertices, tol):
+    """``rep[i]``: the lowest index of i's group, vertices joined when at distance <= ``tol``.
+
+    Returns an empty array when the grid cannot index the coordinates (|x| / tol too large
+    for int64, or non-finite values); the caller then uses its general method.
+
+    Grid hashing with cells of side 16 tol: a point's partners within tol lie in the cells
+    that the box [x - tol, x + tol] touches, on average (1 + 1/8)^3 ~ 1.4 cells.  (Merge
+    tolerances are far below the spacing of distinct vertices, so cells rarely hold two.)
+    """
+    n = vertices.shape[0]
+    side = 16.0 * tol
+    inv = 1.0 / side
+    limit = 2.0 ** 60
+    cells = np.empty((n, 3), dtype=np.int64)
+    for i in range(n):
+        for k in range(3):
+            q = np.floor(vertices[i, k] * inv)
+            if not (abs(q) < limit):
+                return np.empty(0, dtype=np.int64)
+            cells[i, k] = np.int64(q)
+    cap = _capacity(n)
+    mask = np.uint64(cap - 1)
+    head = np.full(cap, -1, dtype=np.int64)      # first point of the cell in this slot
+    nxt = np.full(n, -1, dtype=np.int64)         # next point of the same cell
+    for i in range(n):
+        slot = _mix3(np.uint64(cells[i, 0]), np.uint64(cells[i, 1]), np.uint64(cells[i, 2])) & mask
+        while True:
+            j = head[slot]
+            if j < 0:
+                head[slot] = i
+                break
+            if cells[j, 0] == cells[i, 0] and cells[j, 1] == cells[i, 1] and cells[j, 2] == cells[i, 2]:
+                nxt[i] = head[slot]
+                head[slot] = i
+                break
+            slot = (slot + np.uint64(1)) & mask
+    parent = np.arange(n)
+    tol2 = tol * tol
+    margin = 1.0 + 1e-9   # a cell touched only through rounding is looked at too
+    lo = np.empty(3, dtype=np.int64)
+    hi = np.empty(3, dtype=np.int64)
+    for i in range(n):
+        for k in range(3):
+            lo[k] = np.int64(np.floor((vertices[i, k] - tol * margin) * inv))
+            hi[k] = np.int64(np.floor((vertices[i, k] + tol * margin) * inv))
+        for c0 in range(lo[0], hi[0] + 1):
+            for c1 in range(lo[1], hi[1] + 1):
+                for c2 in range(lo[2], hi[2] + 1):
+                    slot = _mix3(np.uint64(c0), np.uint64(c1), np.uint64(c2)) & mask
+                    while True:
+                        j = head[slot]
+                        if j < 0:
+                            break
+                        if cells[j, 0] == c0 and cells[j, 1] == c1 and cells[j, 2] == c2:
+                            while j >= 0:
+                                if j > i:
+                                    d0 = vertices[i, 0] - vertices[j, 0]
+                                    d1 = vertices[i, 1] - vertices[j, 1]
+                                    d2 = vertices[i, 2] - vertices[j, 2]
+                                    if d0 * d0 + d1 * d1 + d2 * d2 <= tol2:
+                                        _union_low(parent, i, j)
+                                j = nxt[j]
+                            break
+                        slot = (slot + np.uint64(1)) & mask
+    rep = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        rep[i] = _find(parent, i)
+    return rep
+
+
+@nb.njit(**_JIT)
+def closed_single_shell(vertices, faces, area_rtol, out):
+    """True when the mesh is one closed, consistently wound component of positive volume.
+
+    ``faces`` index distinct positions (welded).  "Closed single shell" here means every
+    check of ``mesh_checks._analyse`` passes with no defect and no note: indices in range,
+    finite vertices, no face repeating a vertex or of area <= ``area_rtol`` x bbox
+    diagonal^2, every edge used by exactly two faces in opposite directions, one
+    edge-connected component, signed volume > 0.  Duplicate faces need no test: a face
+    whose three edges are each shared with its duplicate forms, with it, a closed component
+    of its own, so one component means F = 2 and volume 0, which fails anyway.
+
+    On True, ``out[0]`` is the total area and ``out[1]`` the signed volume (coordinates
+    relative to the bounding-box center, as in the NumPy analysis).
+    """
+    nv = vertices.shape[0]
+    nf = faces.shape[0]
+    if nf < 4 or nv < 4 or nv >= 2 ** 31:
+        return False
+    for i in range(nv):     # every vertex, used or not, as the NumPy check does
+        if not (np.isfinite(vertices[i, 0]) and np.isfinite(vertices[i, 1]) and np.isfinite(vertices[i, 2])):
+            return False
+    big = np.inf
+    lo0, lo1, lo2 = big, big, big
+    hi0, hi1, hi2 = -big, -big, -big
+    for t in range(nf):
+        for k in range(3):
+            i = faces[t, k]
+            if i < 0 or i >= nv:
+                return False
+            x = vertices[i, 0]
+            y = vertices[i, 1]
+            z = vertices[i, 2]
+            lo0 = min(lo0, x)
+            hi0 = max(hi0, x)
+            lo1 = min(lo1, y)
+            hi1 = max(hi1, y)
+            lo2 = min(lo2, z)
+            hi2 = max(hi2, z)
+    r0 = 0.5 * (lo0 + hi0)
+    r1 = 0.5 * (lo1 + hi1)
+    r2 = 0.5 * (lo2 + hi2)
+    diag2 = (hi0 - lo0) ** 2 + (hi1 - lo1) ** 2 + (hi2 - lo2) ** 2
+    min_area = area_rtol * diag2
+    twice_area = 0.0
+    det_sum = 0.0
+    for t in range(nf):
+        ia = faces[t, 0]
+        ib = faces[t, 1]
+        ic = faces[t, 2]
+        if ia == ib or ib == ic or ic == ia:
+            return False
+        ax = vertices[ia, 0] - r0
+        ay = vertices[ia, 1] - r1
+        az = vertices[ia, 2] - r2
+        ux = (vertices[ib, 0] - r0) - ax
+        uy = (vertices[ib, 1] - r1) - ay
+        uz = (vertices[ib, 2] - r2) - az
+        wx = (vertices[ic, 0] - r0) - ax
+        wy = (vertices[ic, 1] - r1) - ay
+        wz = (vertices[ic, 2] - r2) - az
+        nx = uy * wz - uz * wy
+        ny = uz * wx - ux * wz
+        nz = ux * wy - uy * wx
+        a2 = np.sqrt(nx * nx + ny * ny + nz * nz)
+        if not (0.5 * a2 > min_area):
+            return False
+        twice_area += a2
+        det_sum += ax * nx + ay * ny + az * nz
+    if not (det_sum > 0.0):
+        return False
+    # edges: every half-edge a -> b is filed under its lower vertex min(a, b) (a CSR table by
+    # vertex, sequential in memory); within a vertex's list each upper vertex must occur
+    # exactly twice, once in each direction
+    start = np.zeros(nv + 1, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            a = faces[t, k]
+            b = faces[t, (k + 1) % 3]
+            start[min(a, b) + 1] += 1
+    for i in range(nv):
+        start[i + 1] += start[i]
+    fill = start[:-1].copy()
+    upper = np.empty(3 * nf, dtype=np.int64)     # the other vertex, negated when running down
+    owner = np.empty(3 * nf, dtype=np.int64)     # the face of the half-edge
+    for t in range(nf):
+        for k in range(3):
+            a = faces[t, k]
+            b = faces[t, (k + 1) % 3]
+            if a < b:
+                j = fill[a]
+                upper[j] = b + 1
+            else:
+                j = fill[b]
+                upper[j] = -(a + 1)
+            owner[j] = t
+            fill[min(a, b)] += 1
+    parent = np.arange(nf)
+    for i in range(nv):
+        s0 = start[i]
+        s1 = start[i + 1]
+        if s1 - s0 > 24:   # a high-valence vertex: sort its list so the matching stays linear
+            order = np.argsort(np.abs(upper[s0:s1]))
+            upper[s0:s1] = upper[s0:s1][order]
+            owner[s0:s1] = owner[s0:s1][order]
+            j = s0
+            while j < s1:
+                if j + 1 >= s1 or abs(upper[j + 1]) != abs(upper[j]):
+                    return False                 # met once: open
+                if j + 2 < s1 and abs(upper[j + 2]) == abs(upper[j]):
+                    return False                 # met three times or more: non-manifold
+                if upper[j + 1] != -upper[j]:
+                    return False                 # both faces run the same way
+                _union_low(parent, owner[j], owner[j + 1])
+                j += 2
+            continue
+        for j in range(s0, s1):
+            u = upper[j]
+            if u == 0:
+                continue                         # already matched
+            partner = -1
+            for q in range(j + 1, s1):
+                w = upper[q]
+                if w == u:
+                    return False                 # same direction twice: inconsistent or non-manifold
+                if w == -u:
+                    if partner >= 0:
+                        return False             # non-manifold
+                    partner = q
+            if partner < 0:
+                return False                     # met once: open
+            _union_low(parent, owner[j], owner[partner])
+            upper[partner] = 0
+    for t in range(nf):
+        if _find(parent, t) != 0:
+            return False                 # more than one component (nesting needs the full check)
+    out[0] = 0.5 * twice_area
+    out[1] = det_sum / 6.0
+    return True
+
+
+@nb.njit(**_JIT)
+def compact(vertices, faces):
+    """Drop unreferenced vertices and renumber the faces, keeping the vertices' order."""
+    nv = vertices.shape[0]
+    nf = faces.shape[0]
+    new_id = np.full(nv, -1, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            new_id[faces[t, k]] = 0
+    kept = 0
+    for i in range(nv):
+        if new_id[i] == 0:
+            new_id[i] = kept
+            kept += 1
+    out_v = np.empty((kept, 3), dtype=np.float64)
+    for i in range(nv):
+        j = new_id[i]
+        if j >= 0:
+            out_v[j, 0] = vertices[i, 0]
+            out_v[j, 1] = vertices[i, 1]
+            out_v[j, 2] = vertices[i, 2]
+    out_f = np.empty((nf, 3), dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            out_f[t, k] = new_id[faces[t, k]]
+    return out_v, out_f
+
+
+@nb.njit(**_JIT)
+def weld_and_merge(vertices, faces, rtol):
+    """``mesh_io._merge_close_vertices`` in one compiled call: weld, then merge within the tolerance.
+
+    Returns ``(vertices, faces, done)``; ``done`` is False when the grid cannot index the
+    coordinates, and the caller must then merge the returned (welded) arrays its general way.
+    """
+    v, f = weld_compact(vertices, faces)
+    n = v.shape[0]
+    if n < 2 or not (rtol > 0.0):
+        return v, f, True
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    big = 0.0
+    for i in range(n):
+        for k in range(3):
+            x = v[i, k]
+            if not np.isfinite(x):
+                return v, f, True      # non-finite coordinates: reported by the checks, not merged
+            lo[k] = min(lo[k], x)
+            hi[k] = max(hi[k], x)
+            big = max(big, abs(x))
+    scale = max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
+    if not np.isfinite(scale):
+        return v, f, True           # coordinates near the float64 limit: nothing sensible to merge
+    diag = 0.0
+    if scale > 0.0:                 # scaled, so that squares of extents near 1e200 do not overflow
+        diag = scale * np.sqrt(((hi[0] - lo[0]) / scale) ** 2 + ((hi[1] - lo[1]) / scale) ** 2
+                               + ((hi[2] - lo[2]) / scale) ** 2)
+    tol = max(rtol * diag, 64.0 * np.finfo(np.float64).eps * big)
+    if not (tol > 0.0):
+        return v, f, True
+    if not np.isfinite(tol):
+        return v, f, True
+    rep = near_merge_map(v, tol)
+    if rep.shape[0] == 0:
+        return v, f, False
+    changed = False
+    for i in range(n):
+        if rep[i] != i:
+            changed = True
+            break
+    if not changed:
+        return v, f, True
+    fm = np.empty_like(f)
+    for t in range(f.shape[0]):
+        for k in range(3):
+            fm[t, k] = rep[f[t, k]]
+    v2, f2 = compact(v, fm)
+    return v2, f2, True

@@ -1,0 +1,238 @@
+"""The compiled welding and checking kernels against the NumPy code they stand in for.
+
+Truth: the NumPy implementations (sort-based weld, k-d tree merge, full analysis), which the
+rest of the suite checks against closed forms.  The compiled kernels must give the same
+groups, the same arrays and the same verdicts, on the shared real meshes and on meshes built
+to hit each branch (signed zeros, NaN rows, chains of near pairs, cell boundaries, every
+defect).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from inertia.massprops import mesh_checks, mesh_io
+from inertia.massprops.mesh_checks import _analyse, _weld_map_numpy, compact_vertices, validate_inputs
+
+nbk = pytest.importorskip("inertia.massprops._mesh_topology_numba")
+
+REAL = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "soup.stl",
+        "teapot_open.stl", "cycloidal.ply", "tray_bottom_ascii.stl", "spot.obj"]
+
+
+@pytest.fixture
+def numpy_only(monkeypatch):
+    """Run the library as if numba were not installed."""
+    monkeypatch.setattr(mesh_checks, "_topology_state", False)
+
+
+def _raw(shared_data, name):
+    """The file's arrays as trimesh reads them, before any welding."""
+    trimesh = pytest.importorskip("trimesh")
+    loaded = trimesh.load(str(shared_data / "meshes" / name), process=False)
+    return mesh_io._scene_triangles(trimesh, loaded, name)
+
+
+def _box_soup(rng):
+    """A unit cube as a triangle soup (every corner repeated per face), shuffled faces."""
+    corners = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+    f = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    f = f[rng.permutation(len(f))]
+    return corners[f].reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3)
+
+
+# ---------------------------------------------------------------- exact weld
+def test_weld_map_matches_numpy_on_hand_built_rows():
+    v = np.array([[0.0, 1, 2], [-0.0, 1, 2], [np.nan, 0, 0], [np.nan, 0, 0], [0.0, 1, 2], [3, 4, 5],
+                  [np.inf, 1, 1], [3, 4, 5], [0, -0.0, 2 + 4.5e-16], [0, 0, 2], [0, 0.0, 2]])
+    rep = nbk.weld_map(v)
+    assert rep.tolist() == [0, 0, 2, 3, 0, 5, 6, 5, 8, 9, 9]  # -0.0 == 0.0; NaN/inf rows stay alone
+    assert np.array_equal(rep, _weld_map_numpy(v))
+
+
+def test_weld_map_matches_numpy_with_many_groups_and_table_growth():
+    rng = np.random.default_rng(7)
+    pool = rng.normal(size=(5000, 3))
+    v = pool[rng.integers(0, len(pool), size=40000)]   # ~5000 groups: the table doubles several times
+    assert np.array_equal(nbk.weld_map(v), _weld_map_numpy(v))
+    grid = np.array(np.meshgrid(*[np.arange(30.0)] * 3)).reshape(3, -1).T   # equal low bits: hash spread
+    grid = np.concatenate([grid, grid[::-1]])
+    assert np.array_equal(nbk.weld_map(grid), _weld_map_numpy(grid))
+
+
+def test_weld_vertices_is_the_same_with_and_without_numba(shared_data, monkeypatch):
+    for name in ("featuretype.stl", "spot.obj", "wingnut.obj"):
+        v, f = _raw(shared_data, name)
+        fast = mesh_checks.weld_vertices(v, f)
+        monkeypatch.setattr(mesh_checks, "_topology_state", False)
+        slow = mesh_checks.weld_vertices(v, f)
+        monkeypatch.setattr(mesh_checks, "_topology_state", None)
+        assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1]), name
+
+
+def test_weld_keeps_the_lowest_index_coordinates_and_drops_unreferenced():
+    v = np.array([[9.0, 9, 9], [0, 0, 0], [1, 0, 0], [0, 1, 0], [-0.0, 0, 0], [0, 0, 1]])
+    f = np.array([[4, 2, 3], [4, 3, 5], [4, 5, 2], [2, 5, 3]])
+    fast = nbk.weld_compact(v, f)
+    rep = _weld_map_numpy(v)
+    slow = compact_vertices(v, rep[f])
+    assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1])
+    assert fast[0].shape == (4, 3) and np.signbit(fast[0][0, 0]) == np.signbit(v[1, 0])
+
+
+# ---------------------------------------------------------------- near merge
+def _kd_groups(v, tol):
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    n = len(v)
+    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    rep = np.full(label.max() + 1, n)
+    np.minimum.at(rep, label, np.arange(n))
+    return rep[label]
+
+
+def test_near_merge_groups_match_the_kd_tree():
+    rng = np.random.default_rng(3)
+    tol = 1e-3
+    base = rng.uniform(-1, 1, size=(3000, 3))
+    # chains: points 0.9 tol apart along a line join transitively, across several cells
+    chain = np.array([0.5, 0.5, 0.5]) + np.outer(np.arange(40) * 0.9 * tol, [1, 0, 0])
+    # pairs straddling cell boundaries (cells of 16 tol) at distance just under and just over tol
+    edge = 16 * tol * 7
+    straddle = np.array([[edge - 0.4 * tol, 0.1, 0.1], [edge + 0.5 * tol, 0.1, 0.1],
+                         [edge - 0.6 * tol, -0.3, 0.2], [edge + 0.45 * tol, -0.3, 0.2 + 0.2 * tol],
+                         [-edge - 0.5 * tol, 0.7, -0.7], [-edge + 0.6 * tol, 0.7, -0.7]])
+    jitter = base[:500] + rng.normal(scale=0.3 * tol, size=(500, 3))
+    v = np.concatenate([base, chain, straddle, jitter])[rng.permutation(3546)]
+    rep = nbk.near_merge_map(v, tol)
+    assert np.array_equal(rep, _kd_groups(v, tol))
+    assert len(np.unique(rep)) < len(v) - 500  # the cases above did merge
+
+
+def test_merge_close_vertices_is_the_same_with_and_without_numba(shared_data, monkeypatch):
+    # featuretype and idler_riser need the near merge (split copies 1e-16 apart)
+    for name in ("featuretype.stl", "idler_riser_binary_solid_header.stl", "ballA.off", "spot.obj"):
+        v, f = _raw(shared_data, name)
+        fast = mesh_io._merge_close_vertices(v, f, mesh_io.MERGE_RTOL)
+        monkeypatch.setattr(mesh_checks, "_topology_state", False)
+        slow = mesh_io._merge_close_vertices(v, f, mesh_io.MERGE_RTOL)
+        monkeypatch.setattr(mesh_checks, "_topology_state", None)
+        assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1]), name
+        welded = mesh_checks.weld_vertices(v, f)[0]
+        if name in ("featuretype.stl", "idler_riser_binary_solid_header.stl"):
+            assert len(fast[0]) < len(welded), name  # the near merge did something here
+
+
+def test_grid_declines_coordinates_it_cannot_index_and_extremes_still_match(monkeypatch):
+    v = np.array([[0.0, 0, 0], [1e300, 0, 0], [0, 1, 0], [0, 0, 1e-300]])
+    assert nbk.near_merge_map(v, 1e-290).shape == (0,)   # |x| / tol beyond int64: the caller's k-d tree
+    # the merge tolerance is never below 64 ulps of the largest coordinate, so inside the
+    # library the grid always indexes: here 1 and 1e-300 merge with 0 (1e300 is the scale)
+    f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    out_v, out_f, done = nbk.weld_and_merge(v, f, 1e-310)
+    assert done and len(out_v) == 2
+    fast = mesh_io._merge_close_vertices(v, f, 1e-310)
+    monkeypatch.setattr(mesh_checks, "_topology_state", False)
+    slow = mesh_io._merge_close_vertices(v, f, 1e-310)
+    assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1])
+
+
+# ---------------------------------------------------------------- the clean-mesh verdict
+def _report_key(r):
+    return (r.codes, r.n_vertices, r.n_faces, r.n_welded, r.n_components, r.watertight, r.winding_consistent)
+
+
+def _both_reports(v, f, welded=False):
+    v, f = validate_inputs(v, f)
+    fast = _analyse(v, f, welded=welded)
+    full = _analyse(v, f, welded=welded, full=True)
+    return fast.report, full.report
+
+
+@pytest.mark.parametrize("name", REAL)
+def test_clean_verdict_and_report_match_the_full_analysis_on_real_meshes(shared_data, name):
+    v, f = mesh_io.load_mesh(shared_data / "meshes" / name)
+    fast, full = _both_reports(v, f, welded=True)
+    assert _report_key(fast) == _report_key(full)
+    assert fast.area == pytest.approx(full.area, rel=1e-12)
+    if full.ok and full.n_components == 1:
+        assert fast.volume == pytest.approx(full.volume, rel=1e-12)
+    raw = _raw(shared_data, name)            # unwelded: the kernel welds by itself
+    fast, full = _both_reports(*raw)
+    assert _report_key(fast) == _report_key(full)
+
+
+def _octahedron():
+    v = np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]])
+    f = np.array([(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)])
+    return v, f
+
+
+def _defect_cases():
+    v, f = _octahedron()
+    two = (np.concatenate([v, v + [5, 0, 0]]), np.concatenate([f, f + 6]))
+    nan = v.copy()
+    nan[3, 1] = np.nan
+    extra_nan = (np.concatenate([v, [[np.nan, 0, 0]]]), f)       # unreferenced NaN vertex
+    flipped = f.copy()
+    flipped[0] = flipped[0, [0, 2, 1]]
+    tiny = v.copy()
+    tiny[4] = [0, 0, 1e-14]                                       # flattened top: zero-area faces
+    fan = np.concatenate([f, [[0, 2, 4]]])                        # a third face on three edges
+    return {"clean": (v, f), "two_components": two, "inverted": (v, f[:, [0, 2, 1]]),
+            "open": (v, f[:-1]), "flipped_face": (v, flipped), "non_manifold": (v, fan),
+            "duplicate": (v, np.concatenate([f, f[:1, [0, 2, 1]]])), "nan": (nan, f), "extra_nan": extra_nan,
+            "collapsed": (v, np.concatenate([f, [[0, 0, 1]]])), "bad_index": (v, np.concatenate([f, [[0, 1, 9]]])),
+            "flat": (tiny, f), "soup": _box_soup(np.random.default_rng(1))}
+
+
+@pytest.mark.parametrize("case", sorted(_defect_cases()))
+def test_clean_verdict_is_given_only_to_meshes_without_any_defect(case):
+    v, f = _defect_cases()[case]
+    fast, full = _both_reports(v, f)
+    assert _report_key(fast) == _report_key(full)
+    out = np.empty(2)
+    vv, ff = validate_inputs(v, f)
+    rep = _weld_map_numpy(vv)
+    ok = nbk.closed_single_shell(vv, rep[np.clip(ff, 0, len(vv) - 1)], 1e-12, out) if case != "bad_index" else \
+        nbk.closed_single_shell(vv, ff, 1e-12, out)
+    assert ok == (full.codes == () and full.n_components == 1), case
+    if ok:
+        assert out[1] == pytest.approx(full.volume, rel=1e-12)
+
+
+def test_high_valence_vertex_uses_the_sorted_matching():
+    """A cone over a 200-gon: the apex and the base center each carry 200 edges."""
+    n = 200
+    t = 2 * np.pi * np.arange(n) / n
+    ring = np.stack([np.cos(t), np.sin(t), np.zeros(n)], axis=1)
+    v = np.concatenate([ring, [[0, 0, 1], [0, 0, 0]]])
+    apex, center = n, n + 1
+    side = [(i, (i + 1) % n, apex) for i in range(n)]
+    base = [((i + 1) % n, i, center) for i in range(n)]
+    f = np.array(side + base)
+    out = np.empty(2)
+    assert nbk.closed_single_shell(v, f, 1e-12, out)
+    assert out[1] == pytest.approx(n / 2 * np.sin(2 * np.pi / n) / 3, rel=1e-12)
+    g = f.copy()
+    g[5] = g[5, [1, 0, 2]]                     # one flipped side face: inconsistent at the apex
+    assert not nbk.closed_single_shell(v, g, 1e-12, out)
+    assert not nbk.closed_single_shell(v, f[:-1], 1e-12, out)  # open at the center
+
+
+def test_mesh_properties_are_identical_with_and_without_numba(shared_data, monkeypatch):
+    import inertia
+
+    for name in ("featuretype.stl", "wingnut.obj", "ballA.off"):
+        path = shared_data / "meshes" / name
+        fast = inertia.mesh_file_properties(path, density=1000.0)
+        monkeypatch.setattr(mesh_checks, "_topology_state", False)
+        slow = inertia.mesh_file_properties(path, density=1000.0)
+        monkeypatch.setattr(mesh_checks, "_topology_state", None)
+        assert fast.mass == slow.mass and np.array_equal(fast.inertia_com, slow.inertia_com), name
