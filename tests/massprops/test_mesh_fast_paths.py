@@ -236,3 +236,34 @@ def test_mesh_properties_are_identical_with_and_without_numba(shared_data, monke
         slow = inertia.mesh_file_properties(path, density=1000.0)
         monkeypatch.setattr(mesh_checks, "_topology_state", None)
         assert fast.mass == slow.mass and np.array_equal(fast.inertia_com, slow.inertia_com), name
+
+
+# ---------------------------------------------------------------- binary STL straight from bytes
+def _write_stl(path, corners):
+    rec = np.zeros(len(corners), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["v"] = corners
+    path.write_bytes(b"x".ljust(80) + len(corners).to_bytes(4, "little") + rec.tobytes())
+
+
+def test_stl_bytes_kernel_equals_the_soup_route(shared_data, tmp_path):
+    """Welding float32 bits straight from the file gives the arrays of the float64 soup route."""
+    cases = {name: shared_data / "meshes" / name
+             for name in ("featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl")}
+    rng = np.random.default_rng(5)
+    v, f = _box_soup(rng)
+    corners = v.reshape(-1, 3, 3).astype("<f4")
+    corners[0, 0] = [-0.0, 0.0, -0.0]                    # signed zeros weld with 0
+    corners[3, 1, 2] = np.nan                             # a NaN row stays alone
+    corners[4, 2, 0] = np.inf
+    corners[5] += rng.normal(scale=1e-12, size=(3, 3)).astype("<f4")  # float32 rounding
+    _write_stl(tmp_path / "hand.stl", corners)
+    cases["hand"] = tmp_path / "hand.stl"
+    for name, path in cases.items():
+        n = mesh_io._stl_kind(path)
+        soup = mesh_io._read_binary_stl(path, n)
+        for rtol in (mesh_io.MERGE_RTOL, 0.0, 1e-3):
+            expect = mesh_io._merge_close_vertices(*soup, rtol)
+            got_v, got_f, done = nbk.stl_weld_and_merge(np.fromfile(path, dtype=np.uint8), n, rtol)
+            assert done
+            assert np.array_equal(got_v, expect[0], equal_nan=True) and np.array_equal(got_f, expect[1]), (name, rtol)
+            assert np.array_equal(np.signbit(got_v), np.signbit(expect[0])), name

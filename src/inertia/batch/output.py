@@ -28,18 +28,80 @@ def format_of(path, fmt: str | None = None) -> str:
     return {"parquet": "parquet", "pq": "parquet", "csv": "csv", "jsonl": "jsonl", "ndjson": "jsonl"}.get(ext, "parquet")
 
 
+_INT_COLUMNS = ("size_bytes", "mtime_ns", "n_vertices", "n_faces")
+_FLOAT_COLUMNS = ("density", "mass", "volume", "elapsed_s")
+_BOOL_COLUMNS = ("watertight", "winding_consistent")
+
+
 def to_frame(rows):
     """A pandas DataFrame with the columns of :data:`COLUMNS`, in order."""
     import pandas as pd
 
-    frame = pd.DataFrame(list(rows), columns=list(COLUMNS))
-    for col in ("size_bytes", "mtime_ns", "n_vertices", "n_faces"):
+    return _typed(pd.DataFrame(list(rows), columns=list(COLUMNS)))
+
+
+def _typed(frame):
+    """The column types of the table: nullable integers and booleans, float64 numbers."""
+    for col in _INT_COLUMNS:
         frame[col] = frame[col].astype("Int64")
-    for col in ("density", "mass", "volume", "elapsed_s"):
+    for col in _FLOAT_COLUMNS:
         frame[col] = frame[col].astype("float64")
-    for col in ("watertight", "winding_consistent"):
+    for col in _BOOL_COLUMNS:
         frame[col] = frame[col].astype("boolean")
     return frame
+
+
+def _arrow_schema():
+    import pyarrow as pa
+
+    types = {c: pa.string() for c in COLUMNS}
+    types.update({c: pa.int64() for c in _INT_COLUMNS})
+    types.update({c: pa.float64() for c in _FLOAT_COLUMNS})
+    types.update({c: pa.bool_() for c in _BOOL_COLUMNS})
+    types["warnings"] = pa.list_(pa.string())
+    types.update({c: pa.list_(pa.float64()) for c in _LIST_COLUMNS if c != "warnings"})
+    return pa.schema([(c, types[c]) for c in COLUMNS])
+
+
+def _null(v) -> bool:
+    """None, NaN or a pandas missing value (plain values are decided without pandas)."""
+    if v is None:
+        return True
+    if isinstance(v, float):
+        return v != v
+    if isinstance(v, (int, str)):
+        return False
+    return _isna(v)
+
+
+def write_rows_parquet(rows, path) -> None:
+    """Write batch rows (dicts of plain values) straight to Parquet, atomically.
+
+    Column by column through Arrow, without building a pandas frame: the part files are
+    written on the client while the workers compute, so this must stay cheap.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    schema = _arrow_schema()
+    arrays = []
+    for field in schema:
+        values = [row.get(field.name) for row in rows]
+        if not pa.types.is_list(field.type) and not pa.types.is_string(field.type):
+            values = [None if _null(v) else v for v in values]
+        elif pa.types.is_list(field.type):
+            values = [None if v is None or (not isinstance(v, (list, tuple)) and _null(v)) else list(v)
+                      for v in values]
+        arrays.append(pa.array(values, type=field.type))
+    table = pa.Table.from_arrays(arrays, schema=schema)
+    path, tmp = _atomic_target(path)
+    try:
+        pq.write_table(table, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
 
 
 def _atomic_target(path):
@@ -107,7 +169,7 @@ def read_frame(path, fmt: str | None = None):
         frame = pd.read_parquet(path)
         for col in _LIST_COLUMNS:
             frame[col] = [None if v is None else list(v) for v in frame[col]]
-        return frame
+        return _typed(frame)
     if fmt == "csv":
         frame = pd.read_csv(path, dtype={"reason": str, "message": str}, keep_default_na=False,
                             na_values={c: [""] for c in COLUMNS if c not in ("reason", "message", "path")})

@@ -110,8 +110,8 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
             warnings=list(props.warnings),
             density=float(density) if density is not None else float(props.mass / measure),
             mass=float(props.mass), volume=None if props.volume is None else float(props.volume),
-            com=[float(x) for x in props.com], inertia_com=[float(x) for x in props.inertia_com.ravel()],
-            principal_moments=[float(x) for x in moments], principal_axes=[float(x) for x in axes.ravel()],
+            com=props.com.tolist(), inertia_com=props.inertia_com.ravel().tolist(),
+            principal_moments=moments.tolist(), principal_axes=axes.ravel().tolist(),
             watertight=bool(report.watertight), winding_consistent=bool(report.winding_consistent),
         )
     except InertiaError as exc:

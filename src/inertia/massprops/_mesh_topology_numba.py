@@ -271,32 +271,52 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     of its own, so one component means F = 2 and volume 0, which fails anyway.
 
     On True, ``out[0]`` is the total area and ``out[1]`` the signed volume (coordinates
-    relative to the bounding-box center, as in the NumPy analysis).
+    relative to the bounding-box center of the used vertices, as in the NumPy analysis).
+
+    Four passes over the faces: count the half-edges per lower vertex (and check indices),
+    then (over the vertices) the bounding box of the used ones,
+    then per face the area, the signed volume and the filing of its half-edges in a table
+    by lower vertex (CSR), then the matching of each vertex's list, then the components.
     """
     nv = vertices.shape[0]
     nf = faces.shape[0]
-    if nf < 4 or nv < 4 or nv >= 2 ** 31:
+    if nf < 4 or nv < 4 or nv >= 2 ** 31 or 3 * nf >= 2 ** 31:
         return False
-    for i in range(nv):     # every vertex, used or not, as the NumPy check does
-        if not (np.isfinite(vertices[i, 0]) and np.isfinite(vertices[i, 1]) and np.isfinite(vertices[i, 2])):
+    # half-edges a -> b are filed under min(a, b)
+    start = np.zeros(nv + 1, dtype=np.int64)
+    used = np.zeros(nv, dtype=np.bool_)
+    for t in range(nf):
+        ia = faces[t, 0]
+        ib = faces[t, 1]
+        ic = faces[t, 2]
+        if ia < 0 or ia >= nv or ib < 0 or ib >= nv or ic < 0 or ic >= nv:
             return False
+        if ia == ib or ib == ic or ic == ia:
+            return False
+        used[ia] = True
+        used[ib] = True
+        used[ic] = True
+        start[min(ia, ib) + 1] += 1
+        start[min(ib, ic) + 1] += 1
+        start[min(ic, ia) + 1] += 1
     big = np.inf
     lo0, lo1, lo2 = big, big, big
     hi0, hi1, hi2 = -big, -big, -big
-    for t in range(nf):
-        for k in range(3):
-            i = faces[t, k]
-            if i < 0 or i >= nv:
-                return False
-            x = vertices[i, 0]
-            y = vertices[i, 1]
-            z = vertices[i, 2]
-            lo0 = min(lo0, x)
-            hi0 = max(hi0, x)
-            lo1 = min(lo1, y)
-            hi1 = max(hi1, y)
-            lo2 = min(lo2, z)
-            hi2 = max(hi2, z)
+    for i in range(nv):
+        x = vertices[i, 0]
+        y = vertices[i, 1]
+        z = vertices[i, 2]
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(z)):
+            return False              # any vertex, used or not, as the NumPy check does
+        start[i + 1] += start[i]
+        if not used[i]:
+            continue
+        lo0 = min(lo0, x)
+        hi0 = max(hi0, x)
+        lo1 = min(lo1, y)
+        hi1 = max(hi1, y)
+        lo2 = min(lo2, z)
+        hi2 = max(hi2, z)
     r0 = 0.5 * (lo0 + hi0)
     r1 = 0.5 * (lo1 + hi1)
     r2 = 0.5 * (lo2 + hi2)
@@ -304,12 +324,13 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     min_area = area_rtol * diag2
     twice_area = 0.0
     det_sum = 0.0
+    fill = start[:-1].copy()
+    upper = np.empty(3 * nf, dtype=np.int32)     # the other vertex + 1, negated when running down
+    owner = np.empty(3 * nf, dtype=np.int32)     # the face of the half-edge
     for t in range(nf):
         ia = faces[t, 0]
         ib = faces[t, 1]
         ic = faces[t, 2]
-        if ia == ib or ib == ic or ic == ia:
-            return False
         ax = vertices[ia, 0] - r0
         ay = vertices[ia, 1] - r1
         az = vertices[ia, 2] - r2
@@ -327,34 +348,21 @@ def closed_single_shell(vertices, faces, area_rtol, out):
             return False
         twice_area += a2
         det_sum += ax * nx + ay * ny + az * nz
-    if not (det_sum > 0.0):
-        return False
-    # edges: every half-edge a -> b is filed under its lower vertex min(a, b) (a CSR table by
-    # vertex, sequential in memory); within a vertex's list each upper vertex must occur
-    # exactly twice, once in each direction
-    start = np.zeros(nv + 1, dtype=np.int64)
-    for t in range(nf):
-        for k in range(3):
-            a = faces[t, k]
-            b = faces[t, (k + 1) % 3]
-            start[min(a, b) + 1] += 1
-    for i in range(nv):
-        start[i + 1] += start[i]
-    fill = start[:-1].copy()
-    upper = np.empty(3 * nf, dtype=np.int64)     # the other vertex, negated when running down
-    owner = np.empty(3 * nf, dtype=np.int64)     # the face of the half-edge
-    for t in range(nf):
         for k in range(3):
             a = faces[t, k]
             b = faces[t, (k + 1) % 3]
             if a < b:
                 j = fill[a]
+                fill[a] += 1
                 upper[j] = b + 1
             else:
                 j = fill[b]
+                fill[b] += 1
                 upper[j] = -(a + 1)
             owner[j] = t
-            fill[min(a, b)] += 1
+    if not (det_sum > 0.0):
+        return False
+    # each vertex's list: every upper vertex exactly twice, once in each direction
     parent = np.arange(nf)
     for i in range(nv):
         s0 = start[i]
@@ -435,6 +443,107 @@ def weld_and_merge(vertices, faces, rtol):
     coordinates, and the caller must then merge the returned (welded) arrays its general way.
     """
     v, f = weld_compact(vertices, faces)
+    return _merge_near(v, f, rtol)
+
+
+@nb.njit(**_JIT)
+def _u32(raw, at):
+    """The little-endian uint32 at byte offset ``at`` of a uint8 array."""
+    return (np.uint32(raw[at]) | (np.uint32(raw[at + 1]) << np.uint32(8))
+            | (np.uint32(raw[at + 2]) << np.uint32(16)) | (np.uint32(raw[at + 3]) << np.uint32(24)))
+
+
+@nb.njit(**_JIT)
+def stl_weld_and_merge(raw, n, rtol):
+    """Read the corners of a binary STL (``raw``: its bytes, ``n`` triangles), weld, then merge.
+
+    The same arrays as ``weld_and_merge`` applied to the float64 triangle soup
+    (``vertices = corners.reshape(-1, 3)``, ``faces = arange(3 n).reshape(n, 3)``), without
+    building that soup: positions are keyed by the bits of their float32 coordinates (equal
+    floats have equal bits once -0.0 is folded onto 0.0; rows with a NaN or infinity stay
+    alone, as in :func:`weld_map`), and each kept vertex is converted to float64 (exactly)
+    from its first occurrence.
+    """
+    m = 3 * n
+    group = np.empty(m, dtype=np.int64)
+    first = np.empty(m, dtype=np.int64)
+    keys = np.empty((m, 3), dtype=np.uint32)
+    hashes = np.empty(m, dtype=np.uint64)
+    cap = _capacity(max(16, m // 8))
+    mask = np.uint64(cap - 1)
+    table = np.full(cap, -1, dtype=np.int64)
+    sign = np.uint32(0x80000000)
+    expo = np.uint32(0x7F800000)
+    ng = 0
+    for i in range(m):
+        at = 84 + 50 * (i // 3) + 12 + 12 * (i % 3)
+        k0 = _u32(raw, at)
+        k1 = _u32(raw, at + 4)
+        k2 = _u32(raw, at + 8)
+        if (k0 & expo) == expo or (k1 & expo) == expo or (k2 & expo) == expo:
+            group[i] = ng                 # NaN or infinity: a group of its own
+            first[ng] = i
+            hashes[ng] = 0
+            keys[ng, 0] = expo
+            keys[ng, 1] = expo
+            keys[ng, 2] = expo
+            ng += 1
+            continue
+        if k0 == sign:
+            k0 = np.uint32(0)
+        if k1 == sign:
+            k1 = np.uint32(0)
+        if k2 == sign:
+            k2 = np.uint32(0)
+        h = _mix3(np.uint64(k0) | (np.uint64(k1) << _S32), np.uint64(k2), np.uint64(0x5BD1E995))
+        slot = h & mask
+        while True:
+            g = table[slot]
+            if g < 0:
+                table[slot] = ng
+                group[i] = ng
+                first[ng] = i
+                keys[ng, 0] = k0
+                keys[ng, 1] = k1
+                keys[ng, 2] = k2
+                hashes[ng] = h
+                ng += 1
+                break
+            if hashes[g] == h and keys[g, 0] == k0 and keys[g, 1] == k1 and keys[g, 2] == k2:
+                group[i] = g
+                break
+            slot = (slot + np.uint64(1)) & mask
+        if 2 * ng > cap:
+            cap *= 2
+            mask = np.uint64(cap - 1)
+            table = np.full(cap, -1, dtype=np.int64)
+            for g in range(ng):
+                if hashes[g] == 0 and keys[g, 0] == expo:
+                    continue
+                slot = hashes[g] & mask
+                while table[slot] >= 0:
+                    slot = (slot + np.uint64(1)) & mask
+                table[slot] = g
+    bits = np.empty(1, dtype=np.uint32)
+    value = bits.view(np.float32)
+    v = np.empty((ng, 3), dtype=np.float64)
+    for g in range(ng):
+        i = first[g]
+        at = 84 + 50 * (i // 3) + 12 + 12 * (i % 3)
+        for c in range(3):
+            bits[0] = _u32(raw, at + 4 * c)
+            v[g, c] = np.float64(value[0])
+    f = np.empty((n, 3), dtype=np.int64)
+    for t in range(n):
+        f[t, 0] = group[3 * t]
+        f[t, 1] = group[3 * t + 1]
+        f[t, 2] = group[3 * t + 2]
+    return _merge_near(v, f, rtol)
+
+
+@nb.njit(**_JIT)
+def _merge_near(v, f, rtol):
+    """Second half of :func:`weld_and_merge`: merge the welded ``v, f`` within the tolerance."""
     n = v.shape[0]
     if n < 2 or not (rtol > 0.0):
         return v, f, True

@@ -96,7 +96,8 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
 
     ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
     (after any orientation fix), so batch callers need not analyse the mesh twice.
-    ``welded=True``: the vertices are known distinct (from :func:`load_mesh`); skips a sort.
+    ``welded=True``: the vertices are known distinct and all used (as :func:`load_mesh`
+    returns them); skips the welding and the compaction.
     """
     from .properties import MassProperties
 
@@ -137,7 +138,7 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
 
     # integrate over the referenced vertices only (unreferenced ones would move the
     # kernel's reference point and cost precision)
-    vc, fc = compact_vertices(v, f)
+    vc, fc = (v, f) if welded else compact_vertices(v, f)
     if shell:
         area, first, second, r = shell_integrals(vc, fc)
         if not area > 0:

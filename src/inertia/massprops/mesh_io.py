@@ -171,6 +171,25 @@ def _read_binary_stl(p: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
     return vertices, np.arange(3 * n, dtype=np.int64).reshape(n, 3)
 
 
+def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float):
+    """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
+    over the file's bytes (no float64 triangle soup); None without numba or when the
+    compiled merge declines (the caller then takes the general route)."""
+    from .mesh_checks import _fast_topology
+
+    kernels = _fast_topology()
+    if kernels is None:
+        return None
+    try:
+        raw = np.fromfile(p, dtype=np.uint8)
+    except OSError as exc:
+        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    if len(raw) != 84 + 50 * n:
+        raise MeshFileError(f"{p}: malformed binary STL: the file changed size while being read")
+    vertices, faces, done = kernels.stl_weld_and_merge(raw, n, float(merge_rtol))
+    return (vertices, faces) if done else None
+
+
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
@@ -207,11 +226,16 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     if not p.is_file():
         raise MeshFileError(f"{p}: not a file")
     n_binary = _stl_kind(p) if ext == ".stl" else -1
-    if n_binary >= 0:  # the common case of datasets: read directly (no trimesh needed)
+    if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
+        merged = _read_binary_stl_merged(p, n_binary, merge_rtol)
+        if merged is not None:
+            return merged[0] * factor, merged[1]
         try:
             vertices, faces = _read_binary_stl(p, n_binary)
         except OSError as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    elif n_binary == 0:
+        vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     else:
         trimesh = _import_trimesh()
         try:

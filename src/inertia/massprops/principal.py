@@ -27,14 +27,6 @@ from ._arrays import as_float_array
 from .tolerances import DEGENERATE_RTOL
 
 
-def _sign_fix(v: np.ndarray) -> np.ndarray:
-    """Flip v (..., 3) so that its largest-magnitude component is positive."""
-    idx = np.argmax(np.abs(v), axis=-1)
-    s = np.sign(np.take_along_axis(v, idx[..., None], axis=-1))
-    s[s == 0] = 1.0
-    return v * s
-
-
 def _unit(v):
     return v / np.linalg.norm(v)
 
@@ -62,23 +54,39 @@ def degenerate_groups(moments, rtol: float = DEGENERATE_RTOL) -> tuple[tuple[int
     return ()
 
 
+def _sign_fixed(v: list) -> list:
+    """v flipped so that its largest-magnitude component is positive (the first one on ties)."""
+    k = 0
+    for i in (1, 2):
+        if abs(v[i]) > abs(v[k]):
+            k = i
+    return [-x for x in v] if v[k] < 0 else list(v)
+
+
+def _cross(a: list, b: list) -> list:
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
 def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float) -> np.ndarray:
+    # one 3x3 at a time, in Python floats: the same arithmetic as the vectorised helpers,
+    # without NumPy's per-call overhead on 3-vectors (this runs once per mesh in batch runs)
     groups = degenerate_groups(moments, rtol)
     if groups == ((0, 1, 2),):
         return np.eye(3)  # sphere-like: every frame is principal; choose F itself
+    cols = vecs.T.tolist()
     if groups == ((0, 1),):
-        e3 = _sign_fix(vecs[:, 2])
-        e1 = _plane_axis(e3)
-        e2 = np.cross(e3, e1)
+        e3 = _sign_fixed(cols[2])
+        e1 = _plane_axis(np.array(e3)).tolist()
+        e2 = _cross(e3, e1)
     elif groups == ((1, 2),):
-        e1 = _sign_fix(vecs[:, 0])
-        e2 = _plane_axis(e1)
-        e3 = np.cross(e1, e2)
+        e1 = _sign_fixed(cols[0])
+        e2 = _plane_axis(np.array(e1)).tolist()
+        e3 = _cross(e1, e2)
     else:
-        e1 = _sign_fix(vecs[:, 0])
-        e2 = _sign_fix(vecs[:, 1])
-        e3 = np.cross(e1, e2)
-    return np.stack([e1, e2, e3], axis=-1)
+        e1 = _sign_fixed(cols[0])
+        e2 = _sign_fixed(cols[1])
+        e3 = _cross(e1, e2)
+    return np.array([e1, e2, e3]).T
 
 
 def principal_axes(inertia, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarray, np.ndarray]:
@@ -99,6 +107,8 @@ def principal_axes(inertia, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarra
     I = as_float_array(inertia, "inertia", (3, 3))
     I = 0.5 * (I + np.swapaxes(I, -1, -2))
     moments, vecs = np.linalg.eigh(I)
+    if moments.ndim == 1:
+        return moments, _canonical_axes_single(moments, vecs, rtol)
     flat_m = moments.reshape(-1, 3)
     flat_v = vecs.reshape(-1, 3, 3)
     out = np.empty_like(flat_v)
