@@ -143,8 +143,14 @@ def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path):
 
 @pytest.mark.slow
 def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path):
+    # enough files that the run is still going when the interrupt arrives (a run of the
+    # small dataset alone can finish in a fraction of a second)
+    many = tmp_path / "many"
+    shutil.copytree(dataset, many)
+    for i in range(300):
+        shutil.copy(dataset / "wingnut.obj", many / f"copy_{i:03d}.obj")
     out = tmp_path / "cli.parquet"
-    cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(dataset), "-o", str(out),
+    cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(many), "-o", str(out),
            "--scheduler", "synchronous", "--chunk-files", "1", "--no-progress"]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
     parts = tmp_path / "cli.parquet.parts"
@@ -161,7 +167,7 @@ def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path)
     assert saved >= 1
     subprocess.run(cmd + ["--resume"], check=True, capture_output=True)
     done = read_frame(out)
-    assert done["path"].is_unique and len(done) == len(GOOD) + len(BAD_SHARED) + len(BROKEN) + 1
+    assert done["path"].is_unique and len(done) == len(GOOD) + len(BAD_SHARED) + len(BROKEN) + 1 + 300
 
 
 def test_manifest_options_per_file(dataset, tmp_path):

@@ -263,7 +263,8 @@ def test_stl_bytes_kernel_equals_the_soup_route(shared_data, tmp_path):
         soup = mesh_io._read_binary_stl(path, n)
         for rtol in (mesh_io.MERGE_RTOL, 0.0, 1e-3):
             expect = mesh_io._merge_close_vertices(*soup, rtol)
-            got_v, got_f, done = nbk.stl_weld_and_merge(np.fromfile(path, dtype=np.uint8), n, rtol)
+            records = np.fromfile(path, dtype=mesh_io._STL_BITS, count=n, offset=84)
+            got_v, got_f, done = nbk.stl_weld_and_merge(records["corners"], rtol)
             assert done
             assert np.array_equal(got_v, expect[0], equal_nan=True) and np.array_equal(got_f, expect[1]), (name, rtol)
             assert np.array_equal(np.signbit(got_v), np.signbit(expect[0])), name

@@ -172,10 +172,10 @@ def _previous_rows(output: Path, fmt: str, parts_dir: Path) -> list[dict]:
 
 
 #: glibc allocator settings for batch workers (see :func:`local_cluster`): never give freed
-#: heap back, keep arrays up to 32 MiB on the heap, grow it 64 MiB at a time.  Worth setting
+#: heap back, keep arrays up to 32 MiB on the heap, grow it 16 MiB at a time.  Worth setting
 #: in the environment of the workers of an external cluster too.
 WORKER_MALLOC_ENV = {"MALLOC_TRIM_THRESHOLD_": str(2**31), "MALLOC_MMAP_THRESHOLD_": str(32 * 2**20),
-                     "MALLOC_TOP_PAD_": str(64 * 2**20)}
+                     "MALLOC_TOP_PAD_": str(16 * 2**20)}
 
 
 def local_cluster(n_workers: int):
@@ -325,7 +325,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
             _remove_parts_dir(parts_dir)
     previous = _previous_rows(output, fmt, parts_dir) if resume else []
     done = {_key(r) for r in previous}
-    todo = [j for j in jobs if _job_key(j) not in done]
+    todo = [j for j in jobs if _job_key(j) not in done] if done else list(jobs)
     parts_dir.mkdir(parents=True, exist_ok=True)
     first_part = len(_part_files(parts_dir))
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}

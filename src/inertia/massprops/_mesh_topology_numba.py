@@ -447,91 +447,90 @@ def weld_and_merge(vertices, faces, rtol):
 
 
 @nb.njit(**_JIT)
-def _u32(raw, at):
-    """The little-endian uint32 at byte offset ``at`` of a uint8 array."""
-    return (np.uint32(raw[at]) | (np.uint32(raw[at + 1]) << np.uint32(8))
-            | (np.uint32(raw[at + 2]) << np.uint32(16)) | (np.uint32(raw[at + 3]) << np.uint32(24)))
+def _key_hash(k0, k1, k2):
+    return _mix3(np.uint64(k0) | (np.uint64(k1) << _S32), np.uint64(k2), np.uint64(0x5BD1E995))
 
 
 @nb.njit(**_JIT)
-def stl_weld_and_merge(raw, n, rtol):
-    """Read the corners of a binary STL (``raw``: its bytes, ``n`` triangles), weld, then merge.
+def stl_weld_and_merge(corners, rtol):
+    """Weld the corners of a binary STL, then merge within the tolerance.
 
-    The same arrays as ``weld_and_merge`` applied to the float64 triangle soup
-    (``vertices = corners.reshape(-1, 3)``, ``faces = arange(3 n).reshape(n, 3)``), without
-    building that soup: positions are keyed by the bits of their float32 coordinates (equal
-    floats have equal bits once -0.0 is folded onto 0.0; rows with a NaN or infinity stay
-    alone, as in :func:`weld_map`), and each kept vertex is converted to float64 (exactly)
-    from its first occurrence.
+    ``corners``: (n, 3, 3) uint32, the bits of each triangle's float32 corner coordinates
+    (a view into the file's records).  The same arrays as ``weld_and_merge`` applied to the
+    float64 triangle soup (``vertices = corners.reshape(-1, 3)``, ``faces = arange(3 n)``),
+    without building that soup: positions are keyed by their bits (equal floats have equal
+    bits once -0.0 is folded onto 0.0; rows with a NaN or infinity stay alone, as in
+    :func:`weld_map`), and each kept vertex is converted to float64 (exactly) from its first
+    occurrence.  The table holds int32 group numbers and is sized by the groups (about a
+    sixth of the corners), so it stays in cache.
     """
+    n = corners.shape[0]
     m = 3 * n
-    group = np.empty(m, dtype=np.int64)
-    first = np.empty(m, dtype=np.int64)
+    if m >= 2 ** 31:
+        return np.empty((0, 3)), np.empty((0, 3), dtype=np.int64), False
+    group = np.empty(m, dtype=np.int32)
+    first = np.empty(m, dtype=np.int32)
     keys = np.empty((m, 3), dtype=np.uint32)
-    hashes = np.empty(m, dtype=np.uint64)
     cap = _capacity(max(16, m // 8))
     mask = np.uint64(cap - 1)
-    table = np.full(cap, -1, dtype=np.int64)
+    table = np.full(cap, -1, dtype=np.int32)
     sign = np.uint32(0x80000000)
     expo = np.uint32(0x7F800000)
     ng = 0
-    for i in range(m):
-        at = 84 + 50 * (i // 3) + 12 + 12 * (i % 3)
-        k0 = _u32(raw, at)
-        k1 = _u32(raw, at + 4)
-        k2 = _u32(raw, at + 8)
-        if (k0 & expo) == expo or (k1 & expo) == expo or (k2 & expo) == expo:
-            group[i] = ng                 # NaN or infinity: a group of its own
-            first[ng] = i
-            hashes[ng] = 0
-            keys[ng, 0] = expo
-            keys[ng, 1] = expo
-            keys[ng, 2] = expo
-            ng += 1
-            continue
-        if k0 == sign:
-            k0 = np.uint32(0)
-        if k1 == sign:
-            k1 = np.uint32(0)
-        if k2 == sign:
-            k2 = np.uint32(0)
-        h = _mix3(np.uint64(k0) | (np.uint64(k1) << _S32), np.uint64(k2), np.uint64(0x5BD1E995))
-        slot = h & mask
-        while True:
-            g = table[slot]
-            if g < 0:
-                table[slot] = ng
-                group[i] = ng
+    for t in range(n):
+        for k in range(3):
+            i = 3 * t + k
+            k0 = corners[t, k, 0]
+            k1 = corners[t, k, 1]
+            k2 = corners[t, k, 2]
+            if (k0 & expo) == expo or (k1 & expo) == expo or (k2 & expo) == expo:
+                group[i] = ng             # NaN or infinity: a group of its own, not in the table
                 first[ng] = i
                 keys[ng, 0] = k0
                 keys[ng, 1] = k1
                 keys[ng, 2] = k2
-                hashes[ng] = h
                 ng += 1
-                break
-            if hashes[g] == h and keys[g, 0] == k0 and keys[g, 1] == k1 and keys[g, 2] == k2:
-                group[i] = g
-                break
-            slot = (slot + np.uint64(1)) & mask
-        if 2 * ng > cap:
-            cap *= 2
-            mask = np.uint64(cap - 1)
-            table = np.full(cap, -1, dtype=np.int64)
-            for g in range(ng):
-                if hashes[g] == 0 and keys[g, 0] == expo:
-                    continue
-                slot = hashes[g] & mask
-                while table[slot] >= 0:
-                    slot = (slot + np.uint64(1)) & mask
-                table[slot] = g
+                continue
+            if k0 == sign:
+                k0 = np.uint32(0)
+            if k1 == sign:
+                k1 = np.uint32(0)
+            if k2 == sign:
+                k2 = np.uint32(0)
+            slot = _key_hash(k0, k1, k2) & mask
+            while True:
+                g = table[slot]
+                if g < 0:
+                    table[slot] = ng
+                    group[i] = ng
+                    first[ng] = i
+                    keys[ng, 0] = k0
+                    keys[ng, 1] = k1
+                    keys[ng, 2] = k2
+                    ng += 1
+                    break
+                if keys[g, 0] == k0 and keys[g, 1] == k1 and keys[g, 2] == k2:
+                    group[i] = g
+                    break
+                slot = (slot + np.uint64(1)) & mask
+            if 2 * ng > cap:          # keep the load <= 1/2: double and re-insert the groups
+                cap *= 2
+                mask = np.uint64(cap - 1)
+                table = np.full(cap, -1, dtype=np.int32)
+                for g in range(ng):
+                    if (keys[g, 0] & expo) == expo or (keys[g, 1] & expo) == expo or (keys[g, 2] & expo) == expo:
+                        continue
+                    slot = _key_hash(keys[g, 0], keys[g, 1], keys[g, 2]) & mask
+                    while table[slot] >= 0:
+                        slot = (slot + np.uint64(1)) & mask
+                    table[slot] = g
     bits = np.empty(1, dtype=np.uint32)
     value = bits.view(np.float32)
     v = np.empty((ng, 3), dtype=np.float64)
     for g in range(ng):
         i = first[g]
-        at = 84 + 50 * (i // 3) + 12 + 12 * (i % 3)
         for c in range(3):
-            bits[0] = _u32(raw, at + 4 * c)
+            bits[0] = corners[i // 3, i % 3, c]
             v[g, c] = np.float64(value[0])
     f = np.empty((n, 3), dtype=np.int64)
     for t in range(n):

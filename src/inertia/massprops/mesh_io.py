@@ -11,6 +11,9 @@ as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates are then scale
 
 from __future__ import annotations
 
+import os
+import stat
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -141,10 +144,15 @@ def _stl_kind(p: Path) -> int:
     A truncated (or padded) binary STL is refused by name instead of read as garbage.
     """
     size = p.stat().st_size
-    if size == 0:
-        raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)")
     with open(p, "rb") as fh:
         head = fh.read(1024)
+    return _stl_kind_of(head, size, p)
+
+
+def _stl_kind_of(head: bytes, size: int, p) -> int:
+    """:func:`_stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
+    if size == 0:
+        raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)")
     text = head.lstrip().lower()
     ascii_like = text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024)
     if size >= 84:
@@ -161,32 +169,42 @@ def _stl_kind(p: Path) -> int:
     raise MeshFileError(f"{p}: malformed STL: {size} bytes is too short for binary STL and it is not ASCII STL")
 
 
-def _read_binary_stl(p: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
+#: the same records with the corners as raw 32-bit words (for welding by bits)
+_STL_BITS = np.dtype([("normal", "<u4", (3,)), ("corners", "<u4", (3, 3)), ("attribute", "<u2")])
+
+
+def _read_binary_stl(p: Path, n: int, data: bytes | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The corners of a binary STL of ``n`` triangles as float64 (3 n, 3), faces ``arange``.
 
     The same arrays as ``trimesh.load(..., process=False)`` gives, without trimesh's objects.
+    ``data``: the file's bytes, when already read.
     """
-    data = np.fromfile(p, dtype=_STL_RECORD, count=n, offset=84)
-    vertices = data["corners"].reshape(-1, 3).astype(np.float64)
+    if data is None:
+        records = np.fromfile(p, dtype=_STL_RECORD, count=n, offset=84)
+    else:
+        records = np.frombuffer(data, dtype=_STL_RECORD, count=n, offset=84)
+    vertices = records["corners"].astype(np.float64).reshape(-1, 3)
     return vertices, np.arange(3 * n, dtype=np.int64).reshape(n, 3)
 
 
-def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float):
+def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | None = None):
     """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
-    over the file's bytes (no float64 triangle soup); None without numba or when the
+    over the file's records (no float64 triangle soup); None without numba or when the
     compiled merge declines (the caller then takes the general route)."""
     from .mesh_checks import _fast_topology
 
     kernels = _fast_topology()
-    if kernels is None:
+    if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively
         return None
-    try:
-        raw = np.fromfile(p, dtype=np.uint8)
-    except OSError as exc:
-        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-    if len(raw) != 84 + 50 * n:
+    if data is None:
+        try:
+            data = p.read_bytes()
+        except OSError as exc:
+            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    if len(data) != 84 + 50 * n:
         raise MeshFileError(f"{p}: malformed binary STL: the file changed size while being read")
-    vertices, faces, done = kernels.stl_weld_and_merge(raw, n, float(merge_rtol))
+    records = np.frombuffer(data, dtype=_STL_BITS, count=n, offset=84)
+    vertices, faces, done = kernels.stl_weld_and_merge(records["corners"], float(merge_rtol))
     return (vertices, faces) if done else None
 
 
@@ -221,19 +239,26 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     if ext not in SUPPORTED_EXTENSIONS:
         raise MeshFileError(f"{p}: unsupported mesh file extension {ext!r}; supported: "
                             f"{', '.join(SUPPORTED_EXTENSIONS)}")
-    if not p.exists():
-        raise MeshFileError(f"{p}: mesh file not found")
-    if not p.is_file():
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        raise MeshFileError(f"{p}: mesh file not found") from None
+    except OSError as exc:
+        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from None
+    if not stat.S_ISREG(st.st_mode):
         raise MeshFileError(f"{p}: not a file")
-    n_binary = _stl_kind(p) if ext == ".stl" else -1
-    if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
-        merged = _read_binary_stl_merged(p, n_binary, merge_rtol)
-        if merged is not None:
-            return merged[0] * factor, merged[1]
+    n_binary, data = -1, None
+    if ext == ".stl":  # read once: the header decides, the records follow
         try:
-            vertices, faces = _read_binary_stl(p, n_binary)
+            data = p.read_bytes()
         except OSError as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+        n_binary = _stl_kind_of(data[:1024], len(data), p)
+    if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
+        merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
+        if merged is not None:
+            return merged[0] * factor, merged[1]
+        vertices, faces = _read_binary_stl(p, n_binary, data)
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     else:
