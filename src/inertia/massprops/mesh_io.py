@@ -257,7 +257,7 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
         merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
         if merged is not None:
-            return merged[0] * factor, merged[1]
+            return (merged[0] * factor if factor != 1.0 else merged[0]), merged[1]
         vertices, faces = _read_binary_stl(p, n_binary, data)
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)

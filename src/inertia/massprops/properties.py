@@ -150,16 +150,21 @@ class MassProperties:
 
         See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules.
         """
-        pf = principal_frame(self.inertia_com, rtol=rtol)
+        pf = self.principal_frame(rtol=rtol)
         return pf.moments, pf.R_FP
 
     def principal_frame(self, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
         """Principal moments, axes and the report of repeated moments."""
-        return principal_frame(self.inertia_com, rtol=rtol)
+        # the value is immutable (read-only arrays), so the decomposition is computed once
+        cache = self.__dict__.setdefault("_principal_cache", {})
+        pf = cache.get(rtol)
+        if pf is None:
+            pf = cache[rtol] = principal_frame(self.inertia_com, rtol=rtol)
+        return pf
 
     def canonical(self, *, rtol: float = DEGENERATE_RTOL) -> "CanonicalForm":
         """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
-        pf = principal_frame(self.inertia_com, rtol=rtol)
+        pf = self.principal_frame(rtol=rtol)
         props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
                                volume=self.volume, warnings=self.warnings, validate=False)
         return CanonicalForm(props=props, R_frame_principal=pf.R_FP, p_frame_com=self.com,
