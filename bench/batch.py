@@ -9,9 +9,10 @@ run measures:
 
 and prints files/s, the speed-up from 1 to 2 workers, the ratio to the trimesh loop, and the
 peak resident memory of each worker.  Our rows include the full defect checks (edges,
-winding, orientation) that the trimesh loop does not do.
+winding, orientation) that the trimesh loop does not do.  The three are run in interleaved
+rounds (machine noise drifts over time); best and median of the rounds are printed.
 
-    python bench/batch.py [--small 2000] [--large 20] [--keep DIR]
+    python bench/batch.py [--small 2000] [--large 20] [--repeat 3] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import statistics
 import struct
 import tempfile
 import time
@@ -65,61 +67,81 @@ def trimesh_loop(paths) -> float:
     return time.perf_counter() - t0
 
 
-def ours(paths, workers: int, out_dir: str):
-    import distributed
+class Cluster:
+    """The cluster run_batch starts by default, kept up across repeats (started outside the timing)."""
 
-    from inertia.batch import run_batch
-    from inertia.batch.run import local_cluster
+    def __init__(self, workers: int):
+        import distributed
 
-    cluster = local_cluster(workers)  # the cluster run_batch starts by default
-    client = distributed.Client(cluster)
-    try:
         from inertia.batch.record import warm_up
+        from inertia.batch.run import local_cluster
 
-        client.run(warm_up)  # imports and compiled kernels loaded outside the timing
-        out = os.path.join(out_dir, f"bench-{workers}.parquet")
+        self.workers = workers
+        self.cluster = local_cluster(workers)
+        self.client = distributed.Client(self.cluster)
+        self.client.run(warm_up)  # imports and compiled kernels loaded outside the timing
+
+    def run(self, paths, out_dir: str) -> float:
+        from inertia.batch import run_batch
+
+        out = os.path.join(out_dir, f"bench-{self.workers}.parquet")
         t0 = time.perf_counter()
-        summary = run_batch(paths, out, scheduler=client, progress=False, overwrite=True)
+        summary = run_batch(paths, out, scheduler=self.client, progress=False, overwrite=True)
         elapsed = time.perf_counter() - t0
+        assert summary.errors == 0, summary.lines()
+        return elapsed
 
-        def peak_rss_mb():
+    def peak_rss_mb(self) -> list[float]:
+        def peak():
             import resource
 
             return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
-        peaks = list(client.run(peak_rss_mb).values())
-    finally:
-        client.close()
-        cluster.close()
-    assert summary.errors == 0, summary.lines()
-    return elapsed, peaks
+        return list(self.client.run(peak).values())
+
+    def close(self) -> None:
+        self.client.close()
+        self.cluster.close()
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--small", type=int, default=2000)
     ap.add_argument("--large", type=int, default=20)
+    ap.add_argument("--repeat", type=int, default=3, help="rounds; each round runs all three, interleaved")
     ap.add_argument("--keep", metavar="DIR", help="generate into DIR and keep it")
     args = ap.parse_args()
     folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
     os.makedirs(folder, exist_ok=True)
+    clusters = {}
     try:
         t0 = time.perf_counter()
         paths = make_dataset(folder, args.small, args.large)
         n = len(paths)
         print(f"{args.small} small (1,280 / 5,120 faces) + {args.large} large (81,920 faces) meshes "
-              f"generated in {time.perf_counter() - t0:.1f} s; {os.cpu_count()} cores")
-        base = trimesh_loop(paths)
-        print(f"plain trimesh loop, 1 process : {n / base:8.1f} files/s ({base:.1f} s)")
-        results = {}
-        for w in (1, 2):
-            el, peaks = ours(paths, w, folder)
-            results[w] = el
-            print(f"inertia batch, {w} worker(s)  : {n / el:8.1f} files/s ({el:.1f} s), "
-                  f"peak RSS per worker {', '.join(f'{p:.0f}' for p in peaks)} MB")
-        print(f"speed-up 1 -> 2 workers: {results[1] / results[2]:.2f}x; "
-              f"2 workers vs trimesh loop: {base / results[2]:.2f}x files/s")
+              f"generated in {time.perf_counter() - t0:.1f} s; {os.cpu_count()} cores; "
+              f"{args.repeat} interleaved rounds (machine noise: compare the best and the median)")
+        clusters = {w: Cluster(w) for w in (1, 2)}
+        times = {"trimesh": [], 1: [], 2: []}
+        for _ in range(args.repeat):
+            times["trimesh"].append(trimesh_loop(paths))
+            for w, c in clusters.items():
+                times[w].append(c.run(paths, folder))
+
+        def line(label, ts):
+            return (f"{label}: best {n / min(ts):7.1f} files/s ({min(ts):.2f} s), "
+                    f"median {n / statistics.median(ts):7.1f} files/s")
+
+        print(line("plain trimesh loop, 1 process", times["trimesh"]))
+        for w, c in clusters.items():
+            print(line(f"inertia batch, {w} worker(s) ", times[w])
+                  + f"; peak RSS per worker {', '.join(f'{p:.0f}' for p in c.peak_rss_mb())} MB")
+        for how, f in (("best", min), ("median", statistics.median)):
+            print(f"{how:6s}: speed-up 1 -> 2 workers {f(times[1]) / f(times[2]):.2f}x; "
+                  f"2 workers vs trimesh loop {f(times['trimesh']) / f(times[2]):.2f}x files/s")
     finally:
+        for c in clusters.values():
+            c.close()
         if not args.keep:
             shutil.rmtree(folder, ignore_errors=True)
 

@@ -152,7 +152,10 @@ def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path)
     out = tmp_path / "cli.parquet"
     cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(many), "-o", str(out),
            "--scheduler", "synchronous", "--chunk-files", "1", "--no-progress"]
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    # a shell without job control starts its children with SIGINT ignored, and Python then
+    # installs no KeyboardInterrupt handler: give the child the default disposition back
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     parts = tmp_path / "cli.parquet.parts"
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and not list(parts.glob("part-*.parquet")):

@@ -74,26 +74,31 @@ def _null(v) -> bool:
     return _isna(v)
 
 
-def write_rows_parquet(rows, path) -> None:
-    """Write batch rows (dicts of plain values) straight to Parquet, atomically.
+def rows_to_table(rows):
+    """Batch rows (dicts of plain values) as an Arrow table with the schema of the output.
 
-    Column by column through Arrow, without building a pandas frame: the part files are
-    written on the client while the workers compute, so this must stay cheap.
+    Column by column, without building a pandas frame: the part files are written on the
+    client while the workers compute, so this must stay cheap.
     """
     import pyarrow as pa
-    import pyarrow.parquet as pq
 
     schema = _arrow_schema()
     arrays = []
     for field in schema:
         values = [row.get(field.name) for row in rows]
-        if not pa.types.is_list(field.type) and not pa.types.is_string(field.type):
-            values = [None if _null(v) else v for v in values]
-        elif pa.types.is_list(field.type):
+        if pa.types.is_list(field.type):
             values = [None if v is None or (not isinstance(v, (list, tuple)) and _null(v)) else list(v)
                       for v in values]
+        elif not pa.types.is_string(field.type):
+            values = [None if _null(v) else v for v in values]
         arrays.append(pa.array(values, type=field.type))
-    table = pa.Table.from_arrays(arrays, schema=schema)
+    return pa.Table.from_arrays(arrays, schema=schema)
+
+
+def write_table_parquet(table, path) -> None:
+    """Write an Arrow table to Parquet atomically."""
+    import pyarrow.parquet as pq
+
     path, tmp = _atomic_target(path)
     try:
         pq.write_table(table, tmp)
@@ -102,6 +107,13 @@ def write_rows_parquet(rows, path) -> None:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def write_rows_parquet(rows, path):
+    """Write batch rows straight to Parquet, atomically; returns the Arrow table written."""
+    table = rows_to_table(rows)
+    write_table_parquet(table, path)
+    return table
 
 
 def _atomic_target(path):

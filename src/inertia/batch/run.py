@@ -34,8 +34,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from .output import format_of, read_frame, to_frame, write_frame, write_rows_parquet
-from .record import process_chunk
+from .output import (format_of, read_frame, rows_to_table, to_frame, write_frame, write_rows_parquet,
+                     write_table_parquet)
+from .record import process_chunk, process_packed
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -121,6 +122,9 @@ def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[li
     jobs = list(jobs)
     sizes = []
     for job in jobs:
+        if job.size is not None:
+            sizes.append(job.size)
+            continue
         try:
             sizes.append(os.path.getsize(job.path))
         except OSError:
@@ -257,14 +261,18 @@ class _Executor:
             for i, chunk in enumerate(chunks):
                 yield i, process_chunk(chunk, options)
             return
+        import pickle
+
         from distributed import as_completed
 
-        futures = [self.client.submit(process_chunk, chunk, options, pure=False, key=f"inertia-chunk-{i}-{id(self)}")
+        futures = [self.client.submit(process_packed, pickle.dumps((chunk, options), protocol=pickle.HIGHEST_PROTOCOL),
+                                      pure=False, key=f"inertia-chunk-{i}-{id(self)}")
                    for i, chunk in enumerate(chunks)]
         index = {f.key: i for i, f in enumerate(futures)}
         self._futures = futures
-        for fut in as_completed(futures):
-            yield index[fut.key], fut.result()
+        # with_results: the client fetches each result as its task finishes, in the background
+        for fut, packed in as_completed(futures, with_results=True):
+            yield index[fut.key], pickle.loads(packed)
 
     def __exit__(self, *exc):
         futures = getattr(self, "_futures", None)
@@ -331,11 +339,12 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     bar = Progress(len(todo), enabled=progress)
     written = [first_part]
+    tables = []  # the parts' Arrow tables, to assemble the final Parquet table without Python loops
 
     def write_part(_, rows):
         path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
         written[0] += 1
-        write_rows_parquet(rows, path)
+        tables.append((write_rows_parquet(rows, path), [r["path"] for r in rows]))
         if on_part is not None:
             on_part(path, rows)
 
@@ -355,11 +364,21 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     job_paths = [j.path for j in jobs]
     known = set(job_paths)
     order = job_paths + [p for p in latest if p not in known]
-    final = [latest[p] for p in dict.fromkeys(order) if p in latest]
-    if fmt == "parquet":
-        write_rows_parquet(final, output)
+    final_paths = [p for p in dict.fromkeys(order) if p in latest]
+    if fmt == "parquet" and not previous:
+        # every row is in a part table: concatenate and reorder them in Arrow
+        import pyarrow as pa
+
+        where, offset = {}, 0
+        for table, paths in tables:
+            where.update((p, offset + i) for i, p in enumerate(paths))
+            offset += len(paths)
+        combined = pa.concat_tables([t for t, _ in tables]) if tables else rows_to_table([])
+        write_table_parquet(combined.take(pa.array([where[p] for p in final_paths], type=pa.int64())), output)
+    elif fmt == "parquet":
+        write_rows_parquet([latest[p] for p in final_paths], output)
     else:
-        write_frame(to_frame(final), output, fmt)
+        write_frame(to_frame([latest[p] for p in final_paths]), output, fmt)
     _remove_parts_dir(parts_dir)
 
     counts = Counter(r["status"] for r in new_rows)

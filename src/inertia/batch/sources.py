@@ -11,7 +11,8 @@ from __future__ import annotations
 import glob
 import math
 import os
-from dataclasses import dataclass
+import stat
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
@@ -22,25 +23,43 @@ MANIFEST_EXTENSIONS = (".csv", ".parquet")
 
 @dataclass(frozen=True)
 class Job:
-    """One file to process. ``density`` [kg/m^3] or ``mass`` [kg] (not both); ``units`` of the file."""
+    """One file to process. ``density`` [kg/m^3] or ``mass`` [kg] (not both); ``units`` of the file.
+
+    ``size``: its size in bytes when collected (a hint for balancing the work; not part of
+    the job's identity).
+    """
 
     path: str
     density: float | None = None
     mass: float | None = None
     units: str = "m"
+    size: int | None = field(default=None, compare=False, repr=False)
 
 
 def _is_glob(text: str) -> bool:
     return any(ch in text for ch in "*?[")
 
 
-def _mesh_files_under(folder: Path) -> list[str]:
+def _mesh_files_under(folder) -> list[tuple[str, int | None]]:
+    """(path, size) of every mesh file under ``folder``, sorted, recursively (one scandir per folder)."""
     out = []
-    for root, dirs, files in os.walk(folder):
-        dirs.sort()
-        for name in sorted(files):
-            if os.path.splitext(name)[1].lower() in SUPPORTED_EXTENSIONS:
-                out.append(os.path.join(root, name))
+    stack = [os.fspath(folder)]
+    while stack:
+        top = stack.pop()
+        try:
+            entries = sorted(os.scandir(top), key=lambda e: e.name)
+        except OSError:
+            continue
+        subdirs = []
+        for entry in entries:
+            try:
+                if entry.is_dir(follow_symlinks=False):  # as os.walk: do not follow linked folders
+                    subdirs.append(entry.path)
+                elif os.path.splitext(entry.name)[1].lower() in SUPPORTED_EXTENSIONS and entry.is_file():
+                    out.append((entry.path, entry.stat().st_size))
+            except OSError:
+                continue
+        stack.extend(reversed(subdirs))
     return out
 
 
@@ -113,26 +132,30 @@ def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[
     jobs: list[Job] = []
     seen: set[str] = set()
 
-    def add(job: Job) -> None:
+    def add(job: Job, size: int | None = None) -> None:
         key = os.path.abspath(job.path)
         if key not in seen:
             seen.add(key)
-            jobs.append(Job(key, job.density, job.mass, job.units))
+            jobs.append(Job(key, job.density, job.mass, job.units, size))
 
     for src in sources:
         text = os.fspath(src)
-        p = Path(text)
-        if p.is_dir():
-            found = _mesh_files_under(p)
+        try:
+            mode_size = os.stat(text)
+            mode, size = mode_size.st_mode, mode_size.st_size
+        except OSError:
+            mode, size = 0, None
+        if stat.S_ISDIR(mode):
+            found = _mesh_files_under(text)
             if not found:
                 raise InputError(f"{text}: folder holds no mesh files ({', '.join(SUPPORTED_EXTENSIONS)})")
-            for f in found:
-                add(Job(f, density, mass, units))
-        elif p.is_file() and p.suffix.lower() in MANIFEST_EXTENSIONS:
-            for job in read_manifest(p, default=default):
+            for f, fsize in found:
+                add(Job(f, density, mass, units), fsize)
+        elif stat.S_ISREG(mode) and os.path.splitext(text)[1].lower() in MANIFEST_EXTENSIONS:
+            for job in read_manifest(Path(text), default=default):
                 add(job)
-        elif p.is_file():
-            add(Job(text, density, mass, units))
+        elif stat.S_ISREG(mode):
+            add(Job(text, density, mass, units), size)
         elif _is_glob(text):
             matches = sorted(glob.glob(text, recursive=True))
             files = [m for m in matches if os.path.isfile(m)]
