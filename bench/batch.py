@@ -1,18 +1,20 @@
 """Benchmark: files per second of `inertia batch` with 1 and 2 workers, against a plain loop.
 
-Generates N small binary STL meshes (perturbed icospheres, 1,280 to 5,120 faces... up to
-~10k with --small-faces) and M large ones (81,920 faces) in a temporary folder, then in one
-run measures:
+Generates N small binary STL meshes (rippled, stretched tori of 1,000 to 10,000 faces,
+uniformly spread) and M large ones (perturbed icospheres of 81,920 faces) in a temporary
+folder, then in one run measures:
 
 * a plain Python loop over trimesh (``trimesh.load`` + ``mass_properties``), one process;
-* ``run_batch`` on a local Dask cluster with 1 worker, then with 2 workers;
+* ``run_batch`` on the default local Dask cluster with 1 worker, then with 2 workers, each
+  cluster alone on the machine, started and warmed up outside the timing (its start-up
+  time is printed apart: it is paid once per run, whatever the number of files);
 
 and prints files/s, the speed-up from 1 to 2 workers, the ratio to the trimesh loop, and the
 peak resident memory of each worker.  Our rows include the full defect checks (edges,
 winding, orientation) that the trimesh loop does not do.  The three are run in interleaved
 rounds (machine noise drifts over time); best and median of the rounds are printed.
 
-    python bench/batch.py [--small 2000] [--large 20] [--repeat 3] [--keep DIR]
+    python bench/batch.py [--small 2000] [--large 20] [--repeat 5] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -39,21 +41,42 @@ def write_binary_stl(path, vertices, faces) -> None:
         fh.write(rec.tobytes())
 
 
+def small_mesh(rng, faces: int):
+    """A closed, outward-wound torus of about ``faces`` faces, stretched and rippled at random."""
+    import trimesh
+
+    minor = int(rng.integers(12, 33))
+    major = max(3, round(faces / (2 * minor)))
+    t = trimesh.creation.torus(major_radius=1.0, minor_radius=rng.uniform(0.2, 0.5),
+                               major_sections=major, minor_sections=minor)
+    v = t.vertices.copy()
+    # ripple the tube radius around the ring (the surface stays closed, embedded, outward wound)
+    ring = np.hypot(v[:, 0], v[:, 1])
+    centre = v.copy()
+    centre[:, :2] *= (1.0 / ring)[:, None]
+    centre[:, 2] = 0.0
+    ripple = 1.0 + 0.1 * np.sin(int(rng.integers(1, 6)) * np.arctan2(v[:, 1], v[:, 0]))
+    v = centre + (v - centre) * ripple[:, None]
+    return v * rng.uniform(0.5, 2.0, 3), t.faces
+
+
 def make_dataset(folder, n_small: int, n_large: int, seed: int = 0) -> list[str]:
+    """``n_small`` meshes of 1k-10k faces (uniform) and ``n_large`` of 81,920, as binary STL."""
     import trimesh
 
     rng = np.random.default_rng(seed)
-    spheres = {k: trimesh.creation.icosphere(subdivisions=k) for k in (3, 4, 6)}
+    sphere = trimesh.creation.icosphere(subdivisions=6)
     paths = []
-    for i in range(n_small + n_large):
-        level = 6 if i >= n_small else (3 if i % 2 else 4)
-        s = spheres[level]
-        # star-shaped radial perturbation keeps the mesh closed and outward-wound
-        r = 1.0 + 0.2 * rng.random() * np.sin(rng.integers(1, 5) * s.vertices[:, :1] * 3)
-        v = s.vertices * r * rng.uniform(0.5, 2.0, 3)
-        p = os.path.join(folder, f"{'large' if level == 6 else 'small'}_{i:05d}.stl")
-        write_binary_stl(p, v, s.faces)
-        paths.append(p)
+    for i in range(n_small):
+        v, f = small_mesh(rng, int(rng.integers(1000, 10001)))
+        paths.append(os.path.join(folder, f"small_{i:05d}.stl"))
+        write_binary_stl(paths[-1], v, f)
+    for i in range(n_large):
+        # star-shaped radial perturbation keeps the sphere closed and outward wound
+        s = sphere.vertices
+        r = 1.0 + 0.2 * rng.random() * np.sin(rng.integers(1, 5) * s[:, :1] * 3)
+        paths.append(os.path.join(folder, f"large_{i:05d}.stl"))
+        write_binary_stl(paths[-1], s * r * rng.uniform(0.5, 2.0, 3), sphere.faces)
     return paths
 
 
@@ -68,7 +91,7 @@ def trimesh_loop(paths) -> float:
 
 
 class Cluster:
-    """The cluster run_batch starts by default, kept up across repeats (started outside the timing)."""
+    """The cluster run_batch starts by default, started and warmed up outside the timing."""
 
     def __init__(self, workers: int):
         import distributed
@@ -76,10 +99,12 @@ class Cluster:
         from inertia.batch.record import warm_up
         from inertia.batch.run import local_cluster
 
+        t0 = time.perf_counter()
         self.workers = workers
         self.cluster = local_cluster(workers)
         self.client = distributed.Client(self.cluster)
         self.client.run(warm_up)  # imports and compiled kernels loaded outside the timing
+        self.startup_s = time.perf_counter() - t0
 
     def run(self, paths, out_dir: str) -> float:
         from inertia.batch import run_batch
@@ -93,9 +118,15 @@ class Cluster:
 
     def peak_rss_mb(self) -> list[float]:
         def peak():
-            import resource
+            # VmHWM: the high-water mark of this process image (ru_maxrss would carry over
+            # the parent's from before the exec that started the worker)
+            try:
+                with open("/proc/self/status") as fh:
+                    return next(int(ln.split()[1]) for ln in fh if ln.startswith("VmHWM:")) / 1024
+            except (OSError, StopIteration):
+                import resource
 
-            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+                return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
         return list(self.client.run(peak).values())
 
@@ -104,44 +135,58 @@ class Cluster:
         self.cluster.close()
 
 
+def timed_run(workers: int, paths, out_dir: str) -> tuple[float, float, list[float]]:
+    """One run on a fresh cluster alone on the machine: seconds, start-up seconds, peak MB per worker."""
+    cluster = Cluster(workers)
+    try:
+        return cluster.run(paths, out_dir), cluster.startup_s, cluster.peak_rss_mb()
+    finally:
+        cluster.close()
+
+
 def main() -> None:
+    import logging
+
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--small", type=int, default=2000)
     ap.add_argument("--large", type=int, default=20)
-    ap.add_argument("--repeat", type=int, default=3, help="rounds; each round runs all three, interleaved")
+    ap.add_argument("--repeat", type=int, default=5, help="rounds; each round runs all three, interleaved")
     ap.add_argument("--keep", metavar="DIR", help="generate into DIR and keep it")
     args = ap.parse_args()
+    logging.getLogger("distributed").setLevel(logging.ERROR)  # no INFO lines at cluster close
     folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
     os.makedirs(folder, exist_ok=True)
-    clusters = {}
     try:
         t0 = time.perf_counter()
         paths = make_dataset(folder, args.small, args.large)
         n = len(paths)
-        print(f"{args.small} small (1,280 / 5,120 faces) + {args.large} large (81,920 faces) meshes "
+        print(f"{args.small} small (1k-10k faces) + {args.large} large (81,920 faces) meshes "
               f"generated in {time.perf_counter() - t0:.1f} s; {os.cpu_count()} cores; "
               f"{args.repeat} interleaved rounds (machine noise: compare the best and the median)")
-        clusters = {w: Cluster(w) for w in (1, 2)}
         times = {"trimesh": [], 1: [], 2: []}
+        startup: dict[int, list[float]] = {1: [], 2: []}
+        peaks: dict[int, list[float]] = {1: [], 2: []}
         for _ in range(args.repeat):
             times["trimesh"].append(trimesh_loop(paths))
-            for w, c in clusters.items():
-                times[w].append(c.run(paths, folder))
+            for w in (1, 2):
+                seconds, start_s, peak = timed_run(w, paths, folder)
+                times[w].append(seconds)
+                startup[w].append(start_s)
+                peaks[w] = [max(a, b) for a, b in zip(peaks[w], peak)] if peaks[w] else peak
 
         def line(label, ts):
             return (f"{label}: best {n / min(ts):7.1f} files/s ({min(ts):.2f} s), "
                     f"median {n / statistics.median(ts):7.1f} files/s")
 
         print(line("plain trimesh loop, 1 process", times["trimesh"]))
-        for w, c in clusters.items():
+        for w in (1, 2):
             print(line(f"inertia batch, {w} worker(s) ", times[w])
-                  + f"; peak RSS per worker {', '.join(f'{p:.0f}' for p in c.peak_rss_mb())} MB")
+                  + f"; peak RSS per worker {', '.join(f'{p:.0f}' for p in peaks[w])} MB; "
+                  f"cluster start {statistics.median(startup[w]):.1f} s (not timed)")
         for how, f in (("best", min), ("median", statistics.median)):
             print(f"{how:6s}: speed-up 1 -> 2 workers {f(times[1]) / f(times[2]):.2f}x; "
                   f"2 workers vs trimesh loop {f(times['trimesh']) / f(times[2]):.2f}x files/s")
     finally:
-        for c in clusters.values():
-            c.close()
         if not args.keep:
             shutil.rmtree(folder, ignore_errors=True)
 

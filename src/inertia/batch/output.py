@@ -86,6 +86,12 @@ def rows_to_table(rows):
     arrays = []
     for field in schema:
         values = [row.get(field.name) for row in rows]
+        try:  # rows fresh from the workers: plain values, None (or a NaN scalar) for missing
+            # (from_pandas turns NaN into null; not for lists, whose NaN elements are values)
+            arrays.append(pa.array(values, type=field.type, from_pandas=not pa.types.is_list(field.type)))
+            continue
+        except (pa.ArrowInvalid, pa.ArrowTypeError, TypeError, ValueError):
+            pass  # rows read back from a table (pandas missing values, NumPy arrays)
         if pa.types.is_list(field.type):
             values = [None if v is None or (not isinstance(v, (list, tuple)) and _null(v)) else list(v)
                       for v in values]
