@@ -14,7 +14,7 @@ peak resident memory of each worker.  Our rows include the full defect checks (e
 winding, orientation) that the trimesh loop does not do.  The three are run in interleaved
 rounds (machine noise drifts over time); best and median of the rounds are printed.
 
-    python bench/batch.py [--small 2000] [--large 20] [--repeat 5] [--keep DIR]
+    python bench/batch.py [--small 2000] [--large 20] [--faces 1000 10000] [--repeat 5] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -60,15 +60,15 @@ def small_mesh(rng, faces: int):
     return v * rng.uniform(0.5, 2.0, 3), t.faces
 
 
-def make_dataset(folder, n_small: int, n_large: int, seed: int = 0) -> list[str]:
-    """``n_small`` meshes of 1k-10k faces (uniform) and ``n_large`` of 81,920, as binary STL."""
+def make_dataset(folder, n_small: int, n_large: int, faces=(1000, 10000), seed: int = 0) -> list[str]:
+    """``n_small`` meshes of ``faces`` faces (uniform in the range) and ``n_large`` of 81,920, as binary STL."""
     import trimesh
 
     rng = np.random.default_rng(seed)
     sphere = trimesh.creation.icosphere(subdivisions=6)
     paths = []
     for i in range(n_small):
-        v, f = small_mesh(rng, int(rng.integers(1000, 10001)))
+        v, f = small_mesh(rng, int(rng.integers(faces[0], faces[1] + 1)))
         paths.append(os.path.join(folder, f"small_{i:05d}.stl"))
         write_binary_stl(paths[-1], v, f)
     for i in range(n_large):
@@ -150,6 +150,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--small", type=int, default=2000)
     ap.add_argument("--large", type=int, default=20)
+    ap.add_argument("--faces", type=int, nargs=2, default=(1000, 10000), metavar=("LO", "HI"),
+                    help="face count range of the small meshes (default 1000 10000)")
     ap.add_argument("--repeat", type=int, default=5, help="rounds; each round runs all three, interleaved")
     ap.add_argument("--keep", metavar="DIR", help="generate into DIR and keep it")
     args = ap.parse_args()
@@ -158,9 +160,9 @@ def main() -> None:
     os.makedirs(folder, exist_ok=True)
     try:
         t0 = time.perf_counter()
-        paths = make_dataset(folder, args.small, args.large)
+        paths = make_dataset(folder, args.small, args.large, tuple(args.faces))
         n = len(paths)
-        print(f"{args.small} small (1k-10k faces) + {args.large} large (81,920 faces) meshes "
+        print(f"{args.small} small ({args.faces[0]}-{args.faces[1]} faces) + {args.large} large (81,920 faces) meshes "
               f"generated in {time.perf_counter() - t0:.1f} s; {os.cpu_count()} cores; "
               f"{args.repeat} interleaved rounds (machine noise: compare the best and the median)")
         times = {"trimesh": [], 1: [], 2: []}

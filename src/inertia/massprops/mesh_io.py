@@ -1,9 +1,12 @@
-"""Reading triangle meshes from files (through the optional dependency trimesh).
+"""Reading triangle meshes from files.
 
 Supported: STL (ASCII and binary, including binary files whose 80-byte header begins with
 "solid"), OBJ, PLY, OFF, GLB/GLTF (every mesh of the scene, with its node transform).
 
-Files are read with ``process=False`` (trimesh changes nothing), then vertices closer than
+Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
+dependency; with numba, its per-face vertex copies are welded in one compiled pass over
+the records, with the same result as the general route).  The other formats go through the optional dependency trimesh, with
+``process=False`` (trimesh changes nothing).  Then vertices closer than
 :data:`MERGE_RTOL` times the size of the mesh are merged, so that files which repeat a
 vertex per face (STL) or per texture/normal seam (OBJ), or repeat it with float noise such
 as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates are then scaled to metres.
