@@ -83,6 +83,21 @@ def _reason_of(exc) -> str:
     return "internal_error"
 
 
+def _reraise_interrupt(exc: BaseException) -> None:
+    """Raise the KeyboardInterrupt (or SystemExit) that ``exc`` was caused by, if any.
+
+    A Ctrl-C that lands while compiled code returns surfaces as ``SystemError: ... returned
+    a result with an exception set``, caused by the KeyboardInterrupt (seen with numba on
+    its first compilation): it must stop the run, not become an error row for a good file.
+    """
+    seen, cur = set(), exc
+    while cur is not None and id(cur) not in seen:
+        seen.add(id(cur))
+        if isinstance(cur, (KeyboardInterrupt, SystemExit)):
+            raise cur
+        cur = cur.__cause__ or cur.__context__
+
+
 def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
     from ..errors import InertiaError
@@ -115,12 +130,14 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
             watertight=bool(report.watertight), winding_consistent=bool(report.winding_consistent),
         )
     except InertiaError as exc:
+        _reraise_interrupt(exc)
         report = getattr(exc, "report", None)
         if report is not None:
             row.update(watertight=bool(report.watertight), winding_consistent=bool(report.winding_consistent),
                        n_faces=int(report.n_faces))
         row.update(status="error", reason=_reason_of(exc), message=str(exc))
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop a dataset run
+        _reraise_interrupt(exc)
         row.update(status="error", reason="internal_error", message=f"{type(exc).__name__}: {exc}")
     row["elapsed_s"] = time.perf_counter() - t0
     return row
