@@ -141,6 +141,33 @@ def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path):
     pd.testing.assert_frame_equal(a, b)
 
 
+@pytest.mark.parametrize("ext", ["csv", "parquet"])
+def test_resume_of_a_finished_output_redoes_changed_files_adds_new_ones_keeps_old_ones(dataset, tmp_path, ext):
+    d = tmp_path / "d"
+    d.mkdir()
+    for name in ("wingnut.obj", "ballA.off", "featuretype.stl"):
+        shutil.copy(dataset / name, d / name)
+    out = tmp_path / f"r.{ext}"
+    first = run_batch([d / "wingnut.obj", d / "ballA.off", d / "featuretype.stl"], out, scheduler="synchronous",
+                      progress=False)
+    assert first.processed == 3
+    # ballA.off changes (a new size and mtime); a new file joins; featuretype.stl leaves the sources
+    (d / "ballA.off").write_bytes((dataset / "ballA.off").read_bytes() + b"\n")
+    shutil.copy(dataset / "idler_riser_binary_solid_header.stl", d / "new.stl")
+    again = run_batch([d / "wingnut.obj", d / "new.stl", d / "ballA.off"], out, scheduler="synchronous",
+                      progress=False, resume=True)
+    assert (again.skipped, again.processed) == (1, 2)
+    table = read_frame(out)
+    paths = [os.path.basename(p) for p in table["path"]]
+    # the sources' order first, then the earlier run's row for the path no longer named
+    assert paths == ["wingnut.obj", "new.stl", "ballA.off", "featuretype.stl"]
+    for name in paths:
+        row = table[table["path"] == str(d / name)].iloc[0]
+        ref = inertia.mesh_file_properties(d / name, density=1000.0)
+        assert row["mass"] == ref.mass and np.array_equal(np.asarray(row["com"], dtype=float), ref.com)
+        assert row["size_bytes"] == os.path.getsize(d / name)
+
+
 def test_an_interrupt_inside_compiled_code_stops_the_run_instead_of_becoming_a_row(dataset, monkeypatch):
     # CPython reports a Ctrl-C that lands as compiled code returns as a SystemError caused by
     # the KeyboardInterrupt: the run must stop, and no good file may get an error row

@@ -178,16 +178,36 @@ def _plain(v):
     return v
 
 
+def table_to_frame(table):
+    """An Arrow table of batch rows as the pandas DataFrame :func:`read_frame` gives."""
+    frame = table.to_pandas()
+    for col in _LIST_COLUMNS:
+        frame[col] = [None if v is None else list(v) for v in frame[col]]
+    return _typed(frame)
+
+
+def read_table(path, fmt: str | None = None):
+    """Read a table of batch rows (any of the three formats) as an Arrow table of the output schema."""
+    fmt = format_of(path, fmt)
+    if fmt == "parquet":
+        import pyarrow.parquet as pq
+
+        table = pq.read_table(path, columns=list(COLUMNS))
+    else:
+        table = rows_to_table(read_frame(path, fmt).to_dict("records"))
+    # one schema without metadata (pandas writes its own), so that tables concatenate
+    return table.cast(_arrow_schema()).replace_schema_metadata(None)
+
+
 def read_frame(path, fmt: str | None = None):
     """Read a table written by :func:`write_frame` back into the same shape."""
     import pandas as pd
 
     fmt = format_of(path, fmt)
     if fmt == "parquet":
-        frame = pd.read_parquet(path)
-        for col in _LIST_COLUMNS:
-            frame[col] = [None if v is None else list(v) for v in frame[col]]
-        return _typed(frame)
+        import pyarrow.parquet as pq
+
+        return table_to_frame(pq.read_table(path))
     if fmt == "csv":
         frame = pd.read_csv(path, dtype={"reason": str, "message": str}, keep_default_na=False,
                             na_values={c: [""] for c in COLUMNS if c not in ("reason", "message", "path")})

@@ -24,7 +24,6 @@ keyed by path, size and modification time.  A file that changed since is done ag
 
 from __future__ import annotations
 
-import math
 import os
 import shutil
 import sys
@@ -34,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from .output import (format_of, read_frame, rows_to_table, to_frame, write_frame, write_rows_parquet,
+from .output import (format_of, read_table, rows_to_table, table_to_frame, write_frame, write_rows_parquet,
                      write_table_parquet)
 from .record import process_chunk, process_packed
 from .sources import Job, collect_jobs
@@ -166,10 +165,6 @@ def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[li
     return [c for _, c in chunks]
 
 
-def _key(row) -> tuple:
-    return (row["path"], row["size_bytes"], row["mtime_ns"])
-
-
 def _job_key(job: Job) -> tuple:
     try:
         st = os.stat(job.path)
@@ -182,14 +177,10 @@ def _part_files(parts_dir: Path) -> list[Path]:
     return sorted(parts_dir.glob(f"{PART_PREFIX}*.parquet")) if parts_dir.is_dir() else []
 
 
-def _previous_rows(output: Path, fmt: str, parts_dir: Path) -> list[dict]:
-    """Rows from an earlier run: the final table (if any), then the parts (newer)."""
-    rows: list[dict] = []
-    if output.exists():
-        rows += read_frame(output, fmt).to_dict("records")
-    for part in _part_files(parts_dir):
-        rows += read_frame(part, "parquet").to_dict("records")
-    return rows
+def _previous_tables(output: Path, fmt: str, parts_dir: Path) -> list:
+    """Arrow tables of an earlier run: the final table (if any), then the parts (newer)."""
+    tables = [read_table(output, fmt)] if output.exists() else []
+    return tables + [read_table(part, "parquet") for part in _part_files(parts_dir)]
 
 
 #: glibc allocator settings for batch workers (see :func:`local_cluster`): never give freed
@@ -305,8 +296,12 @@ class _Executor:
 
 
 def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None, chunk_files=None,
-            on_rows=None, progress: Progress | None = None) -> list[dict]:
-    """Process ``jobs`` and return their rows in job order (``on_rows(i, rows)`` per finished chunk)."""
+            on_rows=None, progress: Progress | None = None, keep_rows: bool = True) -> list[dict]:
+    """Process ``jobs`` and return their rows in job order (``on_rows(i, rows)`` per finished chunk).
+
+    ``keep_rows=False``: hand each chunk's rows to ``on_rows`` only and return ``[]`` (a run
+    of millions of files then holds no Python row after its part is written).
+    """
     jobs = list(jobs)
     if not jobs:  # nothing to do: do not start a cluster
         return []
@@ -314,11 +309,14 @@ def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None
     with _Executor(scheduler, n_workers or os.cpu_count() or 1) as ex:
         chunks = make_chunks(jobs, ex.worker_count(), chunk_files)
         for i, rows in ex.map(chunks, options):
-            results[i] = rows
+            if keep_rows:
+                results[i] = rows
             if on_rows is not None:
                 on_rows(i, rows)
             if progress is not None:
                 progress.update(len(rows))
+    if not keep_rows:
+        return []
     # back in job order (chunks were sent largest first)
     where = {job: n for n, job in enumerate(jobs)}
     rows = [(where[job], row) for i, chunk in enumerate(chunks) for job, row in zip(chunk, results[i])]
@@ -348,59 +346,57 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
                              "overwrite=True (--force) to start again")
         if parts_dir.exists():
             _remove_parts_dir(parts_dir)
-    previous = _previous_rows(output, fmt, parts_dir) if resume else []
-    done = {_key(r) for r in previous}
+    previous = _previous_tables(output, fmt, parts_dir) if resume else []
+    done = set()
+    for table in previous:
+        done.update(zip(*(table.column(c).to_pylist() for c in ("path", "size_bytes", "mtime_ns"))))
     todo = [j for j in jobs if _job_key(j) not in done] if done else list(jobs)
     parts_dir.mkdir(parents=True, exist_ok=True)
     first_part = len(_part_files(parts_dir))
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     bar = Progress(len(todo), enabled=progress)
     written = [first_part]
-    tables = []  # the parts' Arrow tables, to assemble the final Parquet table without Python loops
+    # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
+    tables = []
+    counts, reasons = Counter(), Counter()
 
     def write_part(_, rows):
         path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
         written[0] += 1
-        tables.append((write_rows_parquet(rows, path), [r["path"] for r in rows]))
+        tables.append(write_rows_parquet(rows, path))
+        counts.update(r["status"] for r in rows)
+        reasons.update(r["reason"] for r in rows if r["status"] == "error")
         if on_part is not None:
             on_part(path, rows)
 
     try:
-        new_rows = execute(todo, options=options, scheduler=scheduler, n_workers=n_workers,
-                           chunk_files=chunk_files, on_rows=write_part, progress=bar)
+        execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
+                on_rows=write_part, progress=bar, keep_rows=False)
     except KeyboardInterrupt:
-        n_done = sum(len(read_frame(p, "parquet")) for p in _part_files(parts_dir))
+        n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
         sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
                          f"run again with --resume to finish\n")
         raise
 
-    # assemble: latest row per path, in the order of the jobs (older rows for other paths kept)
-    latest: dict[str, dict] = {}
-    for row in previous + new_rows:
-        latest[row["path"]] = row
-    job_paths = [j.path for j in jobs]
-    known = set(job_paths)
-    order = job_paths + [p for p in latest if p not in known]
-    final_paths = [p for p in dict.fromkeys(order) if p in latest]
-    if fmt == "parquet" and not previous:
-        # every row is in a part table: concatenate and reorder them in Arrow
-        import pyarrow as pa
+    # assemble in Arrow: the latest row per path, in the order of the jobs, then the rows of
+    # an earlier run for paths no longer among the sources
+    import pyarrow as pa
 
-        where, offset = {}, 0
-        for table, paths in tables:
-            where.update((p, offset + i) for i, p in enumerate(paths))
-            offset += len(paths)
-        combined = pa.concat_tables([t for t, _ in tables]) if tables else rows_to_table([])
-        write_table_parquet(combined.take(pa.array([where[p] for p in final_paths], type=pa.int64())), output)
-    elif fmt == "parquet":
-        write_rows_parquet([latest[p] for p in final_paths], output)
+    combined = pa.concat_tables(previous + tables) if previous or tables else rows_to_table([])
+    latest: dict[str, int] = {}
+    for i, p in enumerate(combined.column("path").to_pylist()):
+        latest[p] = i  # later rows (newer parts, this run) win; a dict keeps first-seen order
+    job_paths = dict.fromkeys(j.path for j in jobs)
+    take = [latest[p] for p in job_paths if p in latest] + [i for p, i in latest.items() if p not in job_paths]
+    final = combined.take(pa.array(take, type=pa.int64()))
+    if fmt == "parquet":
+        write_table_parquet(final, output)
     else:
-        write_frame(to_frame([latest[p] for p in final_paths]), output, fmt)
+        write_frame(table_to_frame(final), output, fmt)
     _remove_parts_dir(parts_dir)
 
-    counts = Counter(r["status"] for r in new_rows)
-    reasons = Counter(r["reason"] for r in new_rows if r["status"] == "error")
-    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(new_rows),
+    processed = sum(counts.values())
+    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=processed,
                         ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
                         errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output))
 

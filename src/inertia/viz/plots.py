@@ -42,7 +42,11 @@ def _save(fig, out_dir: Path, stem: str) -> list[str]:
         import io
 
         buf = io.BytesIO()
-        fig.savefig(buf, format=ext, dpi=110, bbox_inches="tight")
+        # mplot3d projects its padded face arrays, whose masked padding is uninitialised memory
+        # (it silences invalid and divide there, not overflow): a RuntimeWarning about nothing
+        # drawn, whose appearance depends on what the memory held before
+        with np.errstate(over="ignore"):
+            fig.savefig(buf, format=ext, dpi=110, bbox_inches="tight")
         write_bytes_atomic(out_dir / f"{stem}.{ext}", buf.getvalue())
         names.append(f"{stem}.{ext}")
     return names
