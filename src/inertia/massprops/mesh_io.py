@@ -5,11 +5,12 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
 dependency; with numba, its per-face vertex copies are welded in one compiled pass over
-the records, with the same result as the general route).  The other formats go through the optional dependency trimesh, with
-``process=False`` (trimesh changes nothing).  Then vertices closer than
-:data:`MERGE_RTOL` times the size of the mesh are merged, so that files which repeat a
-vertex per face (STL) or per texture/normal seam (OBJ), or repeat it with float noise such
-as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates are then scaled to metres.
+the records, with the same result as the general route).  The other formats go through
+the optional dependency trimesh, with ``process=False`` (trimesh changes nothing).  Then
+vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
+files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
+with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
+are then scaled to metres.
 """
 
 from __future__ import annotations
