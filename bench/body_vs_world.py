@@ -61,7 +61,7 @@ from scipy.integrate import solve_ivp
 
 from inertia.dynamics import equations as eq
 from inertia.dynamics.diagnostics import attitude_error
-from inertia.dynamics.quaternion import quat_from_rotvec, quat_to_matrix
+from inertia._core.rotations import quat_from_rotvec, quat_to_matrix
 
 # Module-level aliases, so the flop counter can swap in counting versions.
 sqrt = math.sqrt

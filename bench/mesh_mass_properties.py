@@ -77,7 +77,7 @@ def main(argv=None) -> int:
     import trimesh
     from trimesh.triangles import mass_properties as trimesh_mass_properties
 
-    from inertia.massprops import mesh_kernel as mk
+    from inertia.geometry import integrals as mk
 
     backends = ["numpy"]
     try:

@@ -5,7 +5,7 @@ import stat
 
 import pytest
 
-from inertia.atomic import write_bytes_atomic, write_text_atomic
+from inertia._core.atomic import write_bytes_atomic, write_text_atomic
 
 
 def test_writes_whole_file_and_leaves_no_temporary(tmp_path):

@@ -10,7 +10,7 @@ command line start without loading NumPy until a name is used.
 
 from __future__ import annotations
 
-from ._lazy import lazy_namespace
+from ._core.lazy import lazy_namespace
 
 __version__ = "0.1.0"
 
@@ -57,10 +57,10 @@ _EXPORTS = {
     "spherical_shell": "inertia.massprops.primitives",
     # meshes
     "mesh_properties": "inertia.massprops.mesh",
-    "check_mesh": "inertia.massprops.mesh_checks",
-    "MeshReport": "inertia.massprops.mesh_checks",
-    "load_mesh": "inertia.massprops.mesh_io",
-    "mesh_file_properties": "inertia.massprops.mesh_io",
+    "check_mesh": "inertia.geometry.checks",
+    "MeshReport": "inertia.geometry.checks",
+    "load_mesh": "inertia.geometry.mesh_io",
+    "mesh_file_properties": "inertia.massprops.mesh",
     # equivalents
     "equivalent_box": "inertia.massprops.equivalent",
     "equivalent_ellipsoid": "inertia.massprops.equivalent",
@@ -71,7 +71,7 @@ _EXPORTS = {
 }
 
 # capability sub-packages, reachable as attributes (``inertia.dynamics``) without an import
-_SUBPACKAGES = ("errors", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
+_SUBPACKAGES = ("errors", "geometry", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
 
 
 __getattr__, __dir__, _names = lazy_namespace(__name__, _EXPORTS, _SUBPACKAGES)

@@ -171,7 +171,7 @@ def test_resume_of_a_finished_output_redoes_changed_files_adds_new_ones_keeps_ol
 def test_an_interrupt_inside_compiled_code_stops_the_run_instead_of_becoming_a_row(dataset, monkeypatch):
     # CPython reports a Ctrl-C that lands as compiled code returns as a SystemError caused by
     # the KeyboardInterrupt: the run must stop, and no good file may get an error row
-    import inertia.massprops.mesh_io as mesh_io
+    import inertia.geometry.mesh_io as mesh_io
     from inertia.batch.record import process_file
     from inertia.batch.sources import Job
 

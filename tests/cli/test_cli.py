@@ -297,7 +297,7 @@ def test_help_does_not_import_numerical_libraries():
 
 def test_demo_without_trimesh_uses_builtin_obj_reader(capsys, monkeypatch):
     from inertia.errors import MissingDependencyError
-    from inertia.massprops import mesh_io
+    from inertia.geometry import mesh_io
 
     with_trimesh = run_json(capsys, "demo")
 

@@ -18,7 +18,7 @@ from inertia.dynamics.diagnostics import (angular_momentum_norm, angular_momentu
 from inertia.dynamics.equations import (angular_acceleration_body, angular_acceleration_principal, euler_residual,
                                         inertia_world, omega_world_from_momentum, omega_world_principal, quat_rate,
                                         quat_rate_world, state_rate_body, state_rate_world)
-from inertia.dynamics.quaternion import quat_from_rotvec, quat_multiply, quat_to_matrix
+from inertia._core.rotations import quat_from_rotvec, quat_multiply, quat_to_matrix
 from inertia.errors import InputError
 
 

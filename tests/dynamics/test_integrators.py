@@ -20,7 +20,7 @@ from inertia.dynamics import integrators as it
 from inertia.dynamics.diagnostics import (angular_momentum_norm, attitude_error, kinetic_energy,
                                           trajectory_invariants)
 from inertia.dynamics.equations import angular_acceleration_principal, state_rate_body
-from inertia.dynamics.quaternion import quat_from_rotvec, quat_multiply
+from inertia._core.rotations import quat_from_rotvec, quat_multiply
 from inertia.errors import InputError
 
 I_TEST = np.array([2 / 3, 1.0, 2.0])

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from inertia.dynamics.integrators import METHODS
-from inertia.dynamics.quaternion import quat_multiply, quat_to_matrix
+from inertia._core.rotations import quat_multiply, quat_to_matrix
 from inertia.dynamics.transition import (
     DTHETA_BODY,
     OMEGA_BODY,

@@ -8,7 +8,7 @@ pyarrow are imported only when used (``pip install "inertia[batch]"``).
 
 from __future__ import annotations
 
-from .._lazy import lazy_namespace
+from .._core.lazy import lazy_namespace
 
 _EXPORTS = {
     "run_batch": "run", "BatchSummary": "run", "make_chunks": "run",

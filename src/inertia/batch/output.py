@@ -11,7 +11,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from ..errors import InputError
+from .._core.errors import InputError
 from .record import COLUMNS
 
 FORMATS = ("parquet", "csv", "jsonl")

@@ -59,7 +59,7 @@ def _empty_row(job: Job) -> dict:
 
 
 def _reason_of(exc) -> str:
-    from ..errors import InputError, InvalidInertiaError, MeshError, MeshFileError
+    from .._core.errors import InputError, InvalidInertiaError, MeshError, MeshFileError
 
     if isinstance(exc, MeshFileError):
         text = str(exc)
@@ -100,9 +100,9 @@ def _reraise_interrupt(exc: BaseException) -> None:
 
 def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
-    from ..errors import InertiaError
+    from .._core.errors import InertiaError
     from ..massprops.mesh import _mesh_properties
-    from ..massprops.mesh_io import load_mesh
+    from ..geometry.mesh_io import load_mesh
 
     t0 = time.perf_counter()
     row = _empty_row(job)

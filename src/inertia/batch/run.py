@@ -32,7 +32,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
+from .._core.errors import InputError
 from .output import (format_of, read_table, rows_to_table, table_to_frame, write_frame, write_rows_parquet,
                      write_table_parquet)
 from .record import process_chunk, process_packed
@@ -236,7 +236,7 @@ class _Executor:
         try:
             from distributed import Client
         except ImportError:
-            from ..errors import MissingDependencyError
+            from .._core.errors import MissingDependencyError
 
             raise MissingDependencyError("batch runs need Dask: pip install 'inertia[batch]' "
                                          "(or use scheduler='synchronous')") from None

@@ -15,8 +15,8 @@ import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
-from ..massprops.mesh_io import SUPPORTED_EXTENSIONS, UNITS
+from .._core.errors import InputError
+from ..geometry.mesh_io import SUPPORTED_EXTENSIONS, UNITS
 
 MANIFEST_EXTENSIONS = (".csv", ".parquet")
 

@@ -155,7 +155,7 @@ class SourceInfo:
 
 
 def _input_error(msg: str):
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     return InputError(msg)
 
@@ -197,7 +197,7 @@ def classify_source(text: str):
 
 
 def _mesh_file_error(msg: str):
-    from inertia.errors import MeshFileError
+    from .._core.errors import MeshFileError
 
     return MeshFileError(msg)
 
@@ -317,8 +317,8 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
     import sys
     import warnings
 
-    from inertia.errors import InertiaError
-    from inertia.massprops.mesh_io import mesh_file_properties
+    from .._core.errors import InertiaError
+    from ..massprops.mesh import mesh_file_properties
 
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -340,7 +340,7 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
 
 def _build_primitive(text, spec: PrimitiveSpec, dims, *, density, mass, shell):
     import inertia
-    from inertia.errors import InertiaError
+    from .._core.errors import InertiaError
 
     fn = getattr(inertia, spec.name)
     kw = {"density": density} if density is not None else {"mass": mass}

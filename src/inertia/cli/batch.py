@@ -65,8 +65,8 @@ def register(sub) -> None:
 def run(args) -> int:
     import sys
 
-    from inertia.batch.run import run_batch
-    from inertia.errors import InputError
+    from ..batch.run import run_batch
+    from .._core.errors import InputError
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
@@ -92,7 +92,7 @@ def _scheduler_from_config(path):
     import dask
     import yaml
 
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     try:
         with open(path, encoding="utf-8") as fh:

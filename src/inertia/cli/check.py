@@ -68,13 +68,13 @@ def scale_masses(model, scale: float) -> None:
 def run(args) -> int:
     import sys
 
-    from inertia.robots.xmlsafe import RobotFileError
+    from ..robots.xmlsafe import RobotFileError
 
     from . import _format as fmt
 
     try:
-        from inertia.robots.check import check_model
-        from inertia.robots.io import read_robot
+        from ..robots.check import check_model
+        from ..robots.io import read_robot
 
         model = read_robot(args.file, format=args.robot_format, search_paths=args.package_path)
     except RobotFileError as exc:

@@ -98,7 +98,7 @@ def run(args) -> int:
     if bundled:
         with sample_path() as path:
             if not path.is_file():
-                from inertia.errors import MeshFileError
+                from .._core.errors import MeshFileError
 
                 raise MeshFileError(f"the bundled sample {SAMPLE_FILE} is missing from {path.parent}: the package "
                                     "was installed without its data files; reinstall it with pip install")
@@ -112,13 +112,13 @@ def run(args) -> int:
     title = ("a steel wing nut" if bundled and info.density_source.startswith("steel") else str(info.source))
     files = None
     if args.no_report:
-        from inertia.viz.flipdata import flip_study
+        from ..viz.flipdata import flip_study
 
         study = flip_study(props.principal()[0])
     else:
         files = _write_report(args, props, title, bundled, ns)
         if files is None:  # plotting libraries missing: the tables still come
-            from inertia.viz.flipdata import flip_study
+            from ..viz.flipdata import flip_study
 
             study = flip_study(props.principal()[0])
         else:
@@ -169,11 +169,11 @@ class _Progress:
 
 
 def _write_report(args, props, title, bundled, ns):
-    from inertia.viz.report import build_report as build_folder
+    from ..viz.report import build_report as build_folder
 
     mesh = None
     try:
-        from inertia.massprops.mesh_io import load_mesh
+        from ..geometry.mesh_io import load_mesh
 
         if bundled:
             with sample_path() as path:
@@ -225,7 +225,7 @@ def flip_lines(study) -> list[str]:
 def _load_bundled(ns, path):
     """The bundled sample through the normal mesh reader, or, when the optional trimesh is not
     installed, through :func:`read_simple_obj` (the file is a plain triangle OBJ)."""
-    from inertia.errors import MissingDependencyError
+    from .._core.errors import MissingDependencyError
 
     from ._source import LENGTH_UNITS, SourceInfo, load_source
 

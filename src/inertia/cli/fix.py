@@ -51,8 +51,8 @@ def register(sub) -> None:
 def run(args) -> int:
     import sys
 
-    from inertia.errors import InputError
-    from inertia.robots.xmlsafe import RobotFileError
+    from .._core.errors import InputError
+    from ..robots.xmlsafe import RobotFileError
 
     from .check import MASS_UNITS
 
@@ -61,7 +61,7 @@ def run(args) -> int:
     if args.density is not None and not (args.density > 0 and args.density != float("inf")):
         raise InputError(f"--density must be finite and positive, got {args.density}")
     try:
-        from inertia.robots.fix import fix_file
+        from ..robots.fix import fix_file
 
         mode = "geometry" if args.from_geometry else "flip" if args.flip_products else "nearest"
         report = fix_file(args.file, args.output, mode=mode,

@@ -62,8 +62,8 @@ def analyse(body, w_P) -> dict:
     """Every figure of the report (numpy arrays and floats; non-finite values become null in JSON)."""
     import numpy as np
 
-    from inertia.dynamics.exact import ExactSolution
-    from inertia.dynamics.flip import axis_stability
+    from ..dynamics.exact import ExactSolution
+    from ..dynamics.flip import axis_stability
 
     sol = ExactSolution(body.moments, w_P)
     spin = float(np.linalg.norm(w_P))

@@ -50,12 +50,12 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from inertia.symbolic import derive
+    from ..symbolic import derive
 
     eom = derive(args.sequence, translation=args.translation, gravity=args.gravity, inertia=args.inertia)
     text = {"latex": eom.latex, "python": eom.python_code, "c": eom.c_code, "json": eom.to_json}[args.format]()
     if args.output:
-        from inertia.atomic import write_text_atomic
+        from .._core.atomic import write_text_atomic
 
         write_text_atomic(args.output, text.rstrip("\n") + "\n")
     else:

@@ -25,7 +25,7 @@ COMMANDS = (
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from inertia import __version__
+    from .. import __version__
 
     parser = argparse.ArgumentParser(
         prog="inertia",
@@ -56,7 +56,7 @@ def main(argv=None) -> int:
     except Exception as exc:  # noqa: BLE001 - the CLI turns every failure into a message
         if args.debug:
             raise
-        from inertia.errors import InertiaError
+        from .._core.errors import InertiaError
 
         if isinstance(exc, InertiaError):
             print(f"inertia {args.command}: error: {exc}", file=sys.stderr)

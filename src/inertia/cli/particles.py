@@ -76,7 +76,7 @@ def reproduction_error(model, props) -> float:
     (inertia relative to its largest entry, COM relative to the radius of gyration)."""
     import numpy as np
 
-    from inertia.massprops.properties import MassProperties
+    from ..massprops.properties import MassProperties
 
     m, r = model.masses, model.positions_body
     back = MassProperties.from_point_masses(m, r, validate=False)  # recomputed from the points alone

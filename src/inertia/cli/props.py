@@ -56,7 +56,7 @@ def run(args) -> int:
 
     props, info = load_source(args)
     if args.format in ("urdf", "mjcf", "sdf"):
-        from inertia.robots.writers import inertial_block
+        from ..robots.writers import inertial_block
 
         fmt.emit(inertial_block(props, args.format))
         return 0

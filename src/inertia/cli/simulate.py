@@ -76,7 +76,7 @@ def add_body_arguments(p) -> None:
 
 def parse_numbers(text, option: str, count: int | None = None, *, what: str = "numbers") -> list:
     """Comma-separated finite floats; InputError naming ``option`` and the bad item."""
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     if text is None:
         raise InputError(f"{option} is required")
@@ -121,8 +121,8 @@ def resolve_body(args) -> Body:
     """Body from SOURCE or --moments (exactly one), validated (physical principal moments)."""
     import numpy as np
 
-    from inertia.dynamics.exact import as_moments
-    from inertia.errors import InputError
+    from ..dynamics.exact import as_moments
+    from .._core.errors import InputError
 
     if args.source is not None and args.moments is not None:
         raise InputError(f"give either SOURCE ({args.source!r}) or --moments ({args.moments!r}), not both")
@@ -151,9 +151,9 @@ def initial_state(args, body):
     """``(omega0_P, q0_WP)`` in the computation frame P from --omega and --q0 (given in frame B)."""
     import numpy as np
 
-    from inertia.dynamics.equations import QUAT_NORM_TOL
-    from inertia.dynamics.quaternion import matrix_to_quat, quat_multiply
-    from inertia.errors import InputError
+    from ..dynamics.equations import QUAT_NORM_TOL
+    from .._core.rotations import matrix_to_quat, quat_multiply
+    from .._core.errors import InputError
 
     w_B = np.array(parse_numbers(args.omega, "--omega", 3, what="components (rad/s)"))
     q_text = getattr(args, "q0", None)
@@ -173,7 +173,7 @@ def initial_state(args, body):
 
 def to_output_frame(body, q_WP, w_P):
     """Map (N, 4) quaternions and (N, 3) angular velocities from frame P back to the body frame B."""
-    from inertia.dynamics.quaternion import matrix_to_quat, quat_conjugate, quat_multiply
+    from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply
 
     w_B = w_P @ body.R_BP.T
     q_WB = quat_multiply(q_WP, quat_conjugate(matrix_to_quat(body.R_BP)))
@@ -213,14 +213,14 @@ def register(sub) -> None:
 def available_methods() -> tuple:
     """``("exact", <integrator names>...)``; only ``exact`` when the integrators are unavailable."""
     try:
-        from inertia.dynamics.integrators import METHODS
+        from ..dynamics.integrators import METHODS
     except ImportError:
         return ("exact",)
     return ("exact",) + tuple(METHODS)
 
 
 def _check_positive(value, option: str, *, allow_zero: bool = False) -> float:
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     v = float(value)
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
@@ -233,7 +233,7 @@ def sample_plan(args, method: str):
     """``(times, h_max)``: the sample times (numpy (N,)) and the largest step for integrators."""
     import numpy as np
 
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     if args.times is not None and args.duration is not None:
         raise InputError(f"give either --times or --duration/--step, not both (got --times {args.times!r} "
@@ -266,7 +266,7 @@ def sample_plan(args, method: str):
 
 
 def run_exact(body, w_P, q_WP, times):
-    from inertia.dynamics.exact import ExactSolution
+    from ..dynamics.exact import ExactSolution
 
     sol = ExactSolution(body.moments, w_P, q_WP)
     q, w = sol.at(times)
@@ -277,7 +277,7 @@ def run_integrator(body, w_P, q_WP, times, h_max, method: str):
     """Fixed steps of at most ``h_max`` between consecutive sample times (equal steps per interval)."""
     import numpy as np
 
-    from inertia.dynamics.integrators import integrate
+    from ..dynamics.integrators import integrate
 
     N = len(times)
     qs = np.empty((N, 4))
@@ -298,7 +298,7 @@ def run_integrator(body, w_P, q_WP, times, h_max, method: str):
 def run(args) -> int:
     import numpy as np
 
-    from inertia.errors import InputError
+    from .._core.errors import InputError
 
     method = args.method
     methods = available_methods()

@@ -10,10 +10,9 @@ name is used.
 
 from __future__ import annotations
 
-from .._lazy import lazy_namespace
+from .._core.lazy import lazy_namespace
 
-_MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "diagnostics", "transition", "rollout",
-            "quaternion")
+_MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "diagnostics", "transition", "rollout")
 
 # public name -> submodule that defines it
 _EXPORTS = {

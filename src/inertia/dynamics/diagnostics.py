@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 from .equations import _as_inertia, _as_moments
-from .quaternion import quat_to_matrix
+from .._core.rotations import quat_to_matrix
 
 def _as_array(value, name: str, tail: tuple[int, ...]) -> np.ndarray:
     """Float array with trailing shape ``tail``.  NaN and inf pass through: a diverged
@@ -170,7 +170,7 @@ def trajectory_invariants(trajectory, moments=None, *, inertia_body=None) -> Inv
 
     Examples
     --------
-    >>> from inertia.dynamics.integrators import integrate
+    >>> from .integrators import integrate
     >>> traj = integrate([1, 0, 0, 0], [1.3, 0.0, 0.2], [2/3, 1, 2], 0.1, 50)
     >>> inv = trajectory_invariants(traj, [2/3, 1, 2])
     >>> inv.energy.shape, inv.L_world.shape

@@ -47,7 +47,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.special as sc
 
-from ..errors import InputError
+from .._core.errors import InputError
 
 __all__ = [
     "ellipj",

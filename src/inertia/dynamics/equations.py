@@ -33,9 +33,9 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
-from ..massprops._arrays import as_float_array
-from .quaternion import quat_to_matrix
+from .._core.errors import InputError
+from .._core.validation import as_float_array
+from .._core.rotations import quat_to_matrix
 
 __all__ = [
     "angular_acceleration_principal",

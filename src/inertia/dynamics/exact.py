@@ -68,12 +68,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special as sc
 
-from ..errors import InputError, InvalidInertiaError
-from ..massprops._arrays import as_float_array
+from .._core.errors import InputError, InvalidInertiaError
+from .._core.validation import as_float_array
 from ..massprops.validity import check_inertia
 from .elliptic import _pi_local, ellipk, ellippi, jacobi_reduced
 from .equations import QUAT_NORM_TOL
-from .quaternion import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
+from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
 
 __all__ = [
     "exact_solution",

@@ -39,8 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..massprops._arrays import as_float_array
+from .._core.errors import InputError
+from .._core.validation import as_float_array
 from .exact import EQUAL_MOMENTS_RTOL, ExactSolution, as_moments
 
 __all__ = [
@@ -189,7 +189,7 @@ def detect_flips(t, omega_body, moments, *, threshold: float = 0.5) -> Flips:
 
     Examples
     --------
-    >>> from inertia.dynamics.exact import exact_solution
+    >>> from .exact import exact_solution
     >>> ts = np.linspace(0.0, 100.0, 2001)
     >>> _, w = exact_solution([1, 2, 3], [0.01, 1, 0], ts)
     >>> flips = detect_flips(ts, w, [1, 2, 3])

@@ -42,11 +42,11 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError, IntegrationError  # noqa: F401 (re-exported)
+from .._core.errors import InputError, IntegrationError  # noqa: F401 (re-exported)
 from .equations import (_as_moments, _as_time_step, _as_unit_quat, _as_vec3, _cross,
                         _qmul_pure_right)
 from .equations import solve3_components as _solve3c
-from .quaternion import quat_from_rotvec
+from .._core.rotations import quat_from_rotvec
 
 __all__ = [
     "step_euler_explicit",

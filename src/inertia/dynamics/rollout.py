@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, MissingDependencyError
+from .._core.errors import InputError, MissingDependencyError
 from . import transition as _tr
 from .transition import INPUT_SIZE, STATE_SIZE, RigidBody
 
@@ -116,7 +116,7 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
 
     Examples
     --------
-    >>> from inertia.dynamics.transition import pack_state
+    >>> from .transition import pack_state
     >>> body = RigidBody(1.0, np.diag([0.0042, 0.0142, 0.0167]))
     >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 10.0, 0.01])
     >>> rollout(x0, None, 1e-3, 100, body=body, backend="numpy").shape

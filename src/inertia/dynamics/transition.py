@@ -42,10 +42,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from ..errors import InputError, InvalidInertiaError
-from ..massprops.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
+from .._core.errors import InputError, InvalidInertiaError
+from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 from ..massprops.validity import check_inertia
-from .quaternion import (quat_conjugate, quat_from_rotvec, quat_multiply, quat_rotate,
+from .._core.rotations import (quat_conjugate, quat_from_rotvec, quat_multiply, quat_rotate,
                          quat_to_rotvec)
 
 __all__ = [

@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 from . import tensor as _t
-from ._arrays import as_rotation_matrix, as_vector3
+from .._core.validation import as_rotation_matrix, as_vector3
 
 
 @dataclass(frozen=True)

@@ -47,10 +47,10 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import InputError, NoEquivalentModelError
-from ._arrays import as_rotation_matrix, as_vector3
+from .._core.errors import InputError, NoEquivalentModelError
+from .._core.validation import as_rotation_matrix, as_vector3
 from .properties import CanonicalForm, MassProperties
-from .tolerances import PHYSICAL_RTOL
+from .._core.tolerances import PHYSICAL_RTOL
 from .validity import Violation, check_inertia
 
 __all__ = [
@@ -359,7 +359,7 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
         The body: mass [kg], COM [m] and central inertia [kg m^2], expressed in frame F.
     rtol : float
         Tolerance on the triangle inequality and positive definiteness, times ``|trace(I)|``
-        (default :data:`inertia.massprops.tolerances.PHYSICAL_RTOL`).
+        (default :data:`inertia._core.tolerances.PHYSICAL_RTOL`).
 
     Returns
     -------
@@ -386,8 +386,8 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
     Examples
     --------
     >>> import numpy as np
-    >>> from inertia.massprops.properties import MassProperties
-    >>> from inertia.massprops.equivalent import equivalent_box
+    >>> from .properties import MassProperties
+    >>> from .equivalent import equivalent_box
     >>> M, (a, b, c) = 2.0, (0.3, 0.2, 0.1)
     >>> I = M / 12 * np.diag([b*b + c*c, a*a + c*c, a*a + b*b])
     >>> box = equivalent_box(MassProperties(M, [1.0, 0.0, 0.0], I))
@@ -433,8 +433,8 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     Examples
     --------
     >>> import numpy as np
-    >>> from inertia.massprops.properties import MassProperties
-    >>> from inertia.massprops.equivalent import equivalent_ellipsoid
+    >>> from .properties import MassProperties
+    >>> from .equivalent import equivalent_ellipsoid
     >>> M, (a, b, c) = 3.0, (0.5, 0.2, 0.1)
     >>> I = M / 5 * np.diag([b*b + c*c, a*a + c*c, a*a + b*b])
     >>> e = equivalent_ellipsoid(MassProperties(M, [0.0, 0.0, 0.0], I))

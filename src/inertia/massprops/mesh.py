@@ -1,6 +1,6 @@
 """Mass properties of triangle meshes given as arrays (defect checks, then the exact kernel).
 
-Policy: the mesh is checked first (:func:`inertia.massprops.mesh_checks.check_mesh`).  By
+Policy: the mesh is checked first (:func:`inertia.geometry.checks.check_mesh`).  By
 default any defect that makes the result wrong raises :class:`inertia.errors.MeshError`
 naming every defect with its count and an example location; keyword options let the
 caller choose otherwise:
@@ -21,10 +21,11 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError, MeshError
-from ._arrays import resolve_mass
-from .mesh_checks import MeshDefectWarning, _analyse, _orient, compact_vertices, validate_inputs
-from .mesh_kernel import central_inertia, shell_integrals, solid_integrals
+from .._core.errors import InputError, MeshError
+from .._core.validation import resolve_mass
+from ..geometry.mesh_io import MERGE_RTOL, load_mesh
+from ..geometry.checks import MeshDefectWarning, _analyse, _orient, compact_vertices, validate_inputs
+from ..geometry.integrals import central_inertia, shell_integrals, solid_integrals
 
 __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
 
@@ -220,3 +221,25 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
                             stacklevel=3)
 
+
+def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
+                         fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
+                         merge_rtol: float = MERGE_RTOL):
+    """Mass properties of the triangle mesh in a file (see :func:`inertia.geometry.mesh_io.load_mesh` and
+    :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
+
+    ``density`` is kg/m^3 (kg/m^2 with ``shell=True``) whatever ``units`` the file uses:
+    coordinates are converted to metres first.  MeshError messages and recorded warnings
+    name the file.
+
+    Returns
+    -------
+    MassProperties in frame ``frame`` (the file's coordinate frame), SI units.
+    """
+    from ..massprops.mesh import _mesh_properties
+
+    vertices, faces = load_mesh(path, units=units, merge_rtol=merge_rtol)
+    # stacklevel 3: warnings point at the caller of mesh_file_properties
+    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
+                            name=str(path), stacklevel=3, welded=merge_rtol > 0)

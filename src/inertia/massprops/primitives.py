@@ -41,8 +41,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import InputError
-from ._arrays import as_positive_scalar, as_vector3, resolve_mass
+from .._core.errors import InputError
+from .._core.validation import as_positive_scalar, as_vector3, resolve_mass
 
 __all__ = ["box", "sphere", "ellipsoid", "cylinder", "cone", "capsule", "torus", "tube", "spherical_shell"]
 

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._arrays import as_float_array
-from .tolerances import DEGENERATE_RTOL
+from .._core.validation import as_float_array
+from .._core.tolerances import DEGENERATE_RTOL
 
 
 def _unit(v):

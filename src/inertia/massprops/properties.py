@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 from . import tensor as _t
-from ._arrays import as_float_array, as_matrix3, as_rotation_matrix, as_vector3
+from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3
 from .principal import PrincipalFrame, principal_frame
-from .tolerances import DEGENERATE_RTOL
+from .._core.tolerances import DEGENERATE_RTOL
 from .validity import Violation, check_inertia, raise_if_invalid
 
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from ._arrays import as_float_array
+from .._core.errors import InputError
+from .._core.validation import as_float_array
 
 _EYE = np.eye(3)
 

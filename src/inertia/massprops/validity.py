@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, InvalidInertiaError
-from .tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
+from .._core.errors import InputError, InvalidInertiaError
+from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 
 
 @dataclass(frozen=True)

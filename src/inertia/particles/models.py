@@ -32,11 +32,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
-from ..massprops._arrays import as_float_array, as_rotation_matrix, as_vector3
+from .._core.errors import InputError
+from .._core.validation import as_float_array, as_rotation_matrix, as_vector3
 from ..massprops.equivalent import PrincipalSecondMoments, principal_second_moments
 from ..massprops.properties import MassProperties
-from ..massprops.tolerances import PHYSICAL_RTOL
+from .._core.tolerances import PHYSICAL_RTOL
 
 __all__ = ["ParticleModel", "six_point_model", "four_point_model"]
 
@@ -158,8 +158,8 @@ class ParticleModel:
         Examples
         --------
         >>> import numpy as np
-        >>> from inertia.massprops.properties import MassProperties
-        >>> from inertia.particles.models import six_point_model
+        >>> from ..massprops.properties import MassProperties
+        >>> from .models import six_point_model
         >>> model = six_point_model(MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 2.5])))
         >>> model.positions_world(np.eye(3), [0.0, 0.0, 1.0]).shape
         (6, 3)
@@ -226,7 +226,7 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
         The body: mass M [kg], COM [m] and central inertia [kg m^2] in its frame F.
     rtol : float
         Tolerance on the triangle inequality and positive definiteness, times ``|trace(I)|``
-        (default :data:`inertia.massprops.tolerances.PHYSICAL_RTOL`).
+        (default :data:`inertia._core.tolerances.PHYSICAL_RTOL`).
 
     Returns
     -------
@@ -261,8 +261,8 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
     Examples
     --------
     >>> import numpy as np
-    >>> from inertia.massprops.properties import MassProperties
-    >>> from inertia.particles.models import six_point_model
+    >>> from ..massprops.properties import MassProperties
+    >>> from .models import six_point_model
     >>> props = MassProperties(6.0, [0.0, 0.0, 1.0], np.diag([2.0, 2.0, 2.0]))
     >>> model = six_point_model(props)
     >>> model.masses.shape, model.positions_body.shape
@@ -338,8 +338,8 @@ def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> P
     Examples
     --------
     >>> import numpy as np
-    >>> from inertia.massprops.properties import MassProperties
-    >>> from inertia.particles.models import four_point_model
+    >>> from ..massprops.properties import MassProperties
+    >>> from .models import four_point_model
     >>> sphere = MassProperties(4.0, [0.0, 0.0, 0.0], 0.4 * 4.0 * 0.5**2 * np.eye(3))
     >>> model = four_point_model(sphere)
     >>> model.positions_body.shape

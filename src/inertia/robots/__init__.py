@@ -8,7 +8,7 @@
 
 from __future__ import annotations
 
-from .._lazy import lazy_namespace
+from .._core.lazy import lazy_namespace
 
 _EXPORTS = {
     "read_robot": "io", "detect_format": "io", "read_urdf": "urdf_sdf", "read_sdf": "urdf_sdf",

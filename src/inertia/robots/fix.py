@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 from .geometry import link_geometry_properties
 from .io import read_robot
 from .writers import _elements, _n, _vec
@@ -211,7 +211,7 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
                                      f"{np.round(props.com, 6).tolist()} m, moments "
                                      f"{np.array2string(props.principal()[0], precision=6)} kg m^2")
         setter(inertial.element, props, mass_scale)
-    from ..atomic import write_bytes_atomic
+    from .._core.atomic import write_bytes_atomic
 
     write_bytes_atomic(output, serialize(model.document))
     return report

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InertiaError
-from ..massprops.mesh_io import SUPPORTED_EXTENSIONS
+from .._core.errors import InertiaError
+from ..geometry.mesh_io import SUPPORTED_EXTENSIONS
 
 #: the eight corners of the cube [-1, 1]^3; scaled by half-extents they bound a shape
 CORNER_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
@@ -27,7 +27,7 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
     """
     from ..massprops import primitives
     from ..massprops.mesh import mesh_properties
-    from ..massprops.mesh_io import load_mesh
+    from ..geometry.mesh_io import load_mesh
 
     rho = geom.density if geom.density is not None else density
     k, p = geom.kind, geom.params
@@ -104,7 +104,7 @@ def _short(exc, geom) -> str:
 
 def geometry_bounds(link, *, mesh_units: str = "m"):
     """Axis-aligned bounds ``(lo, hi)`` of the link's shapes in the link frame, or None."""
-    from ..massprops.mesh_io import load_mesh
+    from ..geometry.mesh_io import load_mesh
 
     pts = []
     for g in link.geometries:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.quaternion import quat_from_rotvec, quat_normalize, quat_to_matrix
+from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
 from .urdf_sdf import floats

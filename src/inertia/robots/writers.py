@@ -34,7 +34,7 @@ def _elements(inertia) -> dict:
 
 def matrix_to_quat(R) -> np.ndarray:
     """Scalar-first unit quaternion of a proper rotation matrix (w >= 0)."""
-    from ..dynamics.quaternion import matrix_to_quat as m2q
+    from .._core.rotations import matrix_to_quat as m2q
 
     q = np.asarray(m2q(R), float)
     return q if q[0] >= 0 else -q

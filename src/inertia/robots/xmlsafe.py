@@ -18,7 +18,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 from xml.parsers import expat
 
-from ..errors import InertiaError
+from .._core.errors import InertiaError
 
 
 class RobotFileError(InertiaError, ValueError):

@@ -14,7 +14,7 @@ See ``docs/symbolic.md``.
 
 from __future__ import annotations
 
-from .._lazy import lazy_namespace
+from .._core.lazy import lazy_namespace
 
 _EXPORTS = {
     "derive": "equations", "EquationsOfMotion": "equations", "GimbalLockError": "equations",

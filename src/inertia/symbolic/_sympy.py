@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..errors import MissingDependencyError
+from .._core.errors import MissingDependencyError
 
 
 def require_sympy():

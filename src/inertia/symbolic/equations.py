@@ -25,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InertiaError, InertiaWarning, InputError
+from .._core.errors import InertiaError, InertiaWarning, InputError
 from ._sympy import require_sympy
 from .rigid import accelerations as _rigid_accelerations
 from .rigid import lagrangian as _rigid_lagrangian
@@ -281,13 +281,13 @@ class _NumericAccelerations:
 
 
 def _as_array(value, name, tail, *, batch=True):
-    from ..massprops._arrays import as_float_array
+    from .._core.validation import as_float_array
 
     return as_float_array(value, name, tail, allow_batch=batch)
 
 
 def _inertia_params(inertia, form: str):
-    from ..massprops._arrays import as_float_array
+    from .._core.validation import as_float_array
 
     if form == "diagonal":
         arr = np.asarray(inertia, float)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 from ._sympy import require_sympy
 from .system import EulerAngleSystem
 

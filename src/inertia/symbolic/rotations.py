@@ -19,7 +19,7 @@ gives ``det E`` in that closed form.
 
 from __future__ import annotations
 
-from ..errors import InputError
+from .._core.errors import InputError
 from ._sympy import require_sympy
 
 _AXES = {"X": 0, "Y": 1, "Z": 2}

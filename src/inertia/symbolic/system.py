@@ -23,7 +23,7 @@ Model
 
 from __future__ import annotations
 
-from ..errors import InputError
+from .._core.errors import InputError
 from ._sympy import require_sympy
 from .rotations import angle_names, kinematic_matrix, parse_sequence, rotation_matrix
 

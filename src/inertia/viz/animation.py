@@ -15,7 +15,7 @@ import numpy as np
 def render_frames(study, six_body_principal, box_half, *, n_frames: int = 48, size_px: int = 360):
     """RGB frames (n, H, W, 3) uint8 of the body at ``n_frames`` evenly spaced times."""
     from ..dynamics.exact import exact_solution
-    from ..dynamics.quaternion import quat_to_matrix
+    from .._core.rotations import quat_to_matrix
     from .plots import _plt, box_wire
 
     plt = _plt()
@@ -56,7 +56,7 @@ def write_animation(frames, path, *, fps: float = 12.0) -> dict:
     """Write frames as GIF (Pillow) or MP4 (imageio-ffmpeg) by the extension; atomic."""
     import io
 
-    from ..atomic import write_bytes_atomic
+    from .._core.atomic import write_bytes_atomic
 
     path = Path(path)
     if path.suffix.lower() == ".gif":
@@ -88,6 +88,6 @@ def write_animation(frames, path, *, fps: float = 12.0) -> dict:
             if os.path.exists(tmp):
                 os.unlink(tmp)
         return {"file": path.name, "frames": len(frames), "duration_s": len(frames) / fps}
-    from ..errors import InputError
+    from .._core.errors import InputError
 
     raise InputError(f"animation file {path}: format {path.suffix!r} is not supported; use .gif or .mp4")

@@ -58,7 +58,7 @@ def page_data(props, study, *, name: str, mesh=None, n_frames: int = 240) -> dic
 
 def write_page(path, data: dict) -> None:
     """Write the self-contained page atomically."""
-    from ..atomic import write_text_atomic
+    from .._core.atomic import write_text_atomic
 
     template = files("inertia.viz").joinpath("templates", "page.html").read_text(encoding="utf-8")
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")  # no early </script>

@@ -15,7 +15,7 @@ def _plt():
     try:
         import matplotlib
     except ImportError:
-        from ..errors import MissingDependencyError
+        from .._core.errors import MissingDependencyError
 
         raise MissingDependencyError("plots need matplotlib: pip install 'inertia[viz]'") from None
     matplotlib.use("Agg")
@@ -35,7 +35,7 @@ def box_wire(half):
 
 
 def _save(fig, out_dir: Path, stem: str) -> list[str]:
-    from ..atomic import write_bytes_atomic
+    from .._core.atomic import write_bytes_atomic
 
     names = []
     for ext in ("png", "svg"):

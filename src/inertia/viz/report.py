@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from .._core.errors import InputError
 
 MARKER = ".inertia-report"
 
@@ -38,7 +38,7 @@ def _fmt(x, digits: int = 6) -> str:
 
 def write_index(out: Path, *, title: str, credit: str | None, props, study, files: dict, extra: dict) -> Path:
     """``index.html`` linking every file of the report (``files``: role -> list of names)."""
-    from ..atomic import write_text_atomic
+    from .._core.atomic import write_text_atomic
 
     moments, R = props.principal()
     rows = [("mass", f"{_fmt(props.mass)} kg"),
@@ -117,7 +117,7 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, mesh=
 
     ``progress(step_name)`` is called before each step (for a progress bar).
     """
-    from ..atomic import write_text_atomic
+    from .._core.atomic import write_text_atomic
     from ..particles.models import six_point_model
     from . import plots
     from .flipdata import flip_study

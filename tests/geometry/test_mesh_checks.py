@@ -16,7 +16,7 @@ import pytest
 import inertia
 from inertia.errors import InertiaError, InputError, MeshError
 from inertia.massprops.mesh import mesh_properties
-from inertia.massprops.mesh_checks import (Defect, MeshDefectWarning, MeshReport, check_mesh, orient_faces,
+from inertia.geometry.checks import (Defect, MeshDefectWarning, MeshReport, check_mesh, orient_faces,
                                            validate_inputs, weld_vertices)
 
 SIZE = np.array([1.0, 2.0, 3.0])

@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inertia.massprops import mesh_checks, mesh_io
-from inertia.massprops.mesh_checks import _analyse, _weld_map_numpy, compact_vertices, validate_inputs
+from inertia.geometry import checks as mesh_checks, mesh_io
+from inertia.geometry.checks import _analyse, _weld_map_numpy, compact_vertices, validate_inputs
 
-nbk = pytest.importorskip("inertia.massprops._mesh_topology_numba")
+nbk = pytest.importorskip("inertia.geometry._topology_numba")
 
 REAL = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "soup.stl",
         "teapot_open.stl", "cycloidal.ply", "tray_bottom_ascii.stl", "spot.obj"]

@@ -21,7 +21,7 @@ Only the 6 distinct entries of each symmetric second moment are accumulated
 * ``"numpy"``: faces in chunks of :data:`NUMPY_CHUNK`, gathered into one cache-sized
   (3, 4, chunk) block (the corners a, b, c and their sum s, one row per coordinate);
   the 6 entries are 6 dot products of length 4 x chunk, so no (F, 3, 3) temporaries.
-* ``"numba"`` (:mod:`._mesh_kernel_numba`): one pass over the faces, no temporaries,
+* ``"numba"`` (:mod:`._integrals_numba`): one pass over the faces, no temporaries,
   blocked summation.  Optional; ``backend="auto"`` uses it when numba imports and the
   NumPy backend otherwise.
 
@@ -94,7 +94,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, MissingDependencyError
+from .._core.errors import InputError, MissingDependencyError
 
 #: Second pass about the computed COM when ``kappa = |COM - p|^2 / k^2`` exceeds this
 #: (see "Error analysis", item 4).  Below it, expanding about the box center costs at
@@ -142,7 +142,7 @@ def _first_bad_face(faces: np.ndarray, n_vertices: int) -> int:
 
 
 def _numpy_sums(vertices, faces, p, out, shell):
-    """NumPy version of ``_mesh_kernel_numba.solid_sums`` / ``shell_sums`` (same ``out`` layout)."""
+    """NumPy version of ``_integrals_numba.solid_sums`` / ``shell_sums`` (same ``out`` layout)."""
     n_faces = faces.shape[0]
     out[:] = 0.0
     if n_faces == 0:
@@ -223,7 +223,7 @@ def _numba_kernels(required: bool):
     global _numba_state, _NUMBA_ERROR
     if _numba_state is None:
         try:
-            from . import _mesh_kernel_numba as nbk
+            from . import _integrals_numba as nbk
         except ImportError as exc:
             _numba_state, _NUMBA_ERROR = False, f"{type(exc).__name__}: {exc}"
         else:

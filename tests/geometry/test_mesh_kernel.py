@@ -1,4 +1,4 @@
-"""Tests of the exact mesh integrals (inertia.massprops.mesh_kernel), each against independent truth:
+"""Tests of the exact mesh integrals (inertia.geometry.integrals), each against independent truth:
 closed forms, exact rational arithmetic on the very same float vertices (fractions.Fraction),
 trimesh near the origin, symmetries of the integrals, and the other backend.
 """
@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 import inertia.massprops
 from inertia.errors import InputError, MissingDependencyError
-from inertia.massprops import mesh_kernel as mk
+from inertia.geometry import integrals as mk
 
 try:
     import numba  # noqa: F401
@@ -341,8 +341,8 @@ def test_other_integer_dtypes_and_empty_faces(backend):
 
 def test_missing_numba_falls_back_or_raises(monkeypatch):
     monkeypatch.setitem(sys.modules, "numba", None)              # `import numba` now fails
-    monkeypatch.delitem(sys.modules, "inertia.massprops._mesh_kernel_numba", raising=False)
-    monkeypatch.delattr(inertia.massprops, "_mesh_kernel_numba", raising=False)
+    monkeypatch.delitem(sys.modules, "inertia.geometry._integrals_numba", raising=False)
+    monkeypatch.delattr(inertia.geometry, "_integrals_numba", raising=False)
     monkeypatch.setattr(mk, "_numba_state", None)
     with pytest.raises(MissingDependencyError, match=r"^backend='numba' needs numba, which cannot be imported"):
         mk.solid_integrals(CUBE_V, CUBE_F, backend="numba")

@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, MeshDefectWarning  # noqa: F401 (re-exported)
-from .tolerances import DEGENERATE_AREA_RTOL
+from .._core.errors import InputError, MeshDefectWarning  # noqa: F401 (re-exported)
+from .._core.tolerances import DEGENERATE_AREA_RTOL
 
 __all__ = ["Defect", "MeshReport", "MeshDefectWarning", "check_mesh", "validate_inputs", "weld_vertices",
            "orient_faces", "SEVERITY"]
@@ -201,7 +201,7 @@ _topology_state = None
 
 
 def _fast_topology():
-    """The numba welding/topology kernels (:mod:`._mesh_topology_numba`), or None without numba.
+    """The numba welding/topology kernels (:mod:`._topology_numba`), or None without numba.
 
     They give the same answers as the NumPy code here, in O(n) hash passes instead of sorts;
     tests compare the two.
@@ -209,7 +209,7 @@ def _fast_topology():
     global _topology_state
     if _topology_state is None:
         try:
-            from . import _mesh_topology_numba as kernels
+            from . import _topology_numba as kernels
         except ImportError:
             kernels = False
         _topology_state = kernels
@@ -726,7 +726,7 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, analysis: _Analysis, what: 
     when nested inside an odd number of others (a cavity).  Open meshes: every component
     is given a positive signed volume.
     """
-    from ..errors import MeshError
+    from .._core.errors import MeshError
 
     F = len(faces)
     out = faces.copy()
@@ -776,7 +776,7 @@ def orient_faces(vertices, faces) -> tuple[np.ndarray, int]:
     MeshError
         A component is not orientable, or the mesh is empty, non-finite or has bad indices.
     """
-    from ..errors import MeshError
+    from .._core.errors import MeshError
 
     v, f = validate_inputs(vertices, faces)
     an = _analyse(v, f, full=True)

@@ -1,16 +1,16 @@
 """Numba kernels for welding and for the common case of the mesh checks (optional; needs ``numba``).
 
-Imported lazily by :mod:`inertia.massprops.mesh_checks` and :mod:`inertia.massprops.mesh_io`,
+Imported lazily by :mod:`inertia.geometry.checks` and :mod:`inertia.geometry.mesh_io`,
 which fall back to their NumPy code when numba cannot be imported.  Three jobs, each a
 single pass with an open-addressing hash table (linear probing, power-of-two capacity,
 load factor <= 1/2), so their cost is O(n) with no sort:
 
 * :func:`weld_map` -- the lowest index of a vertex with exactly the same coordinates
-  (the same map as the NumPy ``mesh_checks._weld_map``);
+  (the same map as the NumPy ``checks._weld_map``);
 * :func:`near_merge_map` -- the lowest index of each group of vertices joined by pairs at
   distance <= ``tol`` (the same groups as ``cKDTree.query_pairs`` + connected components);
 * :func:`closed_single_shell` -- does a welded mesh pass every check of
-  :func:`inertia.massprops.mesh_checks.check_mesh` as one closed, consistently wound,
+  :func:`inertia.geometry.checks.check_mesh` as one closed, consistently wound,
   outward, non-degenerate component?  When it answers no (or cannot tell), the caller runs
   the full NumPy analysis, which names each defect; so this kernel never has to explain
   anything, only to be right when it answers yes.
@@ -263,7 +263,7 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     """True when the mesh is one closed, consistently wound component of positive volume.
 
     ``faces`` index distinct positions (welded).  "Closed single shell" here means every
-    check of ``mesh_checks._analyse`` passes with no defect and no note: indices in range,
+    check of ``checks._analyse`` passes with no defect and no note: indices in range,
     finite vertices, no face repeating a vertex or of area <= ``area_rtol`` x bbox
     diagonal^2, every edge used by exactly two faces in opposite directions, one
     edge-connected component, signed volume > 0.  Duplicate faces need no test: a face

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from .errors import InputError
 
 
 def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch: bool = True) -> np.ndarray:

@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, MeshFileError, MissingDependencyError
+from .._core.errors import InputError, MeshFileError, MissingDependencyError
 
-__all__ = ["load_mesh", "mesh_file_properties", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
+__all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
 #: Length units accepted by ``units=``: metres per unit.
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
@@ -65,7 +65,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
     and a k-d tree.  Both give the same groups.
     """
-    from .mesh_checks import _fast_topology, compact_vertices, validate_inputs, weld_vertices
+    from .checks import _fast_topology, compact_vertices, validate_inputs, weld_vertices
 
     kernels = _fast_topology()
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
@@ -195,7 +195,7 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
     """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
     over the file's records (no float64 triangle soup); None without numba or when the
     compiled merge declines (the caller then takes the general route)."""
-    from .mesh_checks import _fast_topology
+    from .checks import _fast_topology
 
     kernels = _fast_topology()
     if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively
@@ -280,26 +280,3 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
         raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1}")
     vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
     return vertices * factor, faces
-
-
-def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
-                         fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
-                         merge_rtol: float = MERGE_RTOL):
-    """Mass properties of the triangle mesh in a file (see :func:`load_mesh` and
-    :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
-
-    ``density`` is kg/m^3 (kg/m^2 with ``shell=True``) whatever ``units`` the file uses:
-    coordinates are converted to metres first.  MeshError messages and recorded warnings
-    name the file.
-
-    Returns
-    -------
-    MassProperties in frame ``frame`` (the file's coordinate frame), SI units.
-    """
-    from .mesh import _mesh_properties
-
-    vertices, faces = load_mesh(path, units=units, merge_rtol=merge_rtol)
-    # stacklevel 3: warnings point at the caller of mesh_file_properties
-    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
-                            name=str(path), stacklevel=3, welded=merge_rtol > 0)

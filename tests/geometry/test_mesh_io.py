@@ -17,8 +17,9 @@ import pytest
 import inertia
 from inertia.errors import InputError, MeshError, MeshFileError, MissingDependencyError
 from inertia.massprops.mesh import mesh_properties
-from inertia.massprops.mesh_checks import MeshDefectWarning, check_mesh
-from inertia.massprops.mesh_io import UNITS, load_mesh, mesh_file_properties
+from inertia.geometry.checks import MeshDefectWarning, check_mesh
+from inertia.geometry.mesh_io import UNITS, load_mesh
+from inertia.massprops.mesh import mesh_file_properties
 
 trimesh = pytest.importorskip("trimesh", reason="trimesh (optional dependency inertia[mesh]) is not installed")
 
@@ -273,7 +274,7 @@ def test_missing_trimesh_is_a_missing_dependency_error(monkeypatch):
 
 @pytest.mark.parametrize("name", ["featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl"])
 def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(name, monkeypatch):
-    from inertia.massprops.mesh_io import _read_binary_stl, _stl_kind
+    from inertia.geometry.mesh_io import _read_binary_stl, _stl_kind
 
     path = Path(mesh_file(name))
     n = _stl_kind(path)
@@ -290,7 +291,7 @@ def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(name, monkeypatc
 def test_importing_the_modules_does_not_import_trimesh():
     import subprocess
     code = ("import sys, inertia; inertia.load_mesh; inertia.check_mesh; inertia.mesh_properties; "
-            "import inertia.massprops.mesh_io; print('trimesh' in sys.modules)")
+            "import inertia.geometry.mesh_io; print('trimesh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

@@ -1,11 +1,11 @@
-"""Numba kernels for :mod:`inertia.massprops.mesh_kernel` (optional; needs ``numba``).
+"""Numba kernels for :mod:`inertia.geometry.integrals` (optional; needs ``numba``).
 
 This module imports ``numba`` at its top, so it must itself only be imported lazily
-(:func:`inertia.massprops.mesh_kernel._numba_kernels` does so, and falls back to the
+(:func:`inertia.geometry.integrals._numba_kernels` does so, and falls back to the
 NumPy kernels when the import fails).
 
 The kernels compute exactly the same per-face terms as the NumPy backend of
-:mod:`~inertia.massprops.mesh_kernel` (see its docstring for the formulas and the
+:mod:`~inertia.geometry.integrals` (see its docstring for the formulas and the
 error analysis), in one pass over the faces with no temporaries:
 
 * vertices are first shifted by the expansion point ``p``, once per vertex, with the
@@ -53,7 +53,7 @@ def bbox_center(vertices, out):
         hi1 = max(hi1, y)
         lo2 = min(lo2, z)
         hi2 = max(hi2, z)
-    # same expression as mesh_kernel.reference_point, so both backends agree bit for bit
+    # same expression as integrals.reference_point, so both backends agree bit for bit
     out[0] = 0.5 * (lo0 + hi0)
     out[1] = 0.5 * (lo1 + hi1)
     out[2] = 0.5 * (lo2 + hi2)
