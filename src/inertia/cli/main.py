@@ -40,9 +40,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _pop_debug(argv: list[str]) -> tuple[list[str], bool]:
+    """``--debug`` is accepted anywhere on the line (before a ``--`` that ends the options)."""
+    end = argv.index("--") if "--" in argv else len(argv)
+    debug = "--debug" in argv[:end]
+    return [a for i, a in enumerate(argv) if not (i < end and a == "--debug")], debug
+
+
 def main(argv=None) -> int:
     parser = build_parser()
+    argv, debug = _pop_debug(list(sys.argv[1:] if argv is None else argv))
     args = parser.parse_args(argv)
+    args.debug = debug
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -62,7 +71,8 @@ def main(argv=None) -> int:
             print(f"inertia {args.command}: error: {exc}", file=sys.stderr)
             return 1
         print(f"inertia {args.command}: internal error ({type(exc).__name__}: {exc}). "
-              f"Run again with --debug for the traceback and please report it.", file=sys.stderr)
+              f"Run again with --debug (anywhere on the command line) for the traceback "
+              f"and please report it.", file=sys.stderr)
         return 3
 
 
