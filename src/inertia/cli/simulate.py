@@ -23,6 +23,9 @@ from . import _format as fmt
 
 #: samples refused beyond this (memory and time guard)
 MAX_SAMPLES = 5_000_000
+#: Integrator steps a run may take unless --max-steps allows more (about half a minute with
+#: the NumPy integrators; the exact solution takes no steps).
+DEFAULT_MAX_STEPS = 1_000_000
 
 CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "
                "body -> world; energy = 1/2 w.I w in J; angular_momentum_norm = |I w| in kg m^2/s")
@@ -205,6 +208,9 @@ def register(sub) -> None:
     p.add_argument("--method", default="exact", metavar="NAME",
                    help="exact (default) or an integrator of inertia.dynamics.integrators.METHODS: "
                         "euler_explicit, euler_implicit, rk4, splitting, dmv, dmv4, midpoint")
+    p.add_argument("--max-steps", type=int, default=DEFAULT_MAX_STEPS, metavar="N",
+                   help=f"refuse a run that needs more than N integrator steps (default {DEFAULT_MAX_STEPS:,}); "
+                        "the count is estimated before any step is taken")
     p.add_argument("--format", choices=("table", "csv", "json"), default="table",
                    help="table: aligned text (default); csv: one row per sample; json: arrays")
     p.set_defaults(func=run)
@@ -273,6 +279,23 @@ def run_exact(body, w_P, q_WP, times):
     return q, w, sol
 
 
+def check_work(times, h_max, method: str, max_steps: int) -> None:
+    """Refuse, before any step, a run whose step count exceeds ``--max-steps``."""
+    from .._core.errors import InputError
+
+    if max_steps is None or max_steps < 1:
+        raise InputError(f"--max-steps must be a positive whole number, got {max_steps!r}")
+    import numpy as np
+
+    gaps = np.diff(np.concatenate(([0.0], np.asarray(times, dtype=float))))
+    estimate = float(np.sum(np.ceil(gaps[gaps > 0] / h_max - 1e-9)))   # float: never overflows
+    if estimate > max_steps:
+        raise InputError(f"--method {method} would take about {estimate:.3g} steps of at most --step {h_max:g} s "
+                         f"to reach t = {float(times[-1]):g} s, more than --max-steps {max_steps:,}; use a larger "
+                         f"--step, fewer or earlier --times, --method exact (any time at the same cost), or "
+                         f"raise --max-steps")
+
+
 def run_integrator(body, w_P, q_WP, times, h_max, method: str):
     """Fixed steps of at most ``h_max`` between consecutive sample times (equal steps per interval)."""
     import numpy as np
@@ -311,6 +334,7 @@ def run(args) -> int:
     if method == "exact":
         q_P, w_Pt, sol = run_exact(body, w_P, q_WP, times)
     else:
+        check_work(times, h_max, method, args.max_steps)
         q_P, w_Pt = run_integrator(body, w_P, q_WP, times, h_max, method)
     I = body.moments
     energy = 0.5 * np.sum(I * w_Pt * w_Pt, axis=-1)
