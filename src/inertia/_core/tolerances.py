@@ -22,12 +22,3 @@ DEGENERATE_RTOL = 1e-9
 #: Mesh checks: a face is degenerate when its area is below
 #: DEGENERATE_AREA_RTOL * (bounding-box diagonal)**2.
 DEGENERATE_AREA_RTOL = 1e-14
-
-#: Magnitudes a tensor, mass or rate may have (in SI units) for the library to compute with
-#: it: inside [REPRESENTABLE_MIN, REPRESENTABLE_MAX] the squares and products that the checks,
-#: the principal axes and the dynamics form (I w^2, m |c|^2, I^2) stay finite and normal in
-#: double precision (about 1e-308 to 1e308).  Every physical body is far inside (the Sun's
-#: moment of inertia is about 6e46 kg m^2; a 1 um grain's about 1e-27); beyond it a value is
-#: refused by name ("not_representable") instead of turning into inf or NaN downstream.
-REPRESENTABLE_MAX = 1e150
-REPRESENTABLE_MIN = 1e-150
