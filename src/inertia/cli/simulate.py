@@ -279,6 +279,34 @@ def run_exact(body, w_P, q_WP, times):
     return q, w, sol
 
 
+#: Scales the computation represents: the angular momentum I w (kg m^2/s) and the kinetic
+#: energy I w^2 (J) of the spin.  Their squares (|L|^2, the elliptic parameters) must stay
+#: finite and normal in double precision (1e-308 .. 1e308); beyond, |omega| overflows to inf,
+#: or |L| underflows to 0 and the body looks at rest.
+MOMENTUM_RANGE = (1e-140, 1e140)
+ENERGY_RANGE = (1e-280, 1e280)
+
+
+def check_spin_scale(moments, w_P) -> None:
+    """Refuse a spin whose momentum or energy scale double precision cannot carry, by name."""
+    import numpy as np
+
+    from .._core.errors import InputError
+
+    w = float(np.max(np.abs(w_P)))
+    if w == 0.0:
+        return
+    big = float(np.max(moments))
+    log_L, log_E = math.log10(big) + math.log10(w), math.log10(big) + 2.0 * math.log10(w)   # logs: no overflow
+    for what, unit, log_v, (lo, hi) in (("angular momentum I w", "kg m^2/s", log_L, MOMENTUM_RANGE),
+                                        ("kinetic energy I w^2", "J", log_E, ENERGY_RANGE)):
+        if not math.log10(lo) <= log_v <= math.log10(hi):
+            raise InputError(f"the {what} of this spin is about 1e{log_v:.0f} {unit}, outside the range "
+                             f"[{lo:g}, {hi:g}] {unit} that double precision carries through the computation "
+                             f"(|omega| {w:.3g} rad/s, largest moment {big:.3g} kg m^2); express the body in "
+                             f"other units")
+
+
 def check_work(times, h_max, method: str, max_steps: int) -> None:
     """Refuse, before any step, a run whose step count exceeds ``--max-steps``."""
     from .._core.errors import InputError
@@ -329,6 +357,7 @@ def run(args) -> int:
         raise InputError(f"--method must be one of {', '.join(methods)}, got {method!r}")
     body = resolve_body(args)
     w_P, q_WP = initial_state(args, body)
+    check_spin_scale(body.moments, w_P)
     times, h_max = sample_plan(args, method)
     sol = None
     if method == "exact":
@@ -341,6 +370,14 @@ def run(args) -> int:
     L_norm = np.linalg.norm(I * w_Pt, axis=-1)
     q_B, w_B = to_output_frame(body, q_P, w_Pt)
     data = {"t": times, "omega_body": w_B, "q_world_body": q_B, "energy": energy, "angular_momentum_norm": L_norm}
+    for name, value in data.items():
+        if not np.all(np.isfinite(value)):
+            from .._core.errors import IntegrationError
+
+            k = int(np.argmax(~np.all(np.isfinite(np.reshape(value, (len(times), -1))), axis=1)))
+            raise IntegrationError(f"--method {method}: {name} is not finite at t = {times[k]:g} s (sample {k + 1}); "
+                                   f"the method diverged at --step {h_max:g} s or the state left double "
+                                   f"precision's range: try --method exact or a smaller --step")
     if args.format == "json":
         out = {"method": method}
         out.update(body.to_dict())
