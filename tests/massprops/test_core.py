@@ -251,20 +251,20 @@ def test_repeated_moments_are_reported_and_fixed_deterministically():
     I = R0 @ np.diag([1.0, 1.0, 3.0]) @ R0.T
     pf = principal_frame(I)
     assert pf.degenerate == ((0, 1),)
-    assert np.linalg.det(pf.R_FP) == pytest.approx(1.0)
-    assert abs(pf.R_FP[:, 2] @ R0[:, 2]) == pytest.approx(1.0, abs=1e-12)
-    np.testing.assert_allclose(pf.R_FP @ np.diag(pf.moments) @ pf.R_FP.T, I, atol=1e-13)
+    assert np.linalg.det(pf.R_body_principal) == pytest.approx(1.0)
+    assert abs(pf.R_body_principal[:, 2] @ R0[:, 2]) == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(pf.R_body_principal @ np.diag(pf.moments) @ pf.R_body_principal.T, I, atol=1e-13)
     # a perturbation below the tolerance does not change the chosen axes (beyond its own size)
     pf2 = principal_frame(I + 1e-13 * np.diag([1, 0, 0]))
-    np.testing.assert_allclose(pf2.R_FP, pf.R_FP, atol=1e-8)
+    np.testing.assert_allclose(pf2.R_body_principal, pf.R_body_principal, atol=1e-8)
     # prolate: I1 < I2 = I3
     pf = principal_frame(np.diag([1.0, 4.0, 4.0]))
     assert pf.degenerate == ((1, 2),)
-    np.testing.assert_allclose(pf.R_FP, np.eye(3), atol=0)
+    np.testing.assert_allclose(pf.R_body_principal, np.eye(3), atol=0)
     # sphere: identity
     pf = principal_frame(R0 @ np.diag([2.0, 2.0, 2.0]) @ R0.T)
     assert pf.degenerate == ((0, 1, 2),)
-    np.testing.assert_array_equal(pf.R_FP, np.eye(3))
+    np.testing.assert_array_equal(pf.R_body_principal, np.eye(3))
 
 
 def test_canonical_form_round_trip():

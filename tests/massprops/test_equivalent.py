@@ -79,8 +79,8 @@ def test_box_primitive_by_hand_returns_its_dimensions():
     assert isinstance(box, EquivalentBox)
     assert np.allclose(box.size, [0.3, 0.2, 0.1], rtol=1e-13, atol=0)  # descending with ascending moments
     assert np.array_equal(box.size, box.dims)
-    assert np.allclose(matched_axes(dims, box.size, R, box.R_frame_principal), 1.0, rtol=0, atol=1e-12)
-    assert np.array_equal(box.p_frame_com, com)
+    assert np.allclose(matched_axes(dims, box.size, R, box.R_body_principal), 1.0, rtol=0, atol=1e-12)
+    assert np.array_equal(box.p_body_com, com)
     assert box.frame == "link" and box.warnings == ()
     assert math.isclose(box.volume, 0.006, rel_tol=1e-13)
     assert math.isclose(box.density, M / 0.006, rel_tol=1e-13)
@@ -101,7 +101,7 @@ def test_equivalent_box_of_random_posed_box(solid):
 def test_cube_has_identity_axes():
     box = equivalent_box(MassProperties(6.0, [0, 0, 0], box_tensor(6.0, [0.5, 0.5, 0.5])))
     assert np.allclose(box.size, 0.5, rtol=1e-14)
-    assert np.array_equal(box.R_frame_principal, np.eye(3))
+    assert np.array_equal(box.R_body_principal, np.eye(3))
 
 
 # ---------------------------------------------------------------------------------------------- ellipsoid
@@ -113,7 +113,7 @@ def test_ellipsoid_primitive_by_hand_returns_its_semi_axes():
     ell = equivalent_ellipsoid(props)
     assert isinstance(ell, EquivalentEllipsoid)
     assert np.allclose(ell.semi_axes, [0.5, 0.2, 0.1], rtol=1e-13, atol=0)
-    assert np.allclose(matched_axes(semi, ell.semi_axes, R, ell.R_frame_principal), 1.0, rtol=0, atol=1e-12)
+    assert np.allclose(matched_axes(semi, ell.semi_axes, R, ell.R_body_principal), 1.0, rtol=0, atol=1e-12)
     assert math.isclose(ell.volume, 4.0 / 3.0 * math.pi * 0.01, rel_tol=1e-13)
     assert_same_props(ell.mass_properties(), M, com, props.inertia_com)
 
@@ -152,7 +152,7 @@ def test_equivalent_solid_reproduces_random_body(make, props):
     k = 12.0 if make is equivalent_box else 5.0
     d2 = solid.dims ** 2
     I_P = props.mass / k * (d2.sum() - d2)
-    R = solid.R_frame_principal
+    R = solid.R_body_principal
     assert np.abs(R @ np.diag(I_P) @ R.T - props.inertia_com).max() <= RTOL * np.abs(props.inertia_com).max()
 
 
@@ -162,7 +162,7 @@ def test_principal_second_moments_are_sums_of_squares():
     r = rng.normal(size=(9, 3)) * [2.0, 1.0, 0.3] + [1.0, 2.0, 3.0]
     props = MassProperties.from_point_masses(m, r)
     sm = principal_second_moments(props)
-    rel_P = (r - props.com) @ sm.canonical.R_frame_principal  # rows: R_FP^T (r - com)
+    rel_P = (r - props.com) @ sm.canonical.R_body_principal  # rows: R_body_principal^T (r - com)
     s_true = np.einsum("k,ki->i", m, rel_P ** 2)  # s_i = sum m x_i^2 along principal axis i
     assert np.allclose(sm.second_moments, s_true, rtol=1e-12, atol=0)
     assert sm.flat_axes == ()

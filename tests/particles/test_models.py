@@ -107,18 +107,18 @@ def test_positions_body_is_com_plus_rotated_principal_positions(make, n):
     assert model.masses.shape == (n,) and model.positions_body.shape == (n, 3)
     assert np.allclose(model.masses, props.mass / n, rtol=0, atol=1e-15)
     assert model.frame == "chassis"
-    expect = props.com + model.positions_principal @ model.R_frame_principal.T
+    expect = props.com + model.positions_principal @ model.R_body_principal.T
     assert np.allclose(model.positions_body, expect, rtol=0, atol=1e-14)
     assert np.allclose(model.positions_principal.mean(axis=0), 0.0, atol=1e-15)
     # P is the canonical principal frame of the input
     moments, axes = props.principal()
-    assert np.array_equal(model.R_frame_principal, axes)
-    assert np.array_equal(model.p_frame_com, props.com)
+    assert np.array_equal(model.R_body_principal, axes)
+    assert np.array_equal(model.p_body_com, props.com)
 
 
 def test_model_arrays_are_read_only():
     model = six_point_model(MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 2.5])))
-    for a in (model.masses, model.positions_body, model.positions_principal, model.R_frame_principal):
+    for a in (model.masses, model.positions_body, model.positions_principal, model.R_body_principal):
         with pytest.raises(ValueError):
             a[0] = 1.0
 
@@ -138,7 +138,7 @@ def test_six_point_distances_match_founding_formula():
     d = np.sqrt([1.25, 0.75, 0.25])
     expect = np.array([[d[0], 0, 0], [-d[0], 0, 0], [0, d[1], 0], [0, -d[1], 0], [0, 0, d[2]], [0, 0, -d[2]]])
     assert np.allclose(model.positions_principal, expect, rtol=0, atol=1e-15)
-    assert np.array_equal(model.R_frame_principal, np.eye(3))
+    assert np.array_equal(model.R_body_principal, np.eye(3))
     assert np.allclose(model.positions_body, expect, rtol=0, atol=1e-15)
     assert model.kind == "six_point" and model.warnings == ()
 
@@ -242,8 +242,8 @@ def test_to_dict_is_json_ready():
     assert np.allclose(d["masses"], model.masses)
     assert np.allclose(d["positions_body"], model.positions_body)
     assert np.allclose(d["positions_principal"], model.positions_principal)
-    assert np.array(d["R_frame_principal"]).shape == (3, 3)
-    assert d["p_frame_com"] == [1.0, 0.0, 0.0]
+    assert np.array(d["R_body_principal"]).shape == (3, 3)
+    assert d["p_body_com"] == [1.0, 0.0, 0.0]
     assert d["warnings"] == []
 
 

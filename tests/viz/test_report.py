@@ -69,7 +69,7 @@ def test_page_data_has_the_librarys_six_points(report):
     nut = _nut()
     cf = nut.canonical()
     six = inertia.six_point_model(nut)
-    expected = (six.positions_body - nut.com) @ cf.R_frame_principal
+    expected = (six.positions_body - nut.com) @ cf.R_body_principal
     np.testing.assert_allclose(np.array(data["six_points"]), expected, atol=1e-15)
     assert data["mass"] == pytest.approx(nut.mass, rel=1e-15)
     assert "https://" not in html.split("</style>")[1].split('id="inertia-data"')[0]  # nothing from a CDN
@@ -160,7 +160,7 @@ def test_page_in_headless_chromium(report):
 
         nut = _nut()
         six = inertia.six_point_model(nut)
-        expected = (six.positions_body - nut.com) @ nut.canonical().R_frame_principal
+        expected = (six.positions_body - nut.com) @ nut.canonical().R_body_principal
         np.testing.assert_allclose(np.array(page.evaluate("window.inertiaState.points")), expected, rtol=1e-12,
                                    atol=1e-15)
         # moving the I1 slider moves the points (d2, d3 grow with I1; d1 shrinks)

@@ -283,8 +283,8 @@ def build_report(props) -> dict:
 def _canonical_dict(cf) -> dict:
     return {
         "principal_moments": cf.moments,
-        "R_body_principal": cf.R_frame_principal,
-        "p_body_com": cf.p_frame_com,
+        "R_body_principal": cf.R_body_principal,
+        "p_body_com": cf.p_body_com,
         "degenerate_moments": [list(g) for g in cf.degenerate],
         "rtol": cf.rtol,
     }

@@ -99,7 +99,7 @@ def props_dict(props, info) -> dict:
         "com": props.com,
         "inertia_com": props.inertia_com,
         "principal_moments": pf.moments,
-        "principal_axes": pf.R_FP,
+        "principal_axes": pf.R_body_principal,
         "degenerate_moments": [list(g) for g in pf.degenerate],
         "radii_of_gyration": props.radii_of_gyration,
         "validity": [{"code": v.code, "message": v.message} for v in violations],
@@ -159,7 +159,7 @@ def canonical_lines(props, *, title: str = "Principal moments and axes (canonica
         ("principal frame", "origin at the COM, I_body = R diag(I1, I2, I3) R^T with"),
         ("axes", "R = R_body_principal (columns = principal axes, proper rotation, det +1):"),
     ])
-    lines += fmt.matrix_lines(pf.R_FP, row_labels=XYZ, col_labels=("axis 1", "axis 2", "axis 3"),
+    lines += fmt.matrix_lines(pf.R_body_principal, row_labels=XYZ, col_labels=("axis 1", "axis 2", "axis 3"),
                               indent=4, style="f")
     return lines
 

@@ -147,7 +147,7 @@ def resolve_body(args) -> Body:
     props, info = load_source(args, source=args.source)
     pf = props.principal_frame()
     I = as_moments(pf.moments, f"principal moments of {args.source}")
-    return Body(I, np.asarray(pf.R_FP, float), f"{args.source} (principal moments {fmt.vector(I)} kg m^2)", info)
+    return Body(I, np.asarray(pf.R_body_principal, float), f"{args.source} (principal moments {fmt.vector(I)} kg m^2)", info)
 
 
 def initial_state(args, body):

@@ -196,8 +196,8 @@ class _EquivalentSolid:
 
     mass: float
     dims: np.ndarray
-    R_frame_principal: np.ndarray
-    p_frame_com: np.ndarray
+    R_body_principal: np.ndarray
+    p_body_com: np.ndarray
     frame: str = "body"
     warnings: tuple = ()
 
@@ -213,9 +213,9 @@ class _EquivalentSolid:
             raise InputError(f"{self._kind}: {self._dims_name} must be >= 0, got {dims.tolist()}")
         object.__setattr__(self, "mass", m)
         object.__setattr__(self, "dims", _frozen(dims))
-        object.__setattr__(self, "R_frame_principal",
-                           _frozen(as_rotation_matrix(self.R_frame_principal, "R_frame_principal", allow_batch=False)))
-        object.__setattr__(self, "p_frame_com", _frozen(as_vector3(self.p_frame_com, "p_frame_com")))
+        object.__setattr__(self, "R_body_principal",
+                           _frozen(as_rotation_matrix(self.R_body_principal, "R_body_principal", allow_batch=False)))
+        object.__setattr__(self, "p_body_com", _frozen(as_vector3(self.p_body_com, "p_body_com")))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
     # subclasses: principal moments and volume from the dimensions
@@ -238,14 +238,14 @@ class _EquivalentSolid:
         Returns
         -------
         MassProperties
-            ``mass`` [kg]; ``com = p_frame_com`` [m, in F]; ``inertia_com = R_FP diag(I_P) R_FP^T``
+            ``mass`` [kg]; ``com = p_body_com`` [m, in F]; ``inertia_com = R_body_principal diag(I_P) R_body_principal^T``
             [kg m^2, about the COM, axes of F]; ``volume`` [m^3] (0 for a lamina); frame ``frame``.
             Built with ``validate=False``: a uniform solid is physical by construction, and a
             lamina sits exactly on the triangle inequality.
         """
-        R_FP = self.R_frame_principal
-        I_F = R_FP @ np.diag(self.principal_moments()) @ R_FP.T
-        return MassProperties(self.mass, self.p_frame_com, 0.5 * (I_F + I_F.T), frame=self.frame,
+        R_body_principal = self.R_body_principal
+        I_F = R_body_principal @ np.diag(self.principal_moments()) @ R_body_principal.T
+        return MassProperties(self.mass, self.p_body_com, 0.5 * (I_F + I_F.T), frame=self.frame,
                               volume=self.volume, warnings=self.warnings, validate=False)
 
     def to_dict(self) -> dict:
@@ -254,8 +254,8 @@ class _EquivalentSolid:
             "kind": self._kind,
             "mass": self.mass,
             self._dims_name: self.dims.tolist(),
-            "R_frame_principal": self.R_frame_principal.tolist(),
-            "p_frame_com": self.p_frame_com.tolist(),
+            "R_body_principal": self.R_body_principal.tolist(),
+            "p_body_com": self.p_body_com.tolist(),
             "volume": self.volume,
             "frame": self.frame,
             "warnings": list(self.warnings),
@@ -271,11 +271,11 @@ class EquivalentBox(_EquivalentSolid):
     mass : float, kg.
     dims : (3,) float, m
         Full edge lengths ``(b1, b2, b3)`` along principal axes 1, 2, 3.  These are the columns
-        of ``R_frame_principal``, in the order of the ascending principal moments, so the
+        of ``R_body_principal``, in the order of the ascending principal moments, so the
         edges are in descending order.  Also available as :attr:`size`.
-    R_frame_principal : (3, 3) float
+    R_body_principal : (3, 3) float
         Proper rotation whose columns are the box axes (principal axes) expressed in frame F.
-    p_frame_com : (3,) float, m
+    p_body_com : (3,) float, m
         Box centre (the COM) in frame F.
     frame : str
         Name of F.
@@ -315,11 +315,11 @@ class EquivalentEllipsoid(_EquivalentSolid):
     mass : float, kg.
     dims : (3,) float, m
         Semi-axes ``(a1, a2, a3)`` along principal axes 1, 2, 3.  These are the columns of
-        ``R_frame_principal``, in the order of the ascending principal moments, so the
+        ``R_body_principal``, in the order of the ascending principal moments, so the
         semi-axes are in descending order.  Also available as :attr:`semi_axes`.
-    R_frame_principal : (3, 3) float
+    R_body_principal : (3, 3) float
         Proper rotation whose columns are the ellipsoid axes (principal axes) in frame F.
-    p_frame_com : (3,) float, m
+    p_body_com : (3,) float, m
         Centre (the COM) in frame F.
     frame : str
         Name of F.
@@ -365,8 +365,8 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
     -------
     EquivalentBox
         ``size`` (3,) [m] full edge lengths along the principal axes (ascending moments, so
-        descending edges), ``R_frame_principal`` (3, 3) box axes as columns in F,
-        ``p_frame_com`` (3,) [m] centre in F; ``.mass_properties()`` reproduces ``props``.
+        descending edges), ``R_body_principal`` (3, 3) box axes as columns in F,
+        ``p_body_com`` (3,) [m] centre in F; ``.mass_properties()`` reproduces ``props``.
 
     Raises
     ------
@@ -399,7 +399,7 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
     sm = principal_second_moments(props, model="equivalent box", symbol="b", factor=12.0, rtol=rtol)
     size = np.sqrt(12.0 * sm.second_moments / props.mass)  # b_i^2 = 12 s_i / M
     cf = sm.canonical
-    return EquivalentBox(props.mass, size, cf.R_frame_principal, cf.p_frame_com, frame=props.frame,
+    return EquivalentBox(props.mass, size, cf.R_body_principal, cf.p_body_com, frame=props.frame,
                          warnings=_flat_warnings(sm, "box", "b", size))
 
 
@@ -417,7 +417,7 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     -------
     EquivalentEllipsoid
         ``semi_axes`` (3,) [m] along the principal axes (ascending moments, so descending
-        semi-axes), ``R_frame_principal`` (3, 3) axes as columns in F, ``p_frame_com`` (3,) [m]
+        semi-axes), ``R_body_principal`` (3, 3) axes as columns in F, ``p_body_com`` (3,) [m]
         centre in F; ``.mass_properties()`` reproduces ``props``.
 
     Raises
@@ -444,5 +444,5 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     sm = principal_second_moments(props, model="equivalent ellipsoid", symbol="a", factor=5.0, rtol=rtol)
     semi = np.sqrt(5.0 * sm.second_moments / props.mass)  # a_i^2 = 5 s_i / M
     cf = sm.canonical
-    return EquivalentEllipsoid(props.mass, semi, cf.R_frame_principal, cf.p_frame_com, frame=props.frame,
+    return EquivalentEllipsoid(props.mass, semi, cf.R_body_principal, cf.p_body_com, frame=props.frame,
                                warnings=_flat_warnings(sm, "ellipsoid", "a", semi))

@@ -3,12 +3,13 @@
 The rule (the *canonical form* of the founding write-up):
 
 1. Moments ascending: ``I1 <= I2 <= I3``.
-2. Axes are the columns of ``R_FP`` (frame F from principal frame P), a proper rotation (det +1).
+2. Axes are the columns of ``R_body_principal`` (maps principal coordinates to body
+   coordinates: the axes expressed in the body frame), a proper rotation (det +1).
 3. Sign rule: axes 1 and 2 each have their largest-magnitude component positive (the first
    such component on exact ties); axis 3 is ``e1 x e2``.
 4. Repeated moments (within ``DEGENERATE_RTOL * I3``):
 
-   * all three equal: ``R_FP`` is the identity;
+   * all three equal: ``R_body_principal`` is the identity;
    * two equal: the distinct axis is taken from the eigensolver (with the sign rule),
      and the first axis of the repeated pair is the projection onto the repeated plane of the
      coordinate axis of F least aligned with the distinct axis (the first on ties); the
@@ -101,8 +102,8 @@ def principal_axes(inertia, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarra
     Returns
     -------
     moments : (..., 3) float, kg m^2, ascending.
-    R_FP : (..., 3, 3) float, principal axes as columns (det +1), so that
-        ``inertia = R_FP @ diag(moments) @ R_FP.T``.
+    R_body_principal : (..., 3, 3) float, principal axes as columns (det +1), so that
+        ``inertia = R_body_principal @ diag(moments) @ R_body_principal.T``.
     """
     I = as_float_array(inertia, "inertia", (3, 3))
     I = 0.5 * (I + np.swapaxes(I, -1, -2))
@@ -124,7 +125,7 @@ class PrincipalFrame:
     Attributes
     ----------
     moments : (3,) float, kg m^2, ascending.
-    R_FP : (3, 3) float, axes as columns in the original frame F, det +1.
+    R_body_principal : (3, 3) float, axes as columns in the original frame F, det +1.
     degenerate : tuple of tuples of int
         Indices of moments equal within ``rtol`` (e.g. ``((0, 1),)`` for a cylinder
         about its axis); empty when all three are distinct.
@@ -133,7 +134,7 @@ class PrincipalFrame:
     """
 
     moments: np.ndarray
-    R_FP: np.ndarray
+    R_body_principal: np.ndarray
     degenerate: tuple
     rtol: float
 

@@ -151,7 +151,7 @@ class MassProperties:
         See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules.
         """
         pf = self.principal_frame(rtol=rtol)
-        return pf.moments, pf.R_FP
+        return pf.moments, pf.R_body_principal
 
     def principal_frame(self, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
         """Principal moments, axes and the report of repeated moments."""
@@ -167,7 +167,7 @@ class MassProperties:
         pf = self.principal_frame(rtol=rtol)
         props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
                                volume=self.volume, warnings=self.warnings, validate=False)
-        return CanonicalForm(props=props, R_frame_principal=pf.R_FP, p_frame_com=self.com,
+        return CanonicalForm(props=props, R_body_principal=pf.R_body_principal, p_body_com=self.com,
                              degenerate=pf.degenerate, rtol=rtol, frame=self.frame)
 
     def check(self) -> list[Violation]:
@@ -277,16 +277,16 @@ class CanonicalForm:
     Attributes
     ----------
     props : MassProperties in frame ``"principal"``.
-    R_frame_principal : (3, 3) proper rotation, columns are the principal axes expressed in F.
-    p_frame_com : (3,) m, COM in F (the origin of P).
+    R_body_principal : (3, 3) proper rotation, columns are the principal axes expressed in F.
+    p_body_com : (3,) m, COM in F (the origin of P).
     degenerate : tuple of tuples of int, repeated moments (see :func:`inertia.principal_axes`).
     rtol : float, tolerance used to decide repeated moments.
     frame : str, name of F.
     """
 
     props: MassProperties
-    R_frame_principal: np.ndarray
-    p_frame_com: np.ndarray
+    R_body_principal: np.ndarray
+    p_body_com: np.ndarray
     degenerate: tuple
     rtol: float
     frame: str
@@ -297,4 +297,4 @@ class CanonicalForm:
 
     def to_frame(self) -> MassProperties:
         """Back to the original frame F (inverse of the canonicalisation)."""
-        return self.props.expressed_in(self.frame, self.R_frame_principal, self.p_frame_com)
+        return self.props.expressed_in(self.frame, self.R_body_principal, self.p_body_com)

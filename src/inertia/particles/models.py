@@ -20,7 +20,7 @@ origin of P and ``sum m r r^T = diag(s_i)``, because ``I = tr(S) 1 - S``.
   tetrahedron scaled along the principal axes.
 
 Positions are given in the principal frame (``positions_principal``) and in the body frame F
-of the input (``positions_body = p_frame_com + R_frame_principal @ p_principal``).
+of the input (``positions_body = p_body_com + R_body_principal @ p_principal``).
 :meth:`ParticleModel.positions_world` moves them with a pose.
 
 This layer imports from :mod:`inertia.massprops`; the reverse never happens.
@@ -74,10 +74,10 @@ class ParticleModel:
     positions_principal : (n, 3) float, m
         Point positions in the principal frame P (origin at the COM, principal axes in the
         order of the ascending moments).
-    R_frame_principal : (3, 3) float
+    R_body_principal : (3, 3) float
         Proper rotation mapping P coordinates to F coordinates (the principal axes are its
         columns, expressed in F).
-    p_frame_com : (3,) float, m
+    p_body_com : (3,) float, m
         The COM (origin of P) in F.
     frame : str
         Name of the body frame F (from the input MassProperties).
@@ -85,7 +85,7 @@ class ParticleModel:
         Notes on degenerate cases (a flat body has coinciding or coplanar points).
     positions_body : (n, 3) float, m
         Point positions in the body frame F:
-        ``positions_body[k] = p_frame_com + R_frame_principal @ positions_principal[k]``.
+        ``positions_body[k] = p_body_com + R_body_principal @ positions_principal[k]``.
         Computed, not passed.
 
     Notes
@@ -97,8 +97,8 @@ class ParticleModel:
     kind: str
     masses: np.ndarray
     positions_principal: np.ndarray
-    R_frame_principal: np.ndarray
-    p_frame_com: np.ndarray
+    R_body_principal: np.ndarray
+    p_body_com: np.ndarray
     frame: str = "body"
     warnings: tuple = ()
     positions_body: np.ndarray = field(init=False, repr=False)
@@ -112,16 +112,16 @@ class ParticleModel:
         if np.any(m <= 0):
             k = int(np.argmax(m <= 0))
             raise InputError(f"point mass {k} must be positive, got {m[k]:.6g} kg")
-        R_FP = as_rotation_matrix(self.R_frame_principal, "R_frame_principal", allow_batch=False)
-        p_FBcm = as_vector3(self.p_frame_com, "p_frame_com")
+        R_body_principal = as_rotation_matrix(self.R_body_principal, "R_body_principal", allow_batch=False)
+        p_FBcm = as_vector3(self.p_body_com, "p_body_com")
         if not isinstance(self.frame, str):
             raise InputError(f"frame must be a string name, got {self.frame!r}")
-        # r_F = p_FBcm + R_FP r_P, for every row
-        p_F = p_FBcm + p_P @ R_FP.T
+        # r_F = p_FBcm + R_body_principal r_P, for every row
+        p_F = p_FBcm + p_P @ R_body_principal.T
         object.__setattr__(self, "masses", _frozen(m))
         object.__setattr__(self, "positions_principal", _frozen(p_P))
-        object.__setattr__(self, "R_frame_principal", _frozen(R_FP))
-        object.__setattr__(self, "p_frame_com", _frozen(p_FBcm))
+        object.__setattr__(self, "R_body_principal", _frozen(R_body_principal))
+        object.__setattr__(self, "p_body_com", _frozen(p_FBcm))
         object.__setattr__(self, "positions_body", _frozen(p_F))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
@@ -189,7 +189,7 @@ class ParticleModel:
         """Plain-Python dict (JSON-ready): masses [kg], positions [m] in F and in P, pose of P, frame.
 
         Keys: ``kind``, ``frame``, ``masses`` (n), ``positions_body`` (n x 3, in F),
-        ``positions_principal`` (n x 3, in P), ``R_frame_principal`` (3 x 3), ``p_frame_com``
+        ``positions_principal`` (n x 3, in P), ``R_body_principal`` (3 x 3), ``p_body_com``
         (3), ``warnings``.
         """
         return {
@@ -198,8 +198,8 @@ class ParticleModel:
             "masses": self.masses.tolist(),
             "positions_body": self.positions_body.tolist(),
             "positions_principal": self.positions_principal.tolist(),
-            "R_frame_principal": self.R_frame_principal.tolist(),
-            "p_frame_com": self.p_frame_com.tolist(),
+            "R_body_principal": self.R_body_principal.tolist(),
+            "p_body_com": self.p_body_com.tolist(),
             "warnings": list(self.warnings),
         }
 
@@ -282,7 +282,7 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
     notes = _flat_notes(sm, lambda i: f"d{i + 1} = {d[i]:.3g} m, so points {2 * i} and {2 * i + 1} "
                                       f"(+-d{i + 1} on principal axis {i + 1}) coincide at the COM")
     cf = sm.canonical
-    return ParticleModel("six_point", np.full(6, M / 6.0), p_P, cf.R_frame_principal, cf.p_frame_com,
+    return ParticleModel("six_point", np.full(6, M / 6.0), p_P, cf.R_body_principal, cf.p_body_com,
                          frame=props.frame, warnings=notes)
 
 
@@ -354,5 +354,5 @@ def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> P
     notes = _flat_notes(sm, lambda i: f"c{i + 1} = {c[i]:.3g} m, so the four points lie in the plane normal to "
                                       f"principal axis {i + 1}")
     cf = sm.canonical
-    return ParticleModel("four_point", np.full(4, M / 4.0), p_P, cf.R_frame_principal, cf.p_frame_com,
+    return ParticleModel("four_point", np.full(4, M / 4.0), p_P, cf.R_body_principal, cf.p_body_com,
                          frame=props.frame, warnings=notes)

@@ -32,7 +32,7 @@ def page_data(props, study, *, name: str, mesh=None, n_frames: int = 240) -> dic
     from ..particles.models import six_point_model
 
     cf = props.canonical()
-    R = cf.R_frame_principal
+    R = cf.R_body_principal
     six = six_point_model(props)
     six_principal = (six.positions_body - props.com) @ R
     t = np.linspace(study.t[0], study.t[-1], n_frames)
