@@ -11,8 +11,7 @@ command line start without loading NumPy until a name is used.
 from __future__ import annotations
 
 from ._core.lazy import lazy_namespace
-
-__version__ = "0.1.0"
+from ._core.version import __version__
 
 # public name -> module that defines it
 _EXPORTS = {

@@ -30,10 +30,10 @@ def report(tmp_path_factory):
 
 
 def _nut():
-    from importlib.resources import as_file, files
+    """The demo's body: the steel T-handle (exact mass properties)."""
+    from inertia.massprops.bodies import t_handle
 
-    with as_file(files("inertia").joinpath("data", "wingnut.obj")) as p:
-        return inertia.mesh_file_properties(p, units="cm", density=7850)
+    return t_handle().props
 
 
 def test_every_file_index_links_to_exists(report):

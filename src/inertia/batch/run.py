@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.errors import InputError
+from .._core.progress import Progress
 from .output import (format_of, read_table, rows_to_table, table_to_frame, write_frame, write_rows_parquet,
                      write_table_parquet)
 from .record import process_chunk, process_packed
@@ -87,34 +88,6 @@ class BatchSummary:
         if self.output:
             out.append(f"results: {self.output}")
         return out
-
-
-class Progress:
-    """A one-line progress bar on stderr: files done, files/s, ETA.  Quiet when disabled."""
-
-    def __init__(self, total: int, *, enabled: bool = True, stream=None):
-        self.total, self.done = total, 0
-        self.stream = stream or sys.stderr
-        self.enabled = enabled and total > 0
-        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
-        self.t0 = self._last = time.perf_counter()
-
-    def update(self, n: int) -> None:
-        self.done += n
-        now = time.perf_counter()
-        if not self.enabled or (now - self._last < (0.2 if self.tty else 5.0) and self.done < self.total):
-            return
-        self._last = now
-        rate = self.done / max(now - self.t0, 1e-9)
-        eta = (self.total - self.done) / rate if rate > 0 else float("inf")
-        width = 30
-        filled = int(width * self.done / self.total)
-        line = (f"[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} files  "
-                f"{rate:.1f} files/s  ETA {eta:.0f} s")
-        self.stream.write(("\r" + line) if self.tty else (line + "\n"))
-        if self.tty and self.done >= self.total:
-            self.stream.write("\n")
-        self.stream.flush()
 
 
 def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[list[Job]]:

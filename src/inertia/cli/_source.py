@@ -102,7 +102,7 @@ class SourceInfo:
 
     Attributes
     ----------
-    source : str, the SOURCE text as given (or a label such as "bundled wingnut.obj").
+    source : str, the SOURCE text as given (or a label such as "built-in T-handle").
     kind : str, "mesh" or "primitive".
     units : str, input length unit.
     density : float, kg/m^3 (kg/m^2 for shells); the mean density when --mass was given.
@@ -339,10 +339,10 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
 
 
 def _build_primitive(text, spec: PrimitiveSpec, dims, *, density, mass, shell):
-    import inertia
     from .._core.errors import InertiaError
+    from ..massprops import primitives
 
-    fn = getattr(inertia, spec.name)
+    fn = getattr(primitives, spec.name)
     kw = {"density": density} if density is not None else {"mass": mass}
     if shell:
         kw["shell"] = True

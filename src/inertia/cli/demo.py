@@ -1,11 +1,10 @@
 """``inertia demo``: the package's main job on a real body, with no arguments needed.
 
-By default it loads the bundled sample body ``inertia/data/wingnut.obj`` (a wing nut by
-Oded Stein, Eitan Grinspun and Keenan Crane, CC BY 4.0; see ``inertia/data/README.md``),
-reads its coordinates as centimetres (a hand-sized wing nut, 72 mm across the wings) and
-gives it the density of steel, 7850 kg/m^3.  It prints the mass properties, the canonical
-form (principal moments, axes, repeated-moment report), the validity check, the six-point
-and four-point particle models and the equivalent uniform box and ellipsoid.
+By default it builds the demo body itself: a steel T-handle (the body of the famous
+intermediate-axis flip videos), an assembly of two solid cylinders with exact mass properties
+(:func:`inertia.massprops.bodies.t_handle`).  It prints the mass properties, the canonical form
+(principal moments, axes, repeated-moment report), the validity check, the six-point and
+four-point particle models, the equivalent uniform box and ellipsoid and the flip.
 
 ``--mesh FILE`` runs the same tour on your own body (``--units``, ``--density``/``--mass``
 as for ``inertia props``; default there: metres and 1000 kg/m^3).
@@ -15,23 +14,16 @@ from __future__ import annotations
 
 from . import _format as fmt
 
-#: bundled sample body (package data) and how the demo reads it
-SAMPLE_FILE = "wingnut.obj"
-SAMPLE_UNITS = "cm"
-SAMPLE_DENSITY = 7850.0  # steel, kg/m^3
-SAMPLE_CREDIT = ('"Wing nut" by Oded Stein, Eitan Grinspun and Keenan Crane '
-                 "(github.com/odedstein/meshes), CC BY 4.0")
 #: where the report goes by default (relative to the working folder)
 DEFAULT_OUT = "inertia-report"
 
-EPILOG = f"""\
-default body: the bundled {SAMPLE_FILE}, "Wing nut" by Oded Stein, Eitan Grinspun and
-Keenan Crane (github.com/odedstein/meshes, CC BY 4.0), read in {SAMPLE_UNITS} (72 mm across
-the wings) with the density of steel, {SAMPLE_DENSITY:g} kg/m^3.
+EPILOG = """\
+default body: a steel T-handle built from two solid cylinders (cross-bar 80 mm long and 12 mm
+thick, stem 50 mm long and 10 mm thick), 7850 kg/m^3, exact mass properties.
 
 examples:
   inertia demo
-  inertia demo --density 2700                 (the same wing nut in aluminium)
+  inertia demo --density 2700                 (the same T-handle in aluminium)
   inertia demo --mesh part.stl --units mm --mass 0.25
   inertia demo --format json"""
 
@@ -44,24 +36,23 @@ def register(sub) -> None:
     from .props import add_format_argument
 
     p = sub.add_parser(
-        "demo", help="tour of the package on a bundled steel wing nut (or on --mesh FILE)",
+        "demo", help="tour of the package on a steel T-handle (or on --mesh FILE)",
         description=textwrap.fill("Mass properties, canonical form, validity, six-point and four-point particle "
                     "models and the equivalent box of a real body, in readable tables."),
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--mesh", metavar="FILE",
-                   help="your own closed triangle mesh (STL, OBJ, PLY, OFF, ...) instead of the bundled wing nut")
+                   help="your own closed triangle mesh (STL, OBJ, PLY, OFF, ...) instead of the T-handle")
     g = p.add_argument_group("mass (give at most one)")
     g.add_argument("--density", type=float, metavar="RHO",
-                   help=f"density in kg/m^3 (default: {SAMPLE_DENSITY:g}, steel, for the bundled wing nut; "
-                        "1000 for --mesh)")
+                   help="density in kg/m^3 (default: 7850, steel, for the T-handle; 1000 for --mesh)")
     g.add_argument("--mass", type=float, metavar="KG", help="total mass in kg (the density follows)")
-    p.add_argument("--units", choices=tuple(LENGTH_UNITS), metavar="UNIT",
-                   help="length unit of the mesh: " + "|".join(LENGTH_UNITS)
-                        + f" (default: {SAMPLE_UNITS} for the bundled wing nut, m for --mesh)")
-    p.add_argument("--shell", action="store_true",
+    m = p.add_argument_group("with --mesh only")
+    m.add_argument("--units", choices=tuple(LENGTH_UNITS), metavar="UNIT",
+                   help="length unit of the mesh: " + "|".join(LENGTH_UNITS) + " (default m)")
+    m.add_argument("--shell", action="store_true",
                    help="thin shell: mass spread over the surface (needs --mass, or --density in kg/m^2)")
-    p.add_argument("--fix-orientation", action="store_true", help="repair inconsistent or inverted face winding")
-    p.add_argument("--accept-defects", action="store_true",
+    m.add_argument("--fix-orientation", action="store_true", help="repair inconsistent or inverted face winding")
+    m.add_argument("--accept-defects", action="store_true",
                    help="compute even for an open/defective mesh; the result carries warnings")
     add_format_argument(p)
     r = p.add_argument_group("report (a folder with index.html, plots, an animation and a 3D page)")
@@ -76,53 +67,56 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def sample_path():
-    """Context manager yielding the path of the bundled sample mesh (works from a wheel install)."""
-    from importlib.resources import as_file, files
+def demo_body(args):
+    """``(props, info, display_mesh or None, built_body or None)`` for the demo's body."""
+    import argparse
 
-    return as_file(files("inertia").joinpath("data", SAMPLE_FILE))
+    from .._core.errors import InputError
+    from ._source import SourceInfo, load_source
+
+    if args.mesh is not None:
+        ns = argparse.Namespace(
+            source=args.mesh, units=args.units or "m", density=args.density, mass=args.mass, shell=args.shell,
+            fix_orientation=args.fix_orientation, accept_defects=args.accept_defects, command="demo")
+        props, info = load_source(ns)
+        return props, info, None, None
+    used = [flag for flag, on in (("--units", args.units is not None), ("--shell", args.shell),
+                                  ("--fix-orientation", args.fix_orientation),
+                                  ("--accept-defects", args.accept_defects)) if on]
+    if used:
+        raise InputError(f"{', '.join(used)} appl{'ies' if len(used) == 1 else 'y'} to --mesh FILE only, not to the "
+                         "built-in T-handle")
+    if args.density is not None and args.mass is not None:
+        raise InputError(f"give at most one of --density ({args.density!r}) and --mass ({args.mass!r})")
+    from ..massprops.bodies import STEEL_DENSITY, t_handle
+
+    body = t_handle(density=STEEL_DENSITY if args.density is None else args.density)
+    props = body.props
+    if args.mass is not None:
+        from .._core.validation import as_positive_scalar
+
+        props = props.with_mass(as_positive_scalar(args.mass, "--mass"))
+    source = "--density" if args.density is not None else (
+        "from --mass" if args.mass is not None else "steel, the demo's default")
+    info = SourceInfo("built-in T-handle", "assembly", "m", props.mass / props.volume, source)
+    info.dimensions_text = body.description
+    return props, info, body.display_mesh(), body
 
 
 def run(args) -> int:
-    import argparse
-
-    from ._source import load_source
-
-    bundled = args.mesh is None
-    ns = argparse.Namespace(
-        source=args.mesh, units=args.units or (SAMPLE_UNITS if bundled else "m"),
-        density=args.density, mass=args.mass, shell=args.shell,
-        fix_orientation=args.fix_orientation, accept_defects=args.accept_defects, command="demo")
-    if bundled and args.density is None and args.mass is None and not args.shell:
-        ns.density = SAMPLE_DENSITY
-    if bundled:
-        with sample_path() as path:
-            if not path.is_file():
-                from .._core.errors import MeshFileError
-
-                raise MeshFileError(f"the bundled sample {SAMPLE_FILE} is missing from {path.parent}: the package "
-                                    "was installed without its data files; reinstall it with pip install")
-            props, info = _load_bundled(ns, path)
-        info.source = f"bundled {SAMPLE_FILE}"
-        if info.density_source == "--density" and args.density is None:
-            info.density_source = "steel, the demo's default"
-    else:
-        props, info = load_source(ns)
+    props, info, display_mesh, body = demo_body(args)
+    bundled = body is not None
     report = build_report(props)
-    title = ("a steel wing nut" if bundled and info.density_source.startswith("steel") else str(info.source))
+    title = body.name if bundled else str(info.source)
     files = None
-    if args.no_report:
-        from ..viz.flipdata import flip_study
+    if not args.no_report:
+        files = _write_report(args, props, title, display_mesh)
+    if files is not None:
+        study = files["study"]
+    else:  # --no-report, or the plotting libraries are missing: the tables still come
+        from ..dynamics.flip_study import flip_study
 
         study = flip_study(props.principal()[0])
-    else:
-        files = _write_report(args, props, title, bundled, ns)
-        if files is None:  # plotting libraries missing: the tables still come
-            from ..viz.flipdata import flip_study
-
-            study = flip_study(props.principal()[0])
-        else:
-            study = files["study"]
     if args.format == "json":
         d = report_dict(props, info, report, bundled=bundled)
         d["flip"] = _flip_dict(study)
@@ -138,65 +132,38 @@ def run(args) -> int:
     return 0
 
 
-class _Progress:
-    """A progress bar on stderr while the report is built (only on a terminal)."""
-
-    STEPS = ("simulating the flip", "plotting", "animating", "writing the 3D page")
-
-    def __init__(self, enabled: bool):
-        import sys
-
-        self.enabled = enabled and sys.stderr.isatty()
-        self.k = 0
-
-    def __call__(self, name: str) -> None:
-        import sys
-
-        if not self.enabled:
-            return
-        self.k += 1
-        n = len(self.STEPS)
-        bar = "#" * (20 * self.k // n) + "." * (20 - 20 * self.k // n)
-        sys.stderr.write(f"\r[{bar}] {name}...".ljust(60))
-        sys.stderr.flush()
-
-    def done(self) -> None:
-        import sys
-
-        if self.enabled:
-            sys.stderr.write("\r" + " " * 60 + "\r")
-            sys.stderr.flush()
+#: the steps of the report, for the progress bar
+REPORT_STEPS = ("simulating the flip", "plotting", "animating", "writing the 3D page")
 
 
-def _write_report(args, props, title, bundled, ns):
-    from ..viz.report import build_report as build_folder
+def _write_report(args, props, title, display_mesh):
+    """The report folder, or None (with a note) when the plotting libraries are missing."""
+    import sys
 
-    mesh = None
-    try:
-        from ..geometry.mesh_io import load_mesh
+    from .._core.progress import StepProgress
 
-        if bundled:
-            with sample_path() as path:
-                mesh = load_mesh(path, units=ns.units)
-        elif args.mesh:
-            mesh = load_mesh(args.mesh, units=ns.units)
-    except Exception:  # noqa: BLE001 - the page then shows the equivalent box only
-        mesh = None
-    bar = _Progress(True)
+    mesh = display_mesh
+    if mesh is None and args.mesh:
+        try:
+            from ..geometry.mesh_io import load_mesh
+
+            mesh = load_mesh(args.mesh, units=args.units or "m")
+        except Exception:  # noqa: BLE001 - the page then shows the equivalent box only
+            mesh = None
     try:
         import matplotlib  # noqa: F401 - the report needs it; the tables do not
     except ImportError:
-        import sys
-
         print("inertia demo: note: no report written: it needs matplotlib and Pillow "
               "(pip install 'inertia[viz]' or '.[all]')", file=sys.stderr)
         return None
+    from ..viz.report import build_report as build_folder
+
+    bar = StepProgress(REPORT_STEPS)
     try:
-        return build_folder(args.out, props, title=f"inertia demo: {title}", credit=SAMPLE_CREDIT if bundled else None,
-                            mesh=mesh, video=not args.no_video, force=args.force, progress=bar,
-                            animation_format=args.video_format)
+        return build_folder(args.out, props, title=f"inertia demo: {title}", mesh=mesh, video=not args.no_video,
+                            force=args.force, progress=bar, animation_format=args.video_format)
     finally:
-        bar.done()
+        bar.clear()
 
 
 def _flip_dict(study) -> dict:
@@ -222,61 +189,17 @@ def flip_lines(study) -> list[str]:
     return lines
 
 
-def _load_bundled(ns, path):
-    """The bundled sample through the normal mesh reader, or, when the optional trimesh is not
-    installed, through :func:`read_simple_obj` (the file is a plain triangle OBJ)."""
-    from .._core.errors import MissingDependencyError
-
-    from ._source import LENGTH_UNITS, SourceInfo, load_source
-
-    try:
-        return load_source(ns, source=str(path))
-    except MissingDependencyError:
-        import inertia
-
-        vertices, faces = read_simple_obj(path)
-        props = inertia.mesh_properties(vertices * LENGTH_UNITS[ns.units], faces, density=ns.density,
-                                        mass=ns.mass, shell=ns.shell, fix_orientation=ns.fix_orientation,
-                                        on_defect="warn" if ns.accept_defects else "raise", name=SAMPLE_FILE)
-        density = ns.density if ns.density is not None else props.density
-        info = SourceInfo(str(path), "mesh", ns.units, density,
-                          "--density" if ns.density is not None else "from --mass", shell=ns.shell)
-        return props, info
-
-
-def read_simple_obj(path):
-    """``(vertices (V, 3) float, faces (F, 3) int)`` of an OBJ file's ``v`` and ``f`` lines.
-
-    Enough for the bundled sample when trimesh is missing: polygons are split into triangle
-    fans, ``f a/b/c`` keeps the vertex index, negative (relative) indices are resolved.
-    """
-    import numpy as np
-
-    vertices, faces = [], []
-    with open(path, encoding="utf-8") as fh:
-        for line in fh:
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                vertices.append([float(x) for x in parts[1:4]])
-            elif parts[0] == "f":
-                idx = [int(p.split("/")[0]) for p in parts[1:]]
-                idx = [i - 1 if i > 0 else len(vertices) + i for i in idx]  # OBJ is 1-based; -1 = last
-                faces += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
-    return np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64)
-
-
 def build_report(props) -> dict:
     """Everything the demo shows beyond the mass properties (models and equivalent solids)."""
-    import inertia
+    from ..massprops.equivalent import equivalent_box, equivalent_ellipsoid
+    from ..particles.models import four_point_model, six_point_model
 
     return {
         "canonical": props.canonical(),
-        "six_point": inertia.six_point_model(props),
-        "four_point": inertia.four_point_model(props),
-        "equivalent_box": inertia.equivalent_box(props),
-        "equivalent_ellipsoid": inertia.equivalent_ellipsoid(props),
+        "six_point": six_point_model(props),
+        "four_point": four_point_model(props),
+        "equivalent_box": equivalent_box(props),
+        "equivalent_ellipsoid": equivalent_ellipsoid(props),
     }
 
 
@@ -296,8 +219,6 @@ def report_dict(props, info, report, *, bundled: bool) -> dict:
     from .props import props_dict
 
     body = info.to_dict()
-    if bundled:
-        body["credit"] = SAMPLE_CREDIT
     return {
         "body": body,
         "mass_properties": props_dict(props, info),
@@ -315,13 +236,12 @@ def report_lines(props, info, report, *, bundled: bool) -> list[str]:
     from .particles import model_lines
     from .props import canonical_lines, inertia_lines, summary_lines, validity_lines, warnings_lines
 
-    title = "inertia demo: a steel wing nut" if bundled and info.density_source.startswith("steel") \
-        else f"inertia demo: {info.source}"
+    title = "inertia demo: " + ((("a steel " if info.density_source.startswith("steel") else "a ") + "T-handle")
+                                if bundled else str(info.source))
     lines = [title, "=" * len(title)]
     if bundled:
-        lines += [f"Body: {SAMPLE_CREDIT}.",
-                  f"Mesh coordinates read in {info.units}; SI units throughout.  Your own body: "
-                  "inertia demo --mesh FILE [--units mm] [--density RHO | --mass KG]"]
+        lines += ["Body: a T-handle built from two solid cylinders (exact mass properties); SI units throughout.",
+                  "Your own body: inertia demo --mesh FILE [--units mm] [--density RHO | --mass KG]"]
     lines += [""] + summary_lines(props, info, title="1. Mass properties")
     lines += inertia_lines(props, heading=False)
     lines += canonical_lines(props, title="2. Canonical form: principal moments and axes")

@@ -66,9 +66,9 @@ def run(args) -> int:
 
 def build_models(props) -> dict:
     """``{"six_point": ParticleModel, "four_point": ParticleModel}`` for ``props``."""
-    import inertia
+    from ..particles import models
 
-    return {key: getattr(inertia, fn)(props) for key, _, fn in MODELS}
+    return {key: getattr(models, fn)(props) for key, _, fn in MODELS}
 
 
 def reproduction_error(model, props) -> float:

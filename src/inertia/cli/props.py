@@ -128,8 +128,11 @@ def props_lines(props, info, *, title: str | None = None) -> list[str]:
 def summary_lines(props, info, *, title: str) -> list[str]:
     """Title, source, mass, volume, density, center of mass."""
     lines = fmt.heading(title)[1:]  # no blank line before the first heading
-    src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, results in SI units)")]
-    if info.kind == "primitive":
+    if info.kind == "assembly":
+        src = [("source", f"{info.source} (an assembly of primitives; SI units)")]
+    else:
+        src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, results in SI units)")]
+    if info.kind in ("primitive", "assembly"):
         src.append(("dimensions", info.dimensions_text))
     volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
     lines += fmt.key_values(src + [

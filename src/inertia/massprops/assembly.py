@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError
-from . import tensor as _t
 from .._core.validation import as_rotation_matrix, as_vector3
+from .properties import MassProperties, combine
 
 
 @dataclass(frozen=True)
@@ -39,40 +38,6 @@ class Part:
         return self.props.transformed(R, p)
 
 
-def combine(bodies, signs=None, *, frame=None, allow_negative: bool = False, validate: bool = True):
-    """Combine bodies expressed in the same frame.
-
-    ``signs`` (+1 / -1 per body) subtracts removed material; negative signs require
-    ``allow_negative=True``.  The result must have positive mass.
-    """
-    from .properties import MassProperties
-
-    bodies = list(bodies)
-    if not bodies:
-        raise InputError("nothing to combine: no parts given")
-    signs = np.ones(len(bodies)) if signs is None else np.asarray(signs, float)
-    if np.any(signs < 0) and not allow_negative:
-        raise InputError("a part with negative mass (subtract=True) needs allow_negative=True")
-    frames = {b.frame for b in bodies}
-    if len(frames) > 1 and frame is None:
-        raise InputError(f"parts are expressed in different frames {sorted(frames)}; express them in one frame first")
-    m = np.array([b.mass for b in bodies]) * signs
-    M = float(m.sum())
-    if not (M > 0 and math.isfinite(M)):
-        raise InputError(f"assembly mass must be positive, got {M:.6g} kg (removed parts outweigh the rest?)")
-    coms = np.array([b.com for b in bodies])
-    com = (m @ coms) / M
-    I = np.zeros((3, 3))
-    for sgn, b in zip(signs, bodies):
-        # each part's inertia about the common COM (parallel axis), signed
-        I += sgn * _t.inertia_about_point(b.inertia_com, b.mass, b.com, com)
-    vols = np.array([b.volume for b in bodies]) * signs
-    vol = float(vols.sum()) if np.all(np.isfinite(vols)) else math.nan
-    warnings = tuple(w for b in bodies for w in b.warnings)
-    return MassProperties(M, com, 0.5 * (I + I.T), frame=frame or bodies[0].frame, volume=vol,
-                          warnings=warnings, validate=validate)
-
-
 def assemble(parts, *, frame: str = "assembly", allow_negative: bool = False, validate: bool = True):
     """Mass properties of an assembly of :class:`Part` (or bare MassProperties at the identity pose).
 
@@ -80,8 +45,6 @@ def assemble(parts, *, frame: str = "assembly", allow_negative: bool = False, va
     ``allow_negative=True`` is given.  The result is validated (positive mass, positive
     definite, triangle inequality) unless ``validate=False``.
     """
-    from .properties import MassProperties
-
     bodies, signs = [], []
     for k, p in enumerate(parts):
         if isinstance(p, MassProperties):

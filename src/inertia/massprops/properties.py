@@ -231,7 +231,6 @@ class MassProperties:
         """Combine two bodies expressed in the same frame (rigidly joined)."""
         if not isinstance(other, MassProperties):
             return NotImplemented
-        from .assembly import combine
         return combine([self, other])
 
     # ------------------------------------------------------------------ export
@@ -298,3 +297,35 @@ class CanonicalForm:
     def to_frame(self) -> MassProperties:
         """Back to the original frame F (inverse of the canonicalisation)."""
         return self.props.expressed_in(self.frame, self.R_body_principal, self.p_body_com)
+
+
+def combine(bodies, signs=None, *, frame=None, allow_negative: bool = False, validate: bool = True):
+    """Combine bodies expressed in the same frame.
+
+    ``signs`` (+1 / -1 per body) subtracts removed material; negative signs require
+    ``allow_negative=True``.  The result must have positive mass.
+    """
+    bodies = list(bodies)
+    if not bodies:
+        raise InputError("nothing to combine: no parts given")
+    signs = np.ones(len(bodies)) if signs is None else np.asarray(signs, float)
+    if np.any(signs < 0) and not allow_negative:
+        raise InputError("a part with negative mass (subtract=True) needs allow_negative=True")
+    frames = {b.frame for b in bodies}
+    if len(frames) > 1 and frame is None:
+        raise InputError(f"parts are expressed in different frames {sorted(frames)}; express them in one frame first")
+    m = np.array([b.mass for b in bodies]) * signs
+    M = float(m.sum())
+    if not (M > 0 and math.isfinite(M)):
+        raise InputError(f"assembly mass must be positive, got {M:.6g} kg (removed parts outweigh the rest?)")
+    coms = np.array([b.com for b in bodies])
+    com = (m @ coms) / M
+    I = np.zeros((3, 3))
+    for sgn, b in zip(signs, bodies):
+        # each part's inertia about the common COM (parallel axis), signed
+        I += sgn * _t.inertia_about_point(b.inertia_com, b.mass, b.com, com)
+    vols = np.array([b.volume for b in bodies]) * signs
+    vol = float(vols.sum()) if np.all(np.isfinite(vols)) else math.nan
+    warnings = tuple(w for b in bodies for w in b.warnings)
+    return MassProperties(M, com, 0.5 * (I + I.T), frame=frame or bodies[0].frame, volume=vol,
+                          warnings=warnings, validate=validate)

@@ -12,9 +12,7 @@ import numpy as np
 
 from .._core.errors import InertiaError
 from ..geometry.mesh_io import SUPPORTED_EXTENSIONS
-
-#: the eight corners of the cube [-1, 1]^3; scaled by half-extents they bound a shape
-CORNER_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+from ..geometry.shapes import BOX_CORNER_SIGNS as CORNER_SIGNS
 
 #: geometry used when a link has both: collision first (it is what the simulator sees)
 ROLES = ("collision", "visual")

@@ -26,12 +26,9 @@ def _plt():
 
 def box_wire(half):
     """Corners (8, 3) of a box with half-extents ``half`` and its 12 edges as corner-index pairs."""
-    from ..robots.geometry import CORNER_SIGNS
+    from ..geometry.shapes import BOX_CORNER_SIGNS, box_edges
 
-    corners = CORNER_SIGNS * np.asarray(half, float)
-    edges = [(i, j) for i in range(8) for j in range(i + 1, 8)
-             if np.count_nonzero(CORNER_SIGNS[i] != CORNER_SIGNS[j]) == 1]
-    return corners, edges
+    return BOX_CORNER_SIGNS * np.asarray(half, float), box_edges()
 
 
 def _save(fig, out_dir: Path, stem: str) -> list[str]:

@@ -120,7 +120,7 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, mesh=
     from .._core.atomic import write_text_atomic
     from ..particles.models import six_point_model
     from . import plots
-    from .flipdata import flip_study
+    from ..dynamics.flip_study import flip_study
     from .page import page_data, write_page
 
     step = progress or (lambda name: None)

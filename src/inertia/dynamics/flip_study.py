@@ -36,7 +36,7 @@ class FlipStudy:
 def flip_study(moments, *, spin_rate: float = SPIN_RATE, wobble: float = WOBBLE, n_flips: float = 3.0,
                samples: int = 1201, steps_per_flip: int = 400, methods=("splitting", "rk4")) -> FlipStudy:
     """Spin about the intermediate axis with ``wobble`` x ``spin_rate`` about the minor axis."""
-    from ..dynamics import diagnostics, exact, flip, integrators
+    from . import diagnostics, exact, flip, integrators
 
     I = np.sort(np.asarray(moments, float))
     w0 = np.array([wobble * spin_rate, spin_rate, 0.0])
