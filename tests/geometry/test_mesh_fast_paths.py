@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from inertia.geometry import checks as mesh_checks, mesh_io
-from inertia.geometry.checks import _analyse, _weld_map_numpy, compact_vertices, validate_inputs
+from inertia.geometry.checks import analyse_mesh, _weld_map_numpy, compact_vertices, validate_inputs
 
 nbk = pytest.importorskip("inertia.geometry._topology_numba")
 
@@ -150,8 +150,8 @@ def _report_key(r):
 
 def _both_reports(v, f, welded=False):
     v, f = validate_inputs(v, f)
-    fast = _analyse(v, f, welded=welded)
-    full = _analyse(v, f, welded=welded, full=True)
+    fast = analyse_mesh(v, f, welded=welded)
+    full = analyse_mesh(v, f, welded=welded, full=True)
     return fast.report, full.report
 
 

@@ -14,8 +14,8 @@ def quat_multiply(p, q) -> np.ndarray:
     """Hamilton product ``p (x) q`` of (..., 4) quaternions."""
     p = np.asarray(p, float)
     q = np.asarray(q, float)
-    pw, px, py, pz = np.moveaxis(p, -1, 0)
-    qw, qx, qy, qz = np.moveaxis(q, -1, 0)
+    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     return np.stack([
         pw * qw - px * qx - py * qy - pz * qz,
         pw * qx + px * qw + py * qz - pz * qy,
@@ -33,7 +33,7 @@ def quat_conjugate(q) -> np.ndarray:
 def quat_normalize(q) -> np.ndarray:
     """Scale to unit norm (..., 4)."""
     q = np.asarray(q, float)
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
 
 
 def quat_canonical(q) -> np.ndarray:
@@ -62,25 +62,23 @@ def matrix_to_quat(R) -> np.ndarray:
     R = np.asarray(R, float)
     shape = R.shape[:-2]
     R = R.reshape(-1, 3, 3)
-    tr = np.trace(R, axis1=-2, axis2=-1)
-    diag = np.diagonal(R, axis1=-2, axis2=-1)
-    pivot = np.argmax(np.concatenate([tr[:, None], diag], axis=1), axis=1)
-    q = np.empty((R.shape[0], 4))
-    for k in range(R.shape[0]):
-        r = R[k]
-        i = pivot[k]
-        if i == 0:
-            s = 2.0 * np.sqrt(1.0 + tr[k])
-            q[k] = [0.25 * s, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s]
-        elif i == 1:
-            s = 2.0 * np.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2])
-            q[k] = [(r[2, 1] - r[1, 2]) / s, 0.25 * s, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s]
-        elif i == 2:
-            s = 2.0 * np.sqrt(1.0 - r[0, 0] + r[1, 1] - r[2, 2])
-            q[k] = [(r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, 0.25 * s, (r[1, 2] + r[2, 1]) / s]
-        else:
-            s = 2.0 * np.sqrt(1.0 - r[0, 0] - r[1, 1] + r[2, 2])
-            q[k] = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, 0.25 * s]
+    r = lambda i, j: R[:, i, j]  # noqa: E731
+    tr = r(0, 0) + r(1, 1) + r(2, 2)
+    pivot = np.argmax(np.stack([tr, r(0, 0), r(1, 1), r(2, 2)], axis=1), axis=1)
+    # the four candidate formulas, vectorised; each is used only where its pivot is largest
+    # (so its square root is of a number >= 1 and the divisions are well conditioned)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s0 = 2.0 * np.sqrt(1.0 + tr)
+        s1 = 2.0 * np.sqrt(1.0 + r(0, 0) - r(1, 1) - r(2, 2))
+        s2 = 2.0 * np.sqrt(1.0 - r(0, 0) + r(1, 1) - r(2, 2))
+        s3 = 2.0 * np.sqrt(1.0 - r(0, 0) - r(1, 1) + r(2, 2))
+        cands = np.stack([
+            np.stack([0.25 * s0, (r(2, 1) - r(1, 2)) / s0, (r(0, 2) - r(2, 0)) / s0, (r(1, 0) - r(0, 1)) / s0], -1),
+            np.stack([(r(2, 1) - r(1, 2)) / s1, 0.25 * s1, (r(0, 1) + r(1, 0)) / s1, (r(0, 2) + r(2, 0)) / s1], -1),
+            np.stack([(r(0, 2) - r(2, 0)) / s2, (r(0, 1) + r(1, 0)) / s2, 0.25 * s2, (r(1, 2) + r(2, 1)) / s2], -1),
+            np.stack([(r(1, 0) - r(0, 1)) / s3, (r(0, 2) + r(2, 0)) / s3, (r(1, 2) + r(2, 1)) / s3, 0.25 * s3], -1),
+        ], axis=1)
+    q = cands[np.arange(R.shape[0]), pivot]
     q = quat_canonical(quat_normalize(q))
     return q.reshape(shape + (4,))
 
@@ -121,3 +119,30 @@ def quat_rotate(q, v) -> np.ndarray:
     w = q[..., :1]
     t = 2.0 * np.cross(u, v)
     return v + w * t + np.cross(u, t)
+
+
+def cross3(a, b) -> np.ndarray:
+    """``a x b`` for (..., 3) arrays (faster than ``np.cross`` on small arrays)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+def quat_multiply_vector(q, v) -> np.ndarray:
+    """``q (x) (0, v)`` for quaternions q (..., 4) and vectors v (..., 3)."""
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    a, b, c = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([-x * a - y * b - z * c,
+                     w * a + y * c - z * b,
+                     w * b - x * c + z * a,
+                     w * c + x * b - y * a], axis=-1)
+
+
+def vector_multiply_quat(v, q) -> np.ndarray:
+    """``(0, v) (x) q`` for vectors v (..., 3) and quaternions q (..., 4)."""
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    a, b, c = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([-a * x - b * y - c * z,
+                     a * w + b * z - c * y,
+                     b * w + c * x - a * z,
+                     c * w + a * y - b * x], axis=-1)

@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .errors import InputError
+from .tolerances import QUAT_NORM_TOL, SYMMETRY_RTOL
 
 
-def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch: bool = True) -> np.ndarray:
+def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch: bool = True,
+                   finite: bool = True) -> np.ndarray:
     """Return ``value`` as a float64 array whose trailing shape is ``shape_tail``.
 
     Raises InputError naming ``name`` when the value is not numeric, has the wrong
-    shape, or holds NaN/inf.
+    shape, or (with ``finite``, the default) holds NaN/inf.  ``finite=False`` lets NaN and
+    inf through, for functions that report on data that may have diverged.
     """
     try:
         arr = np.asarray(value, dtype=np.float64)
@@ -25,7 +30,7 @@ def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch
         dims = ["..."] * allow_batch + [str(s) for s in shape_tail]
         want = "(" + ", ".join(dims) + ("," if len(dims) == 1 else "") + ")"
         raise InputError(f"{name} must have shape {want}, got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if finite and not np.all(np.isfinite(arr)):
         bad = np.argwhere(~np.isfinite(arr))[0]
         raise InputError(f"{name} holds a non-finite value ({arr[tuple(bad)]}) at index {tuple(int(i) for i in bad)}")
     return arr
@@ -78,3 +83,53 @@ def resolve_mass(measure: float, density, mass, *, what: str, measure_name: str 
         return rho * measure, rho
     m = as_positive_scalar(mass, "mass")
     return m, m / measure
+
+
+def as_unit_quat(q, name: str = "q_world_body", *, allow_batch: bool = True) -> np.ndarray:
+    """Unit quaternions ``(..., 4)`` (w, x, y, z), renormalised; refused beyond :data:`QUAT_NORM_TOL`.
+
+    A norm within ``QUAT_NORM_TOL`` of 1 is drift and is divided out; anything further (a zero
+    or garbage quaternion) raises :class:`InputError` naming the argument, the norm and where.
+    """
+    arr = as_float_array(q, name, (4,), allow_batch=allow_batch)
+    norm = np.linalg.norm(arr, axis=-1, keepdims=True)
+    dev = np.abs(norm - 1.0)
+    if np.any(dev > QUAT_NORM_TOL):
+        k = tuple(int(i) for i in np.unravel_index(np.argmax(dev), dev.shape)[:-1])
+        where = f" at batch index {k}" if k else ""
+        raise InputError(f"{name} must be a unit quaternion (w, x, y, z) (|q| - 1 within {QUAT_NORM_TOL:g}), "
+                         f"got |q| = {float(norm[k][0]):.12g}{where}: {arr[k].tolist()}")
+    return arr / norm
+
+
+def as_time_step(h, name: str = "h") -> float:
+    """A finite, non-zero time step [s]: the one rule for every integrator and transition function.
+
+    A negative step integrates backwards in time (every method is defined for it; the
+    symmetric ones retrace their steps exactly); zero, NaN and inf are refused.
+    """
+    try:
+        hf = float(h)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number (the time step in s), got {h!r}") from None
+    if not math.isfinite(hf) or hf == 0.0:
+        raise InputError(f"{name} must be a finite non-zero time step in s (negative integrates backwards), "
+                         f"got {h!r}")
+    return hf
+
+
+def as_count(value, name: str, minimum: int = 0) -> int:
+    """An integer ``>= minimum`` (a Python or NumPy integer; bools and floats are refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def as_symmetric_matrix3(value, name: str, *, allow_batch: bool = True) -> np.ndarray:
+    """Symmetric matrices ``(..., 3, 3)``: ``max|A - A^T| <= SYMMETRY_RTOL * max|A|``."""
+    A = as_float_array(value, name, (3, 3), allow_batch=allow_batch)
+    asym = np.abs(A - np.swapaxes(A, -1, -2)).max(initial=0.0)
+    scale = np.abs(A).max(initial=0.0)
+    if asym > SYMMETRY_RTOL * scale:
+        raise InputError(f"{name} must be symmetric, got max |I - I^T| = {asym:.3g} (largest entry {scale:.3g})")
+    return A

@@ -101,7 +101,7 @@ def _reraise_interrupt(exc: BaseException) -> None:
 def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
     from .._core.errors import InertiaError
-    from ..massprops.mesh import _mesh_properties
+    from ..massprops.mesh import compute_mesh_properties
     from ..geometry.mesh_io import load_mesh
 
     t0 = time.perf_counter()
@@ -114,7 +114,7 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
         row.update(n_vertices=int(len(vertices)), n_faces=int(len(faces)))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # accepted defects are recorded in props.warnings
-            props, report = _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+            props, report = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                                              fix_orientation=fix_orientation, on_defect=on_defect,
                                              frame="body", name=job.path, stacklevel=2, with_report=True,
                                              welded=True)

@@ -124,7 +124,7 @@ def resolve_body(args) -> Body:
     """Body from SOURCE or --moments (exactly one), validated (physical principal moments)."""
     import numpy as np
 
-    from ..dynamics.exact import as_moments
+    from ..massprops.validity import as_principal_moments
     from .._core.errors import InputError
 
     if args.source is not None and args.moments is not None:
@@ -140,13 +140,14 @@ def resolve_body(args) -> Body:
         if used:
             raise InputError(f"{', '.join(used)} appl{'ies' if len(used) == 1 else 'y'} to a SOURCE only, "
                              f"not to --moments")
-        I = as_moments(parse_numbers(args.moments, "--moments", 3, what="moments (kg m^2)"), "--moments")
+        I = as_principal_moments(parse_numbers(args.moments, "--moments", 3, what="moments (kg m^2)"), "--moments",
+                                 allow_batch=False)
         return Body(I, np.eye(3), f"moments {fmt.vector(I)} kg m^2")
     from ._source import load_source
 
     props, info = load_source(args, source=args.source)
     pf = props.principal_frame()
-    I = as_moments(pf.moments, f"principal moments of {args.source}")
+    I = as_principal_moments(pf.moments, f"principal moments of {args.source}", allow_batch=False)
     return Body(I, np.asarray(pf.R_body_principal, float), f"{args.source} (principal moments {fmt.vector(I)} kg m^2)", info)
 
 
@@ -154,7 +155,7 @@ def initial_state(args, body):
     """``(omega0_P, q0_WP)`` in the computation frame P from --omega and --q0 (given in frame B)."""
     import numpy as np
 
-    from ..dynamics.equations import QUAT_NORM_TOL
+    from .._core.tolerances import QUAT_NORM_TOL
     from .._core.rotations import matrix_to_quat, quat_multiply
     from .._core.errors import InputError
 

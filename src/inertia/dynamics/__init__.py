@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from .._core.lazy import lazy_namespace
 
-_MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "diagnostics", "transition", "rollout")
+_MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "flip_study", "diagnostics", "state", "body",
+            "transition", "rollout")
 
 # public name -> submodule that defines it
 _EXPORTS = {
@@ -30,9 +31,9 @@ _EXPORTS = {
     "kinetic_energy": "diagnostics", "angular_momentum_norm": "diagnostics",
     "angular_momentum_world": "diagnostics", "trajectory_invariants": "diagnostics",
     # 6-DOF transition function
-    "RigidBody": "transition", "step": "transition", "jacobians": "transition",
-    "pack_state": "transition", "unpack_state": "transition", "pack_input": "transition",
-    "perturb_state": "transition", "state_error": "transition", "rollout": "rollout",
+    "RigidBody": "body", "step": "transition", "jacobians": "transition",
+    "pack_state": "state", "unpack_state": "state", "pack_input": "state", "RigidState": "state",
+    "perturb_state": "state", "state_error": "state", "rollout": "rollout", "DEFAULT_METHOD": "integrators",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

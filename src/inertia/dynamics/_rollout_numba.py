@@ -195,7 +195,7 @@ def _translate_world(p0, p1, p2, v0, v1, v2, F0, F1, F2, m, g0, g1, g2, h):
 @njit(cache=True, error_model="numpy")
 def _body_step(method, body_force, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, w0, w1, w2,
                I0, I1, I2, F0, F1, F2, t0, t1, t2, m, g0, g1, g2, h):
-    """One step of one body in the principal frame   (transition._step_principal)."""
+    """One step of one body in the principal frame   (transition.step_principal)."""
     nw, nx, ny, nz, n0, n1, n2 = _rot(method, qw, qx, qy, qz, w0, w1, w2, I0, I1, I2, t0, t1, t2, h)
     if body_force:
         # Simpson on the rotating force: samples at 0, h/2, h   (transition._translate)
@@ -315,7 +315,7 @@ def _save(out, r, bi, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, w0, w1, w2, frame,
 
     ``frame`` (Nf, 13) holds ``q_BP`` (0:4) and ``R_BP`` row-major (4:13) per body (row ``bf``);
     an empty ``frame`` means P = B.  ``q_WB = q_WP (x) q_BP^-1``, ``w_B = R_BP w_P``
-    (transition._from_principal).
+    (transition.state_from_principal).
     """
     out[r, bi, 0] = p0
     out[r, bi, 1] = p1

@@ -18,20 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core.errors import InputError
-from .equations import _as_inertia, _as_moments
+from .._core.validation import as_float_array, as_symmetric_matrix3
+from ..massprops.validity import as_principal_moments
 from .._core.rotations import quat_to_matrix
-
-def _as_array(value, name: str, tail: tuple[int, ...]) -> np.ndarray:
-    """Float array with trailing shape ``tail``.  NaN and inf pass through: a diverged
-    trajectory has diverged invariants, which is what these functions should report."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be numeric, got {type(value).__name__}: {exc}") from None
-    if arr.shape[arr.ndim - len(tail):] != tail or arr.ndim < len(tail):
-        raise InputError(f"{name} must have shape (..., {', '.join(map(str, tail))}), got {arr.shape}")
-    return arr
-
 
 __all__ = [
     "angular_momentum_body",
@@ -54,13 +43,13 @@ def angular_momentum_body(omega_body, moments=None, *, inertia_body=None) -> np.
     moments : (..., 3) float, kg m^2, principal moments (body frame = principal frame).
     inertia_body : (..., 3, 3) float, kg m^2, keyword-only alternative to ``moments``.
     """
-    w = _as_array(omega_body, "omega_body", (3,))
+    w = as_float_array(omega_body, "omega_body", (3,), finite=False)
     if (moments is None) == (inertia_body is None):
         raise InputError("give exactly one of moments= (principal, (..., 3)) or inertia_body= ((..., 3, 3)), got "
                          + ("both" if moments is not None else "neither"))
     if moments is not None:
-        return _as_moments(moments) * w
-    return np.einsum("...ij,...j->...i", _as_inertia(inertia_body), w)
+        return as_principal_moments(moments, validate=False) * w
+    return np.einsum("...ij,...j->...i", as_symmetric_matrix3(inertia_body, "inertia_body"), w)
 
 
 def kinetic_energy(omega_body, moments=None, *, inertia_body=None) -> np.ndarray:
@@ -73,7 +62,7 @@ def kinetic_energy(omega_body, moments=None, *, inertia_body=None) -> np.ndarray
     >>> kinetic_energy(np.ones((4, 3)), [1.0, 2.0, 3.0]).shape
     (4,)
     """
-    w = _as_array(omega_body, "omega_body", (3,))
+    w = as_float_array(omega_body, "omega_body", (3,), finite=False)
     m = angular_momentum_body(w, moments, inertia_body=inertia_body)
     return 0.5 * np.sum(m * w, axis=-1)
 
@@ -89,7 +78,7 @@ def angular_momentum_world(q_world_body, omega_body, moments=None, *, inertia_bo
     ``q_world_body`` (..., 4) is normalised before use, so this measures the drift of the
     momentum and the attitude, not of ``|q|`` (see :func:`quat_norm` for that).
     """
-    q = _as_array(q_world_body, "q_world_body", (4,))
+    q = as_float_array(q_world_body, "q_world_body", (4,), finite=False)
     m = angular_momentum_body(omega_body, moments, inertia_body=inertia_body)
     R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
     return np.einsum("...ij,...j->...i", R, m)
@@ -97,7 +86,7 @@ def angular_momentum_world(q_world_body, omega_body, moments=None, *, inertia_bo
 
 def quat_norm(q_world_body) -> np.ndarray:
     """Euclidean norm ``|q|`` (...) of quaternions (..., 4)."""
-    return np.linalg.norm(_as_array(q_world_body, "q_world_body", (4,)), axis=-1)
+    return np.linalg.norm(as_float_array(q_world_body, "q_world_body", (4,), finite=False), axis=-1)
 
 
 def attitude_error(q_a, q_b) -> np.ndarray:
@@ -111,8 +100,8 @@ def attitude_error(q_a, q_b) -> np.ndarray:
     >>> round(float(attitude_error([1, 0, 0, 0], [np.cos(0.05), np.sin(0.05), 0, 0])), 12)
     0.1
     """
-    a = _as_array(q_a, "q_a", (4,))
-    b = _as_array(q_b, "q_b", (4,))
+    a = as_float_array(q_a, "q_a", (4,), finite=False)
+    b = as_float_array(q_b, "q_b", (4,), finite=False)
     a = a / np.linalg.norm(a, axis=-1, keepdims=True)
     b = b / np.linalg.norm(b, axis=-1, keepdims=True)
     # relative quaternion a^-1 (x) b: scalar part a.b, vector part aw bv - bw av - av x bv
@@ -171,7 +160,7 @@ def trajectory_invariants(trajectory, moments=None, *, inertia_body=None) -> Inv
     Examples
     --------
     >>> from .integrators import integrate
-    >>> traj = integrate([1, 0, 0, 0], [1.3, 0.0, 0.2], [2/3, 1, 2], 0.1, 50)
+    >>> traj = integrate([1, 0, 0, 0], [1.3, 0.0, 0.2], [2/3, 1, 2], 0.1, 50, validate=False)
     >>> inv = trajectory_invariants(traj, [2/3, 1, 2])
     >>> inv.energy.shape, inv.L_world.shape
     ((51,), (51, 3))

@@ -297,10 +297,10 @@ def ellippiinc(n, phi, m=None, *, mc=None):
     _check_characteristic(n)
     j, s, c = _amplitude_reduction(phi)
     j, s, c, n, m, mc = np.broadcast_arrays(j, s, c, n, m, mc)
-    return _pi_local(n, s, c, c * c + mc * s * s) + np.where(j != 0, 2.0 * j * ellippi(n, mc=mc), 0.0)
+    return incomplete_pi_local(n, s, c, c * c + mc * s * s) + np.where(j != 0, 2.0 * j * ellippi(n, mc=mc), 0.0)
 
 
-def _pi_local(n, s, c, d2):
+def incomplete_pi_local(n, s, c, d2):
     """``Pi(n; r | m)`` for ``|r| <= pi/2`` from ``s = sin r``, ``c = cos r``, ``d2 = 1 - m s^2``."""
     c2 = c * c
     with np.errstate(divide="ignore", invalid="ignore"):

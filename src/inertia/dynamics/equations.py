@@ -34,8 +34,9 @@ import math
 import numpy as np
 
 from .._core.errors import InputError
-from .._core.validation import as_float_array
-from .._core.rotations import quat_to_matrix
+from .._core.validation import as_float_array, as_symmetric_matrix3, as_time_step, as_unit_quat
+from ..massprops.validity import as_principal_moments
+from .._core.rotations import cross3, quat_multiply_vector, quat_to_matrix, vector_multiply_quat
 
 __all__ = [
     "angular_acceleration_principal",
@@ -48,95 +49,13 @@ __all__ = [
     "omega_world_principal",
     "state_rate_body",
     "state_rate_world",
-    "QUAT_NORM_TOL",
 ]
 
-#: A quaternion argument whose norm differs from 1 by more than this is refused; closer
-#: ones are renormalised.  Same value as :data:`inertia.dynamics.transition.QUAT_NORM_TOL`.
-QUAT_NORM_TOL = 1e-6
-
-
-# ---------------------------------------------------------------------------- input checks
-def _as_moments(moments, name: str = "moments") -> np.ndarray:
-    """Principal moments (..., 3): finite and strictly positive [kg m^2]."""
-    I = as_float_array(moments, name, (3,))
-    if np.any(I <= 0):
-        k = tuple(int(i) for i in np.argwhere(I <= 0)[0])
-        raise InputError(f"{name} must be positive principal moments of inertia (kg m^2), "
-                         f"got {float(I[k])!r} at index {k}")
-    return I
-
-
-def _as_inertia(inertia, name: str = "inertia_body") -> np.ndarray:
-    """Symmetric inertia matrices (..., 3, 3) [kg m^2] (symmetry to 1e-9 of the largest entry)."""
-    J = as_float_array(inertia, name, (3, 3))
-    asym = np.abs(J - np.swapaxes(J, -1, -2)).max(initial=0.0)
-    scale = np.abs(J).max(initial=0.0)
-    if asym > 1e-9 * scale:
-        raise InputError(f"{name} must be symmetric, got max |I - I^T| = {asym:.3g} "
-                         f"(largest entry {scale:.3g})")
-    return J
-
-
-def _as_vec3(value, name: str) -> np.ndarray:
-    return as_float_array(value, name, (3,))
-
-
-def _as_unit_quat(q, name: str = "q_world_body") -> np.ndarray:
-    """Quaternions (..., 4) within :data:`QUAT_NORM_TOL` of unit norm, renormalised."""
-    q = as_float_array(q, name, (4,))
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
-    dev = np.abs(norm - 1.0)
-    if np.any(dev > QUAT_NORM_TOL):
-        k = tuple(int(i) for i in np.unravel_index(np.argmax(dev), dev.shape)[:-1])
-        raise InputError(f"{name} must be a unit quaternion (|q| - 1 within {QUAT_NORM_TOL:g}), "
-                         f"got |q| = {float(norm[k][0]):.12g} at batch index {k}")
-    return q / norm
-
-
-def _as_time_step(h, name: str = "h") -> float:
-    """A finite, non-zero time step [s]; negative integrates backwards in time."""
-    try:
-        hf = float(h)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number (the time step in s), got {h!r}") from None
-    if not math.isfinite(hf) or hf == 0.0:
-        raise InputError(f"{name} must be a finite non-zero time step in s, got {h!r}")
-    return hf
-
-
 # ---------------------------------------------------------------------------- small kernels
-def _cross(a, b):
-    """``a x b`` for (..., 3) arrays (faster than np.cross on small arrays)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
-
-
-def _qmul_pure_right(q, v):
-    """``q (x) (0, v)`` for quaternions q (..., 4) and vectors v (..., 3)."""
-    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    a, b, c = v[..., 0], v[..., 1], v[..., 2]
-    return np.stack([-x * a - y * b - z * c,
-                     w * a + y * c - z * b,
-                     w * b - x * c + z * a,
-                     w * c + x * b - y * a], axis=-1)
-
-
-def _qmul_pure_left(v, q):
-    """``(0, v) (x) q`` for vectors v (..., 3) and quaternions q (..., 4)."""
-    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    a, b, c = v[..., 0], v[..., 1], v[..., 2]
-    return np.stack([-a * x - b * y - c * z,
-                     a * w + b * z - c * y,
-                     b * w + c * x - a * z,
-                     c * w + a * y - b * x], axis=-1)
-
-
 def _accel_principal(omega, moments, torque=None):
     """``dw/dt = (tau - w x (I w)) / I`` for diagonal I, no checks."""
     m = moments * omega
-    rate = _cross(m, omega)          # = -(w x I w)
+    rate = cross3(m, omega)          # = -(w x I w)
     if torque is not None:
         rate = rate + torque
     return rate / moments
@@ -209,9 +128,9 @@ def angular_acceleration_principal(omega_body, moments, torque_body=None) -> np.
     >>> angular_acceleration_principal(np.ones((5, 3)), [1.0, 2.0, 3.0]).shape
     (5, 3)
     """
-    w = _as_vec3(omega_body, "omega_body")
-    I = _as_moments(moments)
-    tau = None if torque_body is None else _as_vec3(torque_body, "torque_body")
+    w = as_float_array(omega_body, "omega_body", (3,))
+    I = as_principal_moments(moments, validate=False)
+    tau = None if torque_body is None else as_float_array(torque_body, "torque_body", (3,))
     return _accel_principal(w, I, tau)
 
 
@@ -238,11 +157,11 @@ def angular_acceleration_body(omega_body, inertia_body, torque_body=None) -> np.
     >>> angular_acceleration_body([0.0, 1.0, 1.0], np.diag([1.0, 2.0, 3.0])).tolist()
     [-1.0, 0.0, 0.0]
     """
-    w = _as_vec3(omega_body, "omega_body")
-    J = _as_inertia(inertia_body)
-    rhs = _cross(_matvec(J, w), w)
+    w = as_float_array(omega_body, "omega_body", (3,))
+    J = as_symmetric_matrix3(inertia_body, "inertia_body")
+    rhs = cross3(_matvec(J, w), w)
     if torque_body is not None:
-        rhs = rhs + _as_vec3(torque_body, "torque_body")
+        rhs = rhs + as_float_array(torque_body, "torque_body", (3,))
     return _solve3(J, rhs)
 
 
@@ -252,12 +171,12 @@ def euler_residual(omega_body, omega_dot_body, inertia_body, torque_body=None) -
     ``inertia_body`` is a (..., 3, 3) matrix.  Zero (to rounding) for a consistent triple;
     meant for checks and tests.
     """
-    w = _as_vec3(omega_body, "omega_body")
-    wd = _as_vec3(omega_dot_body, "omega_dot_body")
-    J = _as_inertia(inertia_body)
-    r = _matvec(J, wd) + _cross(w, _matvec(J, w))
+    w = as_float_array(omega_body, "omega_body", (3,))
+    wd = as_float_array(omega_dot_body, "omega_dot_body", (3,))
+    J = as_symmetric_matrix3(inertia_body, "inertia_body")
+    r = _matvec(J, wd) + cross3(w, _matvec(J, w))
     if torque_body is not None:
-        r = r - _as_vec3(torque_body, "torque_body")
+        r = r - as_float_array(torque_body, "torque_body", (3,))
     return r
 
 
@@ -284,8 +203,8 @@ def quat_rate(q_world_body, omega_body) -> np.ndarray:
     (5, 4)
     """
     q = as_float_array(q_world_body, "q_world_body", (4,))
-    w = _as_vec3(omega_body, "omega_body")
-    return 0.5 * _qmul_pure_right(q, w)
+    w = as_float_array(omega_body, "omega_body", (3,))
+    return 0.5 * quat_multiply_vector(q, w)
 
 
 def quat_rate_world(q_world_body, omega_world) -> np.ndarray:
@@ -294,8 +213,8 @@ def quat_rate_world(q_world_body, omega_world) -> np.ndarray:
     Same shapes and units as :func:`quat_rate`; ``omega_world = R_WB omega_body``.
     """
     q = as_float_array(q_world_body, "q_world_body", (4,))
-    w = _as_vec3(omega_world, "omega_world")
-    return 0.5 * _qmul_pure_left(w, q)
+    w = as_float_array(omega_world, "omega_world", (3,))
+    return 0.5 * vector_multiply_quat(w, q)
 
 
 # ---------------------------------------------------------------------------- world frame
@@ -308,7 +227,7 @@ def inertia_world(R_world_body, inertia_body) -> np.ndarray:
     inertia_body : (..., 3, 3) float, kg m^2, about the center of mass, in the body frame.
     """
     R = as_float_array(R_world_body, "R_world_body", (3, 3))
-    J = _as_inertia(inertia_body)
+    J = as_symmetric_matrix3(inertia_body, "inertia_body")
     return R @ J @ np.swapaxes(R, -1, -2)
 
 
@@ -325,7 +244,7 @@ def omega_world_from_momentum(L_world, R_world_body, inertia_body) -> np.ndarray
     R_world_body : (..., 3, 3) float, body -> world.
     inertia_body : (..., 3, 3) float, kg m^2, in the body frame.
     """
-    L = _as_vec3(L_world, "L_world")
+    L = as_float_array(L_world, "L_world", (3,))
     I_W = inertia_world(R_world_body, inertia_body)
     return _solve3(I_W, L)
 
@@ -336,9 +255,9 @@ def omega_world_principal(L_world, R_world_body, moments) -> np.ndarray:
     Equivalent to :func:`omega_world_from_momentum` with ``inertia_body = diag(moments)``,
     without forming or inverting ``I_W``.
     """
-    L = _as_vec3(L_world, "L_world")
+    L = as_float_array(L_world, "L_world", (3,))
     R = as_float_array(R_world_body, "R_world_body", (3, 3))
-    I = _as_moments(moments)
+    I = as_principal_moments(moments, validate=False)
     # L_B = R^T L_W ; w_B = L_B / I ; w_W = R w_B
     L_B = np.einsum("...ji,...j->...i", R, L)
     return _matvec(R, L_B / I)
@@ -392,7 +311,7 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     (dq_dt (..., 4), dL_dt (..., 3))
     """
     q = as_float_array(q_world_body, "q_world_body", (4,))
-    L = _as_vec3(L_world, "L_world")
+    L = as_float_array(L_world, "L_world", (3,))
     R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
     a = np.asarray(inertia_body, dtype=float)
     if a.ndim >= 2 and a.shape[-2:] == (3, 3):
@@ -400,5 +319,5 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     else:
         w_W = omega_world_principal(L, R, a)
     dL = np.zeros(np.broadcast_shapes(L.shape, w_W.shape)) if torque_world is None else \
-        np.broadcast_to(_as_vec3(torque_world, "torque_world"), np.broadcast_shapes(L.shape, w_W.shape)).copy()
-    return 0.5 * _qmul_pure_left(w_W, q), dL
+        np.broadcast_to(as_float_array(torque_world, "torque_world", (3,)), np.broadcast_shapes(L.shape, w_W.shape)).copy()
+    return 0.5 * vector_multiply_quat(w_W, q), dL

@@ -69,62 +69,26 @@ import numpy as np
 import scipy.special as sc
 
 from .._core.errors import InputError, InvalidInertiaError
-from .._core.validation import as_float_array
-from ..massprops.validity import check_inertia
-from .elliptic import _pi_local, ellipk, ellippi, jacobi_reduced
-from .equations import QUAT_NORM_TOL
+from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
+from .._core.validation import as_float_array, as_unit_quat
+from ..massprops.principal import principal_axes_batch
+from ..massprops.validity import as_principal_moments
+from .elliptic import ellipk, ellippi, incomplete_pi_local, jacobi_reduced
 
 __all__ = [
     "exact_solution",
     "ExactSolution",
     "FreeBody",
     "REGIMES",
-    "EQUAL_MOMENTS_RTOL",
-    "as_moments",
 ]
 
 #: The regimes :class:`ExactSolution` distinguishes (its ``regime`` attribute).
 REGIMES = ("minor_axis", "major_axis", "separatrix", "symmetric_top", "sphere", "steady_spin", "rest")
 
-#: Two principal moments whose difference is at most ``EQUAL_MOMENTS_RTOL * I3`` are treated
-#: as equal (symmetric-top or sphere formulas).  The asymmetric formulas stay accurate for
-#: gaps down to about this size (measured: relative gap 1e-12 still agrees with DOP853 to
-#: 1e-10 over several periods, see ``docs/exact-solution.md``); below it the symmetric
-#: formulas are closer to the truth than rounding in the asymmetric ones.
-EQUAL_MOMENTS_RTOL = 1e-14
 
 
 # ============================================================================ input checks
-def as_moments(moments, name: str = "moments", *, validate: bool = True) -> np.ndarray:
-    """Principal moments (3,) [kg m^2] of a physical body, any order; raises on anything else.
-
-    Raises :class:`~inertia.errors.InputError` for a wrong shape or non-finite values and
-    :class:`~inertia.errors.InvalidInertiaError` for a zero or negative moment or (when
-    ``validate``) a violated triangle inequality ``I1 + I2 >= I3``.  ``validate=False``
-    accepts any positive moments: Euler's equations do not need the triangle inequality,
-    and some textbook test bodies (Hairer-Lubich-Wanner's ``I = (2/3, 1, 2)``) violate it.
-    """
-    I = as_float_array(moments, name, (3,), allow_batch=False)
-    violations = check_inertia(np.diag(I))
-    if not validate:
-        violations = [v for v in violations if v.code != "triangle_inequality"]
-    if violations:
-        text = "; ".join(v.message for v in violations)
-        raise InvalidInertiaError(f"{name} = ({', '.join(f'{x:.6g}' for x in I)}) kg m^2 are not the principal "
-                                  f"moments of a physical body: {text}", violations)
-    return I
-
-
-def _as_q0(q0) -> np.ndarray:
-    q = as_float_array(q0, "q0_world_body", (4,), allow_batch=False)
-    norm = float(np.linalg.norm(q))
-    if abs(norm - 1.0) > QUAT_NORM_TOL:
-        raise InputError(f"q0_world_body must be a unit quaternion (w, x, y, z) (|q| - 1 within "
-                         f"{QUAT_NORM_TOL:g}), got |q| = {norm:.12g}")
-    return q / norm
-
-
 def _as_times(t) -> np.ndarray:
     try:
         ta = np.asarray(t, dtype=float)
@@ -154,18 +118,6 @@ def _minimal_rotation_quat(n_hat, d) -> np.ndarray:
     c = n_hat @ d
     v = np.cross(n_hat, d)
     return np.concatenate([(1.0 + c)[..., None], v], axis=-1) / np.sqrt(2.0 * (1.0 + c))[..., None]
-
-
-def _sorting_rotation(I: np.ndarray):
-    """``(order, R_BP)``: ascending order of the moments and the proper rotation from the
-    internal principal frame P (ascending moments) to the body frame B (signed permutation)."""
-    order = np.argsort(I, kind="stable")
-    R_BP = np.zeros((3, 3))
-    for k, i in enumerate(order):
-        R_BP[i, k] = 1.0
-    if np.linalg.det(R_BP) < 0:
-        R_BP[:, 2] *= -1.0
-    return order, R_BP
 
 
 def _deltas(I, m):
@@ -318,7 +270,7 @@ class _EllipticMotion:
     # ---------------------------------------------------------------- evaluation
     def _J(self, jr):
         """``J(u) = Pi(n; am u|m) - a/sqrt(1-n) atan(sqrt(1-n) tan am u)`` (continuous branch)."""
-        local = _pi_local(self.n, jr.sn_r, jr.cn_r, jr.dn * jr.dn)
+        local = incomplete_pi_local(self.n, jr.sn_r, jr.cn_r, jr.dn * jr.dn)
         theta = np.arctan2(self.sqrt_1mn * jr.sn_r, jr.cn_r)
         return jr.j * self.J_half + local - self.a / self.sqrt_1mn * theta
 
@@ -414,7 +366,7 @@ class ExactSolution:
         any positive moments (textbook test bodies); positivity is always required.
     equal_rtol : float, keyword-only
         Moments closer than ``equal_rtol * I3`` are treated as equal
-        (:data:`EQUAL_MOMENTS_RTOL`).
+        (:data:`REPEATED_MOMENTS_RTOL`).
 
     Attributes
     ----------
@@ -458,18 +410,18 @@ class ExactSolution:
     """
 
     def __init__(self, moments, omega0_body, q0_world_body=(1.0, 0.0, 0.0, 0.0), *,
-                 validate: bool = True, equal_rtol: float = EQUAL_MOMENTS_RTOL):
-        I_B = as_moments(moments, validate=validate)
+                 validate: bool = True, equal_rtol: float = REPEATED_MOMENTS_RTOL):
+        I_B = as_principal_moments(moments, validate=validate, allow_batch=False)
         w0_B = as_float_array(omega0_body, "omega0_body", (3,), allow_batch=False)
-        q0 = _as_q0(q0_world_body)
+        q0 = as_unit_quat(q0_world_body, "q0_world_body", allow_batch=False)
         self.moments = I_B
         self.omega0_body = w0_B
         self.q0_world_body = q0
 
-        order, R_BP = _sorting_rotation(I_B)
+        # internal principal frame P: moments ascending, R_BP the signed permutation that sorts them
+        I, R_BP, _ = principal_axes_batch(np.diag(I_B))
         self._R_BP = R_BP
         self._q_BP = matrix_to_quat(R_BP)
-        I = I_B[order]
         w0 = R_BP.T @ w0_B
         self._I = I
         m0 = I * w0
@@ -608,7 +560,7 @@ class ExactSolution:
         if self.regime in ("minor_axis", "major_axis"):
             return 0.5 * self.period
         I1, I2, I3 = self._I
-        distinct = I2 - I1 > EQUAL_MOMENTS_RTOL * I3 and I3 - I2 > EQUAL_MOMENTS_RTOL * I3
+        distinct = I2 - I1 > REPEATED_MOMENTS_RTOL * I3 and I3 - I2 > REPEATED_MOMENTS_RTOL * I3
         if self.regime in ("separatrix", "steady_spin") and distinct:
             return math.inf
         return math.nan

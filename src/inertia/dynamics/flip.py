@@ -41,7 +41,9 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.validation import as_float_array
-from .exact import EQUAL_MOMENTS_RTOL, ExactSolution, as_moments
+from .._core.tolerances import REPEATED_MOMENTS_RTOL
+from ..massprops.validity import as_principal_moments
+from .exact import ExactSolution
 
 __all__ = [
     "flip_interval",
@@ -152,10 +154,10 @@ class Flips:
 
 def intermediate_axis(moments) -> int:
     """Index (0, 1, 2) of the intermediate principal moment; InputError when two moments are equal."""
-    I = as_moments(moments, validate=False)
+    I = as_principal_moments(moments, validate=False, allow_batch=False)
     order = np.argsort(I, kind="stable")
     lo, mid, hi = I[order]
-    if mid - lo <= EQUAL_MOMENTS_RTOL * hi or hi - mid <= EQUAL_MOMENTS_RTOL * hi:
+    if mid - lo <= REPEATED_MOMENTS_RTOL * hi or hi - mid <= REPEATED_MOMENTS_RTOL * hi:
         raise InputError(f"moments = ({', '.join(f'{x:.6g}' for x in I)}) have no unique intermediate axis "
                          f"(two moments are equal), so there is no intermediate-axis flip")
     return int(order[1])
@@ -197,7 +199,7 @@ def detect_flips(t, omega_body, moments, *, threshold: float = 0.5) -> Flips:
     (5, [20.7546, 20.7546, 20.7546, 20.7546])
     """
     k = intermediate_axis(moments)
-    I = as_moments(moments, validate=False)
+    I = as_principal_moments(moments, validate=False, allow_batch=False)
     ta = as_float_array(t, "t", (), allow_batch=True)
     if ta.ndim != 1:
         raise InputError(f"t must have shape (N,), got {ta.shape}")
@@ -288,7 +290,7 @@ def euler_jacobian(moments, omega_body) -> np.ndarray:
 
     ``J = I^-1 ([I w]_x - [w]_x I)`` (both factors of the cross product varied).
     """
-    I = as_moments(moments, validate=False)
+    I = as_principal_moments(moments, validate=False, allow_batch=False)
     w = as_float_array(omega_body, "omega_body", (3,))
     Iw = w * I
 
@@ -322,7 +324,7 @@ def axis_stability(moments, rate: float = 1.0, *, validate: bool = True) -> tupl
     >>> round(axis_stability([1, 2, 3])[1].growth_rate, 13)
     0.5773502691896
     """
-    I = as_moments(moments, validate=validate)
+    I = as_principal_moments(moments, validate=validate, allow_batch=False)
     try:
         Omega = abs(float(rate))
     except (TypeError, ValueError):
@@ -335,7 +337,7 @@ def axis_stability(moments, rate: float = 1.0, *, validate: bool = True) -> tupl
         k, l = (j + 1) % 3, (j + 2) % 3
         f1, f2 = I[j] - I[k], I[l] - I[j]
         p = f1 * f2 / (I[k] * I[l])
-        degenerate = min(abs(f1), abs(f2)) <= EQUAL_MOMENTS_RTOL * scale
+        degenerate = min(abs(f1), abs(f2)) <= REPEATED_MOMENTS_RTOL * scale
         r = Omega * math.sqrt(abs(p))
         if degenerate or Omega == 0.0:
             eig = np.zeros(3, dtype=complex)

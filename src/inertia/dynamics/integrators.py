@@ -43,8 +43,9 @@ from typing import Callable
 import numpy as np
 
 from .._core.errors import InputError, IntegrationError  # noqa: F401 (re-exported)
-from .equations import (_as_moments, _as_time_step, _as_unit_quat, _as_vec3, _cross,
-                        _qmul_pure_right)
+from .._core.rotations import cross3, quat_multiply, quat_multiply_vector, quat_normalize
+from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
+from ..massprops.validity import as_principal_moments
 from .equations import solve3_components as _solve3c
 from .._core.rotations import quat_from_rotvec
 
@@ -57,6 +58,7 @@ __all__ = [
     "step_dmv4",
     "step_midpoint",
     "METHODS",
+    "DEFAULT_METHOD",
     "METHOD_ORDER",
     "integrate",
     "Trajectory",
@@ -70,6 +72,13 @@ __all__ = [
 #: ``h |omega| <= 0.3`` four to five suffice; the limit only matters for huge steps.
 NEWTON_MAX_ITER = 40
 
+#: The integrator every entry point uses unless told otherwise (``integrate``, ``step``,
+#: ``jacobians``, ``rollout``, ``inertia simulate``): the splitting method.  Explicit, second
+#: order, time-symmetric; it keeps |L| and the world-frame L exactly and the energy error
+#: bounded for all time (rk4's drifts), it takes torques and the 6-DOF inputs like every
+#: method, and costs about as much per step as rk4.
+DEFAULT_METHOD = "splitting"
+
 #: Newton stops once every correction is below ``_NEWTON_RTOL * |unknown|``.  Convergence is
 #: quadratic, so the error left after that correction is ~ C * 1e-20 relative (C ~ 1 for
 #: h |omega| < 1): below rounding, one iteration earlier than waiting for an ulp-sized step.
@@ -80,23 +89,9 @@ _NEWTON_FAIL_RTOL = 1e-10
 
 
 # ============================================================================ helpers
-def _normalize(q):
-    return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
-
-
-def _qmul(q, p):
-    """Hamilton product ``q (x) p`` of (..., 4) arrays (one stack; no axis moves)."""
-    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
-    return np.stack([qw * pw - qx * px - qy * py - qz * pz,
-                     qw * px + qx * pw + qy * pz - qz * py,
-                     qw * py - qx * pz + qy * pw + qz * px,
-                     qw * pz + qx * py - qy * px + qz * pw], axis=-1)
-
-
 def _exp_step(q, omega, h):
     """``q (x) exp(h omega / 2)``: the exact attitude update for constant body omega, normalised."""
-    return _normalize(_qmul(q, quat_from_rotvec(h * omega)))
+    return quat_normalize(quat_multiply(q, quat_from_rotvec(h * omega)))
 
 
 def _solve_quadratic(chat, f, with_alpha: bool, what: str, h: float):
@@ -137,7 +132,7 @@ def _solve_quadratic(chat, f, with_alpha: bool, what: str, h: float):
     size = np.maximum(np.maximum(np.abs(c0), np.abs(c1)), np.abs(c2))
     worst = float(np.max(res / np.maximum(size, 1e-300)))
     if not np.isfinite(worst) or worst > _NEWTON_FAIL_RTOL:
-        raise InputError(f"{what}: the implicit step equation did not converge in {NEWTON_MAX_ITER} Newton "
+        raise IntegrationError(f"{what}: the implicit step equation did not converge in {NEWTON_MAX_ITER} Newton "
                          f"iterations (relative residual {worst:.3g}); the time step h = {h!r} is too large "
                          f"for this angular velocity: reduce h")
     return c0, c1, c2
@@ -156,7 +151,7 @@ def _split3(v):
 
 def _k_euler_explicit(q, m, I, h, tau):
     # w+ = w + h I^-1 (tau - w x I w) ; q+ = q (x) exp(h w+ / 2)   (semi-implicit Euler)
-    rate = _cross(m, m / I)
+    rate = cross3(m, m / I)
     if tau is not None:
         rate = rate + tau
     m1 = m + h * rate
@@ -171,7 +166,7 @@ def _k_euler_implicit(q, m, I, h, tau):
     w = m / I
     w0, w1, w2 = _split3(w)
     g0, g1, g2 = (I1 - I2) * h, (I2 - I0) * h, (I0 - I1) * h
-    f = _cross(m, w)
+    f = cross3(m, w)
     if tau is not None:
         f = f + tau
     A = ((I0, -g0 * w2, -g0 * w1),
@@ -185,8 +180,8 @@ def _k_rk4(q, m, I, h, tau):
     # Classical RK4 on the 7-vector (q as 4 plain components, m); q renormalised at the end.
     def f(qs, ms):
         ws = ms / I
-        dm = _cross(ms, ws)
-        return 0.5 * _qmul_pure_right(qs, ws), (dm if tau is None else dm + tau)
+        dm = cross3(ms, ws)
+        return 0.5 * quat_multiply_vector(qs, ws), (dm if tau is None else dm + tau)
 
     h2 = 0.5 * h
     k1q, k1m = f(q, m)
@@ -196,7 +191,7 @@ def _k_rk4(q, m, I, h, tau):
     h6 = h / 6.0
     q1 = q + h6 * (k1q + 2.0 * (k2q + k3q) + k4q)
     m1 = m + h6 * (k1m + 2.0 * (k2m + k3m) + k4m)
-    return _normalize(q1), m1
+    return quat_normalize(q1), m1
 
 
 def _rotate_about_axis(qc, mc, Ic, j, dt):
@@ -232,7 +227,7 @@ def _k_splitting(q, m, I, h, tau):
     m = np.stack(mc, axis=-1)
     if tau is not None:
         m = m + (0.5 * h) * tau                       # kick
-    return _normalize(np.stack(qc, axis=-1)), m
+    return quat_normalize(np.stack(qc, axis=-1)), m
 
 
 # Hairer & Vilmart (2006) order-4 modified inertia: 1/I~_j = css / I_j + cdd with
@@ -263,10 +258,10 @@ def _dmv_core(q, m, inv_I, h, what):
     # body increment F = Rot((1, c)/sqrt(1 + |c|^2)) ; q+ = q (x) (1, c)/|.| ; m+ = F^T m
     s = 1.0 / np.sqrt(1.0 + np.sum(c * c, axis=-1, keepdims=True))
     p = np.concatenate([s, s * c], axis=-1)
-    q1 = _normalize(_qmul(q, p))
+    q1 = quat_normalize(quat_multiply(q, p))
     v = -s * c                                         # vector part of p^-1
-    t = 2.0 * _cross(v, m)
-    m1 = m + s * t + _cross(v, t)
+    t = 2.0 * cross3(v, m)
+    m1 = m + s * t + cross3(v, t)
     return q1, m1
 
 
@@ -315,12 +310,12 @@ _KERNELS: dict[str, Callable] = {
 
 
 # ============================================================================ public steps
-def _prepare(q_world_body, omega_body, moments, h, torque_body):
-    q = _as_unit_quat(q_world_body)
-    w = _as_vec3(omega_body, "omega_body")
-    I = _as_moments(moments)
-    hf = _as_time_step(h)
-    tau = None if torque_body is None else _as_vec3(torque_body, "torque_body")
+def _prepare(q_world_body, omega_body, moments, h, torque_body, *, validate: bool):
+    q = as_unit_quat(q_world_body)
+    w = as_float_array(omega_body, "omega_body", (3,))
+    I = as_principal_moments(moments, validate=validate)
+    hf = as_time_step(h)
+    tau = None if torque_body is None else as_float_array(torque_body, "torque_body", (3,))
     shapes = [q.shape[:-1], w.shape[:-1], I.shape[:-1]] + ([] if tau is None else [tau.shape[:-1]])
     try:
         batch = np.broadcast_shapes(*shapes)
@@ -336,7 +331,9 @@ def _prepare(q_world_body, omega_body, moments, h, torque_body):
 
 
 def _run(kernel, q_world_body, omega_body, moments, h, torque_body):
-    q, w, I, hf, tau = _prepare(q_world_body, omega_body, moments, h, torque_body)
+    # one step of Euler's equations: positive moments suffice (a body is validated where it
+    # is set up: integrate, RigidBody, exact_solution)
+    q, w, I, hf, tau = _prepare(q_world_body, omega_body, moments, h, torque_body, validate=False)
     q1, m1 = kernel(q, I * w, I, hf, tau)
     return q1, m1 / I
 
@@ -350,7 +347,8 @@ _PARAMS_DOC = """
         Angular velocity of the body, expressed in the (principal) body frame.
     moments : (..., 3) float, kg m^2
         Principal moments of inertia about the center of mass; the body frame is the
-        principal frame.
+        principal frame.  Positive (a single step does not ask for the triangle inequality;
+        :func:`integrate` does, unless ``validate=False``).
     h : float, s
         Step size (finite, non-zero; negative integrates backwards).
     torque_body : (..., 3) float, N m, or None
@@ -536,16 +534,8 @@ class Trajectory:
         return len(self.t)
 
 
-def _as_count(value, name: str, minimum: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    if value < minimum:
-        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
-def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = "splitting", torque_body=None,
-              record_every: int = 1) -> Trajectory:
+def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_METHOD, torque_body=None,
+              record_every: int = 1, validate: bool = True) -> Trajectory:
     """Integrate the rotational motion over ``n_steps`` fixed steps of size ``h``.
 
     Parameters
@@ -555,18 +545,24 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = "splitting"
     omega0_body : (..., 3) float, rad/s
         Initial angular velocity in the principal body frame.
     moments : (..., 3) float, kg m^2
-        Principal moments about the center of mass.
+        Principal moments about the center of mass (any order is not allowed here: the body
+        frame is the principal frame, so they are taken as given).
     h : float, s
         Step size (non-zero; negative integrates backwards).
     n_steps : int >= 0
     method : str
-        A key of :data:`METHODS`; ``"splitting"`` (explicit, exact |L| and spatial L, bounded
-        energy error) is the default for long runs.
+        A key of :data:`METHODS`; default :data:`DEFAULT_METHOD`.
     torque_body : (..., 3) float, N m, or None
         Constant torque in the body frame (see each step function for how it enters).
     record_every : int >= 1
         Record the state every this many steps.  The initial state and the final state are
         always recorded.
+    validate : bool, keyword-only
+        Refuse moments that are not those of a physical body (a moment not positive, or the
+        triangle inequality violated) with :class:`~inertia.errors.InvalidInertiaError`, the
+        rule of :func:`inertia.massprops.validity.as_principal_moments` that ``exact_solution``
+        and ``RigidBody`` apply too.  ``validate=False`` accepts any positive moments (textbook
+        test bodies such as ``(2/3, 1, 2)``).
 
     Returns
     -------
@@ -577,27 +573,29 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = "splitting"
     Raises
     ------
     InputError
-        Bad arguments (shape, value, unknown method), or an implicit method whose Newton
-        iteration does not converge because ``h`` is too large.
+        Bad arguments (shape, value, unknown method).
+    InvalidInertiaError
+        Moments of no physical body (see ``validate``).
     IntegrationError
-        The state became non-finite (e.g. ``euler_explicit`` blows up on the test body
-        at h = 0.1 after about 1150 steps).
+        A step failed: the state became non-finite (e.g. ``euler_explicit`` blows up on the
+        test body at h = 0.1 after about 1150 steps), or an implicit method's Newton iteration
+        did not converge because ``h`` is too large.
 
     Examples
     --------
-    >>> traj = integrate([1, 0, 0, 0], [1.0, 0.1, 0.2], [2/3, 1, 2], 0.1, 100, record_every=10)
+    >>> traj = integrate([1, 0, 0, 0], [1.0, 0.1, 0.2], [1, 2, 2.5], 0.1, 100, record_every=10)
     >>> traj.t.shape, traj.q_world_body.shape, traj.omega_body.shape
     ((11,), (11, 4), (11, 3))
-    >>> integrate([1, 0, 0, 0], np.ones((5, 3)), [2/3, 1, 2], 0.1, 20, method="rk4").omega_body.shape
+    >>> integrate([1, 0, 0, 0], np.ones((5, 3)), [1, 2, 2.5], 0.1, 20, method="rk4").omega_body.shape
     (21, 5, 3)
     """
     try:
         kernel = _KERNELS[method]
     except (KeyError, TypeError):
         raise InputError(f"method must be one of {sorted(_KERNELS)}, got {method!r}") from None
-    n = _as_count(n_steps, "n_steps", 0)
-    every = _as_count(record_every, "record_every", 1)
-    q, w, I, hf, tau = _prepare(q0, omega0_body, moments, h, torque_body)
+    n = as_count(n_steps, "n_steps", 0)
+    every = as_count(record_every, "record_every", 1)
+    q, w, I, hf, tau = _prepare(q0, omega0_body, moments, h, torque_body, validate=validate)
     recorded = list(range(0, n + 1, every))
     if recorded[-1] != n:
         recorded.append(n)

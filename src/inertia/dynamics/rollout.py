@@ -23,8 +23,12 @@ from __future__ import annotations
 import numpy as np
 
 from .._core.errors import InputError, MissingDependencyError
-from . import transition as _tr
-from .transition import INPUT_SIZE, STATE_SIZE, RigidBody
+from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
+from .body import RigidBody, check_body
+from .integrators import DEFAULT_METHOD
+from .state import FORCE, INPUT_SIZE, Q_WORLD_BODY, STATE_SIZE, TORQUE_BODY
+from .transition import (check_force_frame, resolve_method, state_from_principal, state_to_principal,
+                         step_principal)
 
 __all__ = ["rollout", "COMPILED_METHODS", "BACKENDS", "numba_available"]
 
@@ -48,12 +52,6 @@ def numba_available() -> bool:
     return True
 
 
-def _as_count(value, name: str, minimum: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def _choose_backend(backend, method) -> str:
     if backend not in BACKENDS:
         raise InputError(f"backend must be one of {BACKENDS}, got {backend!r}")
@@ -71,7 +69,7 @@ def _choose_backend(backend, method) -> str:
     return "numba"
 
 
-def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=None, force_frame: str = "world",
+def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None, force_frame: str = "world",
             backend: str = "auto", save_every=1) -> np.ndarray:
     """Roll the 6-DOF transition function forward over many steps.
 
@@ -91,7 +89,8 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
     body : RigidBody
         One body, or a batch whose shape broadcasts with the state batch.
     method : str or callable
-        Rotational scheme (see :func:`inertia.dynamics.transition.step`); default ``"rk4"``.
+        Rotational scheme (see :func:`inertia.dynamics.transition.step`); default
+        :data:`~inertia.dynamics.integrators.DEFAULT_METHOD` (splitting).
     gravity : (3,) float, m/s^2, world frame, or None.
     force_frame : {"world", "body"}
         Frame of the force.
@@ -116,7 +115,7 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
 
     Examples
     --------
-    >>> from .transition import pack_state
+    >>> from inertia.dynamics.state import pack_state
     >>> body = RigidBody(1.0, np.diag([0.0042, 0.0142, 0.0167]))
     >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 10.0, 0.01])
     >>> rollout(x0, None, 1e-3, 100, body=body, backend="numpy").shape
@@ -125,11 +124,11 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
     ...         backend="numpy", save_every=None).shape
     (5, 13)
     """
-    body = _tr._check_body(body)
+    body = check_body(body)
     if n_steps is None:
         if u is None:
             raise InputError("give n_steps when u is None (zero input held for n_steps steps)")
-        u = _tr._as_array(u, "u", (INPUT_SIZE,))
+        u = as_float_array(u, "u", (INPUT_SIZE,))
         if u.ndim < 2:
             raise InputError(f"u must be a time-major sequence (n_steps, ..., 6) when n_steps is None, "
                              f"got shape {u.shape}; pass n_steps to hold one input")
@@ -137,22 +136,22 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
         u_batch = u.shape[1:-1]
         held = False
     else:
-        n = _as_count(n_steps, "n_steps", 0)
-        u = np.zeros(INPUT_SIZE) if u is None else _tr._as_array(u, "u", (INPUT_SIZE,))
+        n = as_count(n_steps, "n_steps", 0)
+        u = np.zeros(INPUT_SIZE) if u is None else as_float_array(u, "u", (INPUT_SIZE,))
         u_batch = u.shape[:-1]
         held = True
     if save_every is None:
         every = 0
     else:
-        every = _as_count(save_every, "save_every", 1)
+        every = as_count(save_every, "save_every", 1)
         if n % every:
             raise InputError(f"n_steps ({n}) must be a multiple of save_every ({every})")
-    x0 = _tr._as_array(x0, "x0", (STATE_SIZE,)).copy()
-    x0[..., _tr.Q_WORLD_BODY] = _tr._as_unit_quat(x0[..., _tr.Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
-    hf = _tr._as_step(h)
-    force_frame = _tr._check_force_frame(force_frame)
+    x0 = as_float_array(x0, "x0", (STATE_SIZE,)).copy()
+    x0[..., Q_WORLD_BODY] = as_unit_quat(x0[..., Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
+    hf = as_time_step(h)
+    force_frame = check_force_frame(force_frame)
     body_force = force_frame == "body"
-    g = None if gravity is None else _tr._as_array(gravity, "gravity", (3,))
+    g = None if gravity is None else as_float_array(gravity, "gravity", (3,))
     if g is not None and g.shape != (3,):
         raise InputError(f"gravity must have shape (3,), got {g.shape}")
     try:
@@ -161,11 +160,11 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
         raise InputError(f"batch shapes do not broadcast: x0 {x0.shape}, u {u.shape} "
                          f"({'held' if held else 'time-major'}), body {body.batch_shape}") from None
     which = _choose_backend(backend, method)
-    rot_step = _tr.resolve_method(method)
+    rot_step = resolve_method(method)
 
     # everything in the principal frame, once
     x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
-    x_P, _ = _tr._state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
+    x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
     u_P = _inputs_to_principal(body, u, body_force)  # (..., 6) held, or (n, ..., 6)
 
     if which == "numba":
@@ -173,7 +172,7 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method="rk4", gravity=No
         out = _rollout_numba(x_P, u_P, held, n, hf, body, g, every, method, body_force, batch)
     else:
         out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
-        out = _tr._state_from_principal(body, out)
+        out = state_from_principal(body, out)
     return out[0] if every == 0 else out
 
 
@@ -183,14 +182,14 @@ def _inputs_to_principal(body, u, body_force):
         return u
     R = body.R_body_principal
     to_P = lambda v: np.einsum("...ji,...j->...i", R, v)  # noqa: E731
-    tau_P = to_P(u[..., _tr.TORQUE_BODY])
-    F = to_P(u[..., _tr.FORCE]) if body_force else u[..., _tr.FORCE]
+    tau_P = to_P(u[..., TORQUE_BODY])
+    F = to_P(u[..., FORCE]) if body_force else u[..., FORCE]
     shape = np.broadcast_shapes(F.shape[:-1], tau_P.shape[:-1])
     return np.concatenate([np.broadcast_to(F, shape + (3,)), np.broadcast_to(tau_P, shape + (3,))], axis=-1)
 
 
 def _rollout_numpy(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, batch):
-    """Reference path: a Python loop over :func:`transition._step_principal`."""
+    """Reference path: a Python loop over :func:`inertia.dynamics.transition.step_principal`."""
     S = 1 if every == 0 else n // every + 1
     out = np.empty((S,) + batch + (STATE_SIZE,))
     mass = body.mass[..., None]
@@ -199,7 +198,7 @@ def _rollout_numpy(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, b
         out[0] = x
     for k in range(n):
         uk = u_P if held else u_P[k]
-        x = _tr._step_principal(x, uk, h, mass, body.moments, rot_step, g, body_force)
+        x = step_principal(x, uk, h, mass, body.moments, rot_step, g, body_force)
         if every and (k + 1) % every == 0:
             out[(k + 1) // every] = x
     if every == 0:

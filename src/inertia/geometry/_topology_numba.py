@@ -263,7 +263,7 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     """True when the mesh is one closed, consistently wound component of positive volume.
 
     ``faces`` index distinct positions (welded).  "Closed single shell" here means every
-    check of ``checks._analyse`` passes with no defect and no note: indices in range,
+    check of ``checks.analyse_mesh`` passes with no defect and no note: indices in range,
     finite vertices, no face repeating a vertex or of area <= ``area_rtol`` x bbox
     diagonal^2, every edge used by exactly two faces in opposite directions, one
     edge-connected component, signed volume > 0.  Duplicate faces need no test: a face

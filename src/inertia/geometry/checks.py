@@ -200,7 +200,7 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
 _topology_state = None
 
 
-def _fast_topology():
+def topology_kernels():
     """The numba welding/topology kernels (:mod:`._topology_numba`), or None without numba.
 
     They give the same answers as the NumPy code here, in O(n) hash passes instead of sorts;
@@ -225,7 +225,7 @@ def _weld_map(vertices: np.ndarray) -> np.ndarray:
     equal hashes are confirmed by comparing the rows, and a collision falls back to a
     lexicographic sort.
     """
-    kernels = _fast_topology()
+    kernels = topology_kernels()
     if kernels is not None:
         return kernels.weld_map(np.ascontiguousarray(vertices, dtype=np.float64))
     return _weld_map_numpy(vertices)
@@ -267,7 +267,7 @@ def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     v, f = validate_inputs(vertices, faces)
     if len(f) == 0:
         return v[:0], f
-    kernels = _fast_topology()
+    kernels = topology_kernels()
     if kernels is not None:
         return kernels.weld_compact(np.ascontiguousarray(v), np.ascontiguousarray(f))
     rep = _weld_map(v)
@@ -373,7 +373,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool) -> _An
 
     None also when numba is missing: the full analysis then runs and names the defects.
     """
-    kernels = _fast_topology()
+    kernels = topology_kernels()
     V = len(vertices)
     if kernels is None or V == 0 or len(faces) == 0:
         return None
@@ -394,7 +394,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool) -> _An
     return _Analysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]), closed=True)
 
 
-def _analyse(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False) -> _Analysis:
+def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False) -> _Analysis:
     """Run every check on validated arrays; see :func:`check_mesh`.
 
     ``welded=True`` promises that no two vertices have equal coordinates (as
@@ -669,7 +669,7 @@ def check_mesh(vertices, faces) -> MeshReport:
     ('open_edges',)
     """
     v, f = validate_inputs(vertices, faces)
-    return _analyse(v, f).report
+    return analyse_mesh(v, f).report
 
 
 # ---------------------------------------------------------------------------------- orientation
@@ -719,7 +719,7 @@ def _flip_parity_from_pairs(F: int, pairs: np.ndarray, labels: np.ndarray) -> np
     return flip
 
 
-def _orient(vertices: np.ndarray, faces: np.ndarray, analysis: _Analysis, what: str = "mesh"):
+def orient_analysed(vertices: np.ndarray, faces: np.ndarray, analysis: _Analysis, what: str = "mesh"):
     """Re-orient faces consistently per component, then outward; returns (faces, n_flipped, analysis).
 
     Closed meshes: a component is outward when its signed volume is positive, or negative
@@ -732,7 +732,7 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, analysis: _Analysis, what: 
     out = faces.copy()
     flip = _flip_parity_from_pairs(F, analysis.pairs, analysis.labels)
     out[flip] = out[flip][:, [0, 2, 1]]
-    an = _analyse(vertices, out)
+    an = analyse_mesh(vertices, out)
     bad = an.report.get("inconsistent_winding")
     if bad is not None:
         raise MeshError(f"{what} cannot be oriented consistently (a non-orientable surface, such as a Moebius "
@@ -748,7 +748,7 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, analysis: _Analysis, what: 
         comp_flip = np.isin(an.labels, wrong)
         out[comp_flip] = out[comp_flip][:, [0, 2, 1]]
         flip ^= comp_flip
-        an = _analyse(vertices, out)
+        an = analyse_mesh(vertices, out)
     return out, int(flip.sum()), an
 
 
@@ -779,10 +779,10 @@ def orient_faces(vertices, faces) -> tuple[np.ndarray, int]:
     from .._core.errors import MeshError
 
     v, f = validate_inputs(vertices, faces)
-    an = _analyse(v, f, full=True)
+    an = analyse_mesh(v, f, full=True)
     hard = [d for d in an.report.defects if d.code in ("empty", "non_finite", "bad_index")]
     if hard:
         raise MeshError("cannot orient the mesh: " + "; ".join(f"{d.code}: {d.message}" for d in hard),
                         report=an.report)
-    out, n, _ = _orient(v, f, an)
+    out, n, _ = orient_analysed(v, f, an)
     return out, n

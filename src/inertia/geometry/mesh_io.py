@@ -65,9 +65,9 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
     and a k-d tree.  Both give the same groups.
     """
-    from .checks import _fast_topology, compact_vertices, validate_inputs, weld_vertices
+    from .checks import topology_kernels, compact_vertices, validate_inputs, weld_vertices
 
-    kernels = _fast_topology()
+    kernels = topology_kernels()
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
         v, f = validate_inputs(vertices, faces)
         if len(f) == 0:
@@ -195,9 +195,9 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
     """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
     over the file's records (no float64 triangle soup); None without numba or when the
     compiled merge declines (the caller then takes the general route)."""
-    from .checks import _fast_topology
+    from .checks import topology_kernels
 
-    kernels = _fast_topology()
+    kernels = topology_kernels()
     if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively
         return None
     if data is None:

@@ -24,7 +24,7 @@ import numpy as np
 from .._core.errors import InputError, MeshError
 from .._core.validation import resolve_mass
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
-from ..geometry.checks import MeshDefectWarning, _analyse, _orient, compact_vertices, validate_inputs
+from ..geometry.checks import MeshDefectWarning, analyse_mesh, compact_vertices, orient_analysed, validate_inputs
 from ..geometry.integrals import central_inertia, shell_integrals, solid_integrals
 
 __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
@@ -91,7 +91,7 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
     return MeshError(msg, report=report)
 
 
-def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
+def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
                      stacklevel, with_report: bool = False, welded: bool = False):
     """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
 
@@ -109,7 +109,7 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
     _check_mass_args(density, mass, what)
     v, f = validate_inputs(vertices, faces)
 
-    analysis = _analyse(v, f, welded=welded)
+    analysis = analyse_mesh(v, f, welded=welded)
     report = analysis.report
     fatal = [d for d in report.defects if d.code in _FATAL]
     if fatal:
@@ -117,7 +117,7 @@ def _mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, 
 
     notes: list[str] = []
     if fix_orientation and not shell and set(report.codes) & _ORIENTATION:
-        f, n_flipped, analysis = _orient(v, f, analysis, what)
+        f, n_flipped, analysis = orient_analysed(v, f, analysis, what)
         report = analysis.report
         notes.append(f"{what}: fix_orientation flipped {n_flipped} of {len(f)} faces")
 
@@ -217,7 +217,7 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
     >>> round(p.mass, 12), p.com.shape, p.inertia_com.shape
     (1.0, (3,), (3, 3))
     """
-    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+    return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
                             stacklevel=3)
 
@@ -236,10 +236,10 @@ def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", she
     -------
     MassProperties in frame ``frame`` (the file's coordinate frame), SI units.
     """
-    from ..massprops.mesh import _mesh_properties
+    from ..massprops.mesh import compute_mesh_properties
 
     vertices, faces = load_mesh(path, units=units, merge_rtol=merge_rtol)
     # stacklevel 3: warnings point at the caller of mesh_file_properties
-    return _mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+    return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
                             name=str(path), stacklevel=3, welded=merge_rtol > 0)

@@ -7,7 +7,7 @@ The rule (the *canonical form* of the founding write-up):
    coordinates: the axes expressed in the body frame), a proper rotation (det +1).
 3. Sign rule: axes 1 and 2 each have their largest-magnitude component positive (the first
    such component on exact ties); axis 3 is ``e1 x e2``.
-4. Repeated moments (within ``DEGENERATE_RTOL * I3``):
+4. Repeated moments (within ``REPEATED_MOMENTS_RTOL * I3``):
 
    * all three equal: ``R_body_principal`` is the identity;
    * two equal: the distinct axis is taken from the eigensolver (with the sign rule),
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core.validation import as_float_array
-from .._core.tolerances import DEGENERATE_RTOL
+from .._core.tolerances import REPEATED_MOMENTS_RTOL
 
 
 def _unit(v):
@@ -40,7 +40,7 @@ def _plane_axis(n: np.ndarray) -> np.ndarray:
     return _unit(e - np.dot(e, n) * n)
 
 
-def degenerate_groups(moments, rtol: float = DEGENERATE_RTOL) -> tuple[tuple[int, ...], ...]:
+def degenerate_groups(moments, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[tuple[int, ...], ...]:
     """Groups (tuples of indices, length >= 2) of ascending moments equal within ``rtol * max(moments)``."""
     I = np.asarray(moments, float)
     scale = max(abs(I[-1]), abs(I[0]), np.finfo(float).tiny)
@@ -90,7 +90,7 @@ def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float) -
     return np.array([e1, e2, e3]).T
 
 
-def principal_axes(inertia, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
     """Principal moments and axes of a symmetric inertia matrix, in canonical form.
 
     Parameters
@@ -139,9 +139,53 @@ class PrincipalFrame:
     rtol: float
 
 
-def principal_frame(inertia, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
+def principal_frame(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> PrincipalFrame:
     """Single-body version of :func:`principal_axes` that also reports degeneracy."""
     moments, R = principal_axes(as_float_array(inertia, "inertia", (3, 3), allow_batch=False), rtol=rtol)
     moments.setflags(write=False)
     R.setflags(write=False)
     return PrincipalFrame(moments, R, degenerate_groups(moments, rtol), rtol)
+
+
+def principal_axes_batch(inertia) -> tuple[np.ndarray, np.ndarray, bool]:
+    """``(moments, R_body_principal, principal_is_body)`` of many inertia matrices at once.
+
+    A vectorised route for integrators, which need *a* principal frame but not the
+    canonical one: any proper principal frame gives the same motion (the integrators are
+    equivariant under the sign changes), so the choice only moves rounding.  Use
+    :func:`principal_axes` where the axes are reported.
+
+    Parameters
+    ----------
+    inertia : (..., 3, 3) float, kg m^2, symmetric (not checked here).
+
+    Returns
+    -------
+    moments : (..., 3) float, ascending (a body and any rotated copy of it get the same
+        axis order, which the splitting methods depend on).
+    R_body_principal : (..., 3, 3) float, proper rotations (det +1), principal axes as columns.
+    principal_is_body : bool
+        True when every matrix is diagonal with an ascending diagonal: then P = B, the
+        rotations are the identity and nothing is rounded by a frame change.
+
+    Notes
+    -----
+    Diagonal input (every product exactly zero): ``R`` is the signed permutation that sorts
+    the diagonal (exact; its quaternion has entries 0, 1/2, sqrt(1/2) or 1).  General input:
+    the eigenvectors of ``numpy.linalg.eigh`` as columns, the third negated where needed to
+    make ``det R = +1``.
+    """
+    I_B = np.asarray(inertia, dtype=np.float64)
+    off = I_B[..., [0, 0, 1], [1, 2, 2]]
+    if not np.any(off):
+        diag = np.diagonal(I_B, axis1=-2, axis2=-1)
+        if np.all(np.diff(diag, axis=-1) >= 0):
+            return diag.copy(), np.broadcast_to(np.eye(3), I_B.shape).copy(), True
+        order = np.argsort(diag, axis=-1, kind="stable")
+        moments = np.take_along_axis(diag, order, axis=-1)
+        R = (np.arange(3)[..., :, None] == order[..., None, :]).astype(float)  # R[i, k] = [i == order[k]]
+    else:
+        moments, R = np.linalg.eigh(I_B)
+    det = np.linalg.det(R)
+    R[..., :, 2] *= np.where(det < 0, -1.0, 1.0)[..., None]
+    return moments, R, False

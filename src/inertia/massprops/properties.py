@@ -18,7 +18,7 @@ from .._core.errors import InputError
 from . import tensor as _t
 from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3
 from .principal import PrincipalFrame, principal_frame
-from .._core.tolerances import DEGENERATE_RTOL
+from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .validity import Violation, check_inertia, raise_if_invalid
 
 
@@ -145,7 +145,7 @@ class MassProperties:
         I = self.inertia_com if about is None else self.about(about)
         return {k: float(v) for k, v in _t.elements_from_inertia(I, convention=convention).items()}
 
-    def principal(self, *, rtol: float = DEGENERATE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    def principal(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
         """``(moments, axes)``: moments ascending (3,) kg m^2 and axes as columns of a proper rotation (3, 3).
 
         See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules.
@@ -153,7 +153,7 @@ class MassProperties:
         pf = self.principal_frame(rtol=rtol)
         return pf.moments, pf.R_body_principal
 
-    def principal_frame(self, *, rtol: float = DEGENERATE_RTOL) -> PrincipalFrame:
+    def principal_frame(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> PrincipalFrame:
         """Principal moments, axes and the report of repeated moments."""
         # the value is immutable (read-only arrays), so the decomposition is computed once
         cache = self.__dict__.setdefault("_principal_cache", {})
@@ -162,7 +162,7 @@ class MassProperties:
             pf = cache[rtol] = principal_frame(self.inertia_com, rtol=rtol)
         return pf
 
-    def canonical(self, *, rtol: float = DEGENERATE_RTOL) -> "CanonicalForm":
+    def canonical(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> "CanonicalForm":
         """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
         pf = self.principal_frame(rtol=rtol)
         props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",

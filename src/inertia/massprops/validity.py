@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError, InvalidInertiaError
+from .._core.validation import as_float_array
 from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 
 
@@ -110,3 +111,37 @@ def raise_if_invalid(inertia, mass=None, com=None, *, what: str = "mass properti
 
 def _fmt(a) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in np.asarray(a).ravel()) + ")"
+
+
+def as_principal_moments(moments, name: str = "moments", *, validate: bool = True,
+                         allow_batch: bool = True) -> np.ndarray:
+    """Principal moments ``(..., 3)`` [kg m^2] of bodies, in any order: the one moments validator.
+
+    Used by every entry point that takes principal moments (``integrate``, the step functions,
+    ``exact_solution``, the flip predictions, the CLI).  Raises
+    :class:`~inertia.errors.InputError` for a wrong shape or a non-finite value, and
+    :class:`~inertia.errors.InvalidInertiaError` (with the violations) for moments that are not
+    those of a physical body: a moment not above ``PHYSICAL_RTOL * trace`` (zero or negative),
+    or, when ``validate``, the triangle inequality ``I1 + I2 >= I3`` violated by more than
+    ``PHYSICAL_RTOL * trace``, the rules of :func:`check_inertia`.  ``validate=False`` accepts
+    any positive moments: Euler's equations do not need the triangle inequality, and textbook
+    test bodies (Hairer, Lubich and Wanner's ``(2/3, 1, 2)``) violate it.
+    """
+    I = as_float_array(moments, name, (3,), allow_batch=allow_batch)
+    flat = I.reshape(-1, 3)
+    # the rules of check_inertia on diag(I), vectorised, scaled so no sum overflows
+    scale = np.maximum(np.abs(flat).max(axis=1), np.finfo(float).tiny)
+    s = np.sort(flat, axis=1) / scale[:, None]
+    tol = rtol_of_trace = PHYSICAL_RTOL * np.maximum(np.abs(s.sum(axis=1)), np.finfo(float).tiny)
+    bad = s[:, 0] <= tol
+    if validate:
+        bad |= s[:, 0] + s[:, 1] - s[:, 2] < -rtol_of_trace
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        violations = check_inertia(np.diag(flat[k]))
+        if not validate:
+            violations = [v for v in violations if v.code != "triangle_inequality"]
+        where = "" if I.ndim == 1 else f" at batch index {tuple(int(i) for i in np.unravel_index(k, I.shape[:-1]))}"
+        raise InvalidInertiaError(f"{name} = {_fmt(flat[k])} kg m^2{where} are not the principal moments of a "
+                                  f"physical body: " + "; ".join(v.message for v in violations), violations)
+    return I

@@ -28,7 +28,7 @@ import numpy as np
 from .._core.errors import InputError
 from .geometry import link_geometry_properties
 from .io import read_robot
-from .writers import _elements, _n, _vec
+from .writers import inertia_elements, format_number, format_vector
 from .xmlsafe import serialize
 
 #: smallest principal moment the projection allows, relative to the trace
@@ -78,11 +78,11 @@ class FixReport:
 
 def _set_tensor(fmt: str, el, inertia, mass_scale: float) -> None:
     """Rewrite only the tensor of an inertial element, in its own (declared) axes."""
-    e = _elements(np.asarray(inertia) / mass_scale)
+    e = inertia_elements(np.asarray(inertia) / mass_scale)
     if fmt == "urdf":
         i_el = el.find("inertia")
         for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-            i_el.set(k, _n(e[k]))
+            i_el.set(k, format_number(e[k]))
     elif fmt == "sdf":
         i_el = el.find("inertia")
         if i_el is None:
@@ -91,12 +91,12 @@ def _set_tensor(fmt: str, el, inertia, mass_scale: float) -> None:
             c = i_el.find(k)
             if c is None:
                 c = ET.SubElement(i_el, k)
-            c.text = _n(e[k])
+            c.text = format_number(e[k])
     elif "diaginertia" in el.attrib and max(abs(e["ixy"]), abs(e["ixz"]), abs(e["iyz"])) == 0:
-        el.set("diaginertia", " ".join(_n(e[k]) for k in ("ixx", "iyy", "izz")))
+        el.set("diaginertia", " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz")))
     else:
         el.attrib.pop("diaginertia", None)
-        el.set("fullinertia", " ".join(_n(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
+        el.set("fullinertia", " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
 
 
 def _set_urdf(el, props, mass_scale: float) -> None:
@@ -104,14 +104,14 @@ def _set_urdf(el, props, mass_scale: float) -> None:
     if origin is None:
         origin = ET.Element("origin")
         el.insert(0, origin)
-    origin.set("xyz", _vec(props.com))
+    origin.set("xyz", format_vector(props.com))
     origin.set("rpy", "0 0 0")
     m = el.find("mass")
-    m.set("value", _n(props.mass / mass_scale))
+    m.set("value", format_number(props.mass / mass_scale))
     i_el = el.find("inertia")
-    e = _elements(props.inertia_com)
+    e = inertia_elements(props.inertia_com)
     for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-        i_el.set(k, _n(e[k] / mass_scale))
+        i_el.set(k, format_number(e[k] / mass_scale))
 
 
 def _set_sdf(el, props, mass_scale: float) -> None:
@@ -119,32 +119,32 @@ def _set_sdf(el, props, mass_scale: float) -> None:
     if pose is None:
         pose = ET.Element("pose")
         el.insert(0, pose)
-    pose.text = f"{_vec(props.com)} 0 0 0"
+    pose.text = f"{format_vector(props.com)} 0 0 0"
     for a in list(pose.attrib):
         if a == "relative_to":
             del pose.attrib[a]
     m = el.find("mass")
     if m is None:
         m = ET.SubElement(el, "mass")
-    m.text = _n(props.mass / mass_scale)
+    m.text = format_number(props.mass / mass_scale)
     i_el = el.find("inertia")
     if i_el is None:
         i_el = ET.SubElement(el, "inertia")
-    e = _elements(props.inertia_com)
+    e = inertia_elements(props.inertia_com)
     for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
         c = i_el.find(k)
         if c is None:
             c = ET.SubElement(i_el, k)
-        c.text = _n(e[k] / mass_scale)
+        c.text = format_number(e[k] / mass_scale)
 
 
 def _set_mjcf(el, props, mass_scale: float) -> None:
     for a in ("quat", "euler", "axisangle", "xyaxes", "zaxis", "diaginertia", "fullinertia"):
         el.attrib.pop(a, None)
-    e = _elements(props.inertia_com)
-    el.set("pos", _vec(props.com))
-    el.set("mass", _n(props.mass / mass_scale))
-    el.set("fullinertia", " ".join(_n(e[k] / mass_scale) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
+    e = inertia_elements(props.inertia_com)
+    el.set("pos", format_vector(props.com))
+    el.set("mass", format_number(props.mass / mass_scale))
+    el.set("fullinertia", " ".join(format_number(e[k] / mass_scale) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
 
 
 def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,

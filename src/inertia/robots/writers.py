@@ -19,15 +19,15 @@ import numpy as np
 FORMATS = ("urdf", "mjcf", "sdf")
 
 
-def _n(x) -> str:
+def format_number(x) -> str:
     return repr(float(x))
 
 
-def _vec(v) -> str:
-    return " ".join(_n(x) for x in v)
+def format_vector(v) -> str:
+    return " ".join(format_number(x) for x in v)
 
 
-def _elements(inertia) -> dict:
+def inertia_elements(inertia) -> dict:
     I = np.asarray(inertia, float)
     return {"ixx": I[0, 0], "iyy": I[1, 1], "izz": I[2, 2], "ixy": I[0, 1], "ixz": I[0, 2], "iyz": I[1, 2]}
 
@@ -42,28 +42,28 @@ def matrix_to_quat(R) -> np.ndarray:
 
 def inertial_block(props, fmt: str, *, indent: str = "") -> str:
     """The ``<inertial>`` element for ``props`` (a MassProperties in the link frame)."""
-    e = _elements(props.inertia_com)
+    e = inertia_elements(props.inertia_com)
     c = props.com
     if fmt == "urdf":
         lines = ["<inertial>",
-                 f'  <origin xyz="{_vec(c)}" rpy="0 0 0"/>',
-                 f'  <mass value="{_n(props.mass)}"/>',
-                 '  <inertia ' + " ".join(f'{k}="{_n(e[k])}"' for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+                 f'  <origin xyz="{format_vector(c)}" rpy="0 0 0"/>',
+                 f'  <mass value="{format_number(props.mass)}"/>',
+                 '  <inertia ' + " ".join(f'{k}="{format_number(e[k])}"' for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
                  + "/>",
                  "</inertial>"]
     elif fmt == "sdf":
         lines = ["<inertial>",
-                 f"  <pose>{_vec(c)} 0 0 0</pose>",
-                 f"  <mass>{_n(props.mass)}</mass>",
+                 f"  <pose>{format_vector(c)} 0 0 0</pose>",
+                 f"  <mass>{format_number(props.mass)}</mass>",
                  "  <inertia>"]
-        lines += [f"    <{k}>{_n(e[k])}</{k}>" for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+        lines += [f"    <{k}>{format_number(e[k])}</{k}>" for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
         lines += ["  </inertia>", "</inertial>"]
     elif fmt == "mjcf":
         moments, R = props.principal()
-        full = " ".join(_n(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"))
-        lines = [f'<inertial pos="{_vec(c)}" mass="{_n(props.mass)}" fullinertia="{full}"/>',
-                 f'<!-- equivalently: <inertial pos="{_vec(c)}" mass="{_n(props.mass)}" '
-                 f'diaginertia="{_vec(moments)}" quat="{_vec(matrix_to_quat(R))}"/> -->']
+        full = " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"))
+        lines = [f'<inertial pos="{format_vector(c)}" mass="{format_number(props.mass)}" fullinertia="{full}"/>',
+                 f'<!-- equivalently: <inertial pos="{format_vector(c)}" mass="{format_number(props.mass)}" '
+                 f'diaginertia="{format_vector(moments)}" quat="{format_vector(matrix_to_quat(R))}"/> -->']
     else:
         raise ValueError(f"unknown format {fmt!r}; use one of {FORMATS}")
     return "\n".join(indent + line for line in lines) + "\n"

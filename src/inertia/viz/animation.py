@@ -16,9 +16,9 @@ def render_frames(study, six_body_principal, box_half, *, n_frames: int = 48, si
     """RGB frames (n, H, W, 3) uint8 of the body at ``n_frames`` evenly spaced times."""
     from ..dynamics.exact import exact_solution
     from .._core.rotations import quat_to_matrix
-    from .plots import _plt, box_wire
+    from .plots import pyplot, box_wire
 
-    plt = _plt()
+    plt = pyplot()
     t = np.linspace(study.t[0], study.t[-1], n_frames)
     q, _ = exact_solution(study.moments, study.omega0_body, t)
     R = quat_to_matrix(q)

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 
-def _plt():
+def pyplot():
     try:
         import matplotlib
     except ImportError:
@@ -51,7 +51,7 @@ def _save(fig, out_dir: Path, stem: str) -> list[str]:
 
 def omega_plot(study, out_dir, stem: str = "omega") -> dict:
     """Body angular velocity components against time, predicted flip times marked."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3.6))
     for k, name in enumerate(("about axis 1 (minor)", "about axis 2 (intermediate)", "about axis 3 (major)")):
         ax.plot(study.t, study.omega_exact[:, k], label=f"omega {k + 1}, {name}", lw=1.4)
@@ -70,7 +70,7 @@ def omega_plot(study, out_dir, stem: str = "omega") -> dict:
 
 def invariants_plot(study, out_dir, stem: str = "invariants") -> dict:
     """Relative energy and |L| error of each integrator against time (log scale)."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3.6))
     floor = 1e-17
     for name, tr in study.integrators.items():
@@ -92,7 +92,7 @@ def invariants_plot(study, out_dir, stem: str = "invariants") -> dict:
 def polhode_plot(study, out_dir, stem: str = "polhodes") -> dict:
     """Polhodes on the angular-momentum sphere |m| = |L|: level curves of the energy, the
     separatrix (energy 2E = |L|^2/I2) in red, the demo's own path in black."""
-    plt = _plt()
+    plt = pyplot()
     I = study.moments
     G = float(np.linalg.norm(I * study.omega0_body))
     fig = plt.figure(figsize=(5.2, 5.2))
@@ -139,7 +139,7 @@ def polhode_plot(study, out_dir, stem: str = "polhodes") -> dict:
 
 def body_plot(props, six, out_dir, stem: str = "body") -> dict:
     """The body's principal axes and six point masses to scale, with the equivalent box."""
-    plt = _plt()
+    plt = pyplot()
     from ..massprops.equivalent import equivalent_box
 
     moments, R = props.principal()
