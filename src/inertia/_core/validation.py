@@ -133,3 +133,10 @@ def as_symmetric_matrix3(value, name: str, *, allow_batch: bool = True) -> np.nd
     if asym > SYMMETRY_RTOL * scale:
         raise InputError(f"{name} must be symmetric, got max |I - I^T| = {asym:.3g} (largest entry {scale:.3g})")
     return A
+
+
+def frozen_array(value) -> np.ndarray:
+    """A read-only float64 copy: the attribute arrays of the library's immutable value types."""
+    a = np.array(value, dtype=np.float64, copy=True)
+    a.setflags(write=False)
+    return a

@@ -48,7 +48,7 @@ from fractions import Fraction
 import numpy as np
 
 from .._core.errors import InputError, NoEquivalentModelError
-from .._core.validation import as_rotation_matrix, as_vector3
+from .._core.validation import as_rotation_matrix, as_vector3, frozen_array
 from .properties import CanonicalForm, MassProperties
 from .._core.tolerances import PHYSICAL_RTOL
 from .validity import Violation, check_inertia
@@ -184,12 +184,6 @@ def _flat_warnings(sm: PrincipalSecondMoments, what: str, symbol: str, dims) -> 
     return tuple(out)
 
 
-def _frozen(a) -> np.ndarray:
-    a = np.array(a, dtype=np.float64, copy=True)
-    a.setflags(write=False)
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class _EquivalentSolid:
     """Common part of the uniform equivalent solids (mass, pose of the principal frame, warnings)."""
@@ -212,10 +206,10 @@ class _EquivalentSolid:
         if np.any(dims < 0):
             raise InputError(f"{self._kind}: {self._dims_name} must be >= 0, got {dims.tolist()}")
         object.__setattr__(self, "mass", m)
-        object.__setattr__(self, "dims", _frozen(dims))
+        object.__setattr__(self, "dims", frozen_array(dims))
         object.__setattr__(self, "R_body_principal",
-                           _frozen(as_rotation_matrix(self.R_body_principal, "R_body_principal", allow_batch=False)))
-        object.__setattr__(self, "p_body_com", _frozen(as_vector3(self.p_body_com, "p_body_com")))
+                           frozen_array(as_rotation_matrix(self.R_body_principal, "R_body_principal", allow_batch=False)))
+        object.__setattr__(self, "p_body_com", frozen_array(as_vector3(self.p_body_com, "p_body_com")))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
     # subclasses: principal moments and volume from the dimensions

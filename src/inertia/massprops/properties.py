@@ -16,16 +16,10 @@ import numpy as np
 
 from .._core.errors import InputError
 from . import tensor as _t
-from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3
+from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3, frozen_array
 from .principal import PrincipalFrame, principal_frame
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .validity import Violation, check_inertia, raise_if_invalid
-
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=np.float64, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,8 +62,8 @@ class MassProperties:
         com = as_vector3(self.com, "com")
         inertia = as_matrix3(self.inertia_com, "inertia_com")
         object.__setattr__(self, "mass", mass)
-        object.__setattr__(self, "com", _frozen(com))
-        object.__setattr__(self, "inertia_com", _frozen(inertia))
+        object.__setattr__(self, "com", frozen_array(com))
+        object.__setattr__(self, "inertia_com", frozen_array(inertia))
         object.__setattr__(self, "volume", float(self.volume))
         object.__setattr__(self, "warnings", tuple(self.warnings))
         if not isinstance(self.frame, str):

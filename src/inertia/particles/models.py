@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError
-from .._core.validation import as_float_array, as_rotation_matrix, as_vector3
+from .._core.validation import as_float_array, as_rotation_matrix, as_vector3, frozen_array
 from ..massprops.equivalent import PrincipalSecondMoments, principal_second_moments
 from ..massprops.properties import MassProperties
 from .._core.tolerances import PHYSICAL_RTOL
@@ -49,12 +49,6 @@ TETRAHEDRON_SIGNS = np.array([[1.0, 1.0, 1.0],
                               [-1.0, 1.0, -1.0],
                               [-1.0, -1.0, 1.0]])
 TETRAHEDRON_SIGNS.setflags(write=False)
-
-
-def _frozen(a) -> np.ndarray:
-    a = np.array(a, dtype=np.float64, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,11 +112,11 @@ class ParticleModel:
             raise InputError(f"frame must be a string name, got {self.frame!r}")
         # r_F = p_FBcm + R_body_principal r_P, for every row
         p_F = p_FBcm + p_P @ R_body_principal.T
-        object.__setattr__(self, "masses", _frozen(m))
-        object.__setattr__(self, "positions_principal", _frozen(p_P))
-        object.__setattr__(self, "R_body_principal", _frozen(R_body_principal))
-        object.__setattr__(self, "p_body_com", _frozen(p_FBcm))
-        object.__setattr__(self, "positions_body", _frozen(p_F))
+        object.__setattr__(self, "masses", frozen_array(m))
+        object.__setattr__(self, "positions_principal", frozen_array(p_P))
+        object.__setattr__(self, "R_body_principal", frozen_array(R_body_principal))
+        object.__setattr__(self, "p_body_com", frozen_array(p_FBcm))
+        object.__setattr__(self, "positions_body", frozen_array(p_F))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
     # ------------------------------------------------------------------ queries

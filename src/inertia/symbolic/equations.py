@@ -26,6 +26,7 @@ import warnings
 import numpy as np
 
 from .._core.errors import InertiaError, InertiaWarning, InputError
+from .._core.validation import as_float_array, as_symmetric_matrix3
 from ._sympy import require_sympy
 from .rigid import accelerations as _rigid_accelerations
 from .rigid import lagrangian as _rigid_lagrangian
@@ -236,8 +237,8 @@ class _NumericAccelerations:
                  force_world=None, on_singular: str = "raise") -> np.ndarray:
         s = self.eom.system
         n = s.n
-        q = _as_array(q, "q", (n,))
-        qd = _as_array(qd, "qd", (n,))
+        q = as_float_array(q, "q", (n,))
+        qd = as_float_array(qd, "qd", (n,))
         params = list(_inertia_params(inertia, s.inertia_form))
         if s.has_com:
             if mass is None or com is None:
@@ -246,16 +247,16 @@ class _NumericAccelerations:
             m = float(mass)
             if not (math.isfinite(m) and m > 0):
                 raise InputError(f"mass must be finite and positive, got {mass!r}")
-            params += [m] + list(_as_array(com, "com", (3,), batch=False))
+            params += [m] + list(as_float_array(com, "com", (3,), allow_batch=False))
         if s.gravity:
             if gravity is None:
                 raise InputError("this model has gravity: give gravity= (3,) [m/s^2, world axes], "
                                  "e.g. (0, 0, -9.81)")
-            params += list(_as_array(gravity, "gravity", (3,), batch=False))
-        tau = _as_array(torque_body if torque_body is not None else (0.0, 0.0, 0.0), "torque_body", (3,))
+            params += list(as_float_array(gravity, "gravity", (3,), allow_batch=False))
+        tau = as_float_array(torque_body if torque_body is not None else (0.0, 0.0, 0.0), "torque_body", (3,))
         inputs = [tau[..., i] for i in range(3)]
         if s.has_com:
-            F = _as_array(force_world if force_world is not None else (0.0, 0.0, 0.0), "force_world", (3,))
+            F = as_float_array(force_world if force_world is not None else (0.0, 0.0, 0.0), "force_world", (3,))
             inputs += [F[..., i] for i in range(3)]
         det = np.abs(self.det_kinematic(q))
         if on_singular not in ("raise", "warn", "ignore"):
@@ -280,15 +281,7 @@ class _NumericAccelerations:
         return np.stack([np.broadcast_to(np.asarray(o, float), shape) for o in out], axis=-1)
 
 
-def _as_array(value, name, tail, *, batch=True):
-    from .._core.validation import as_float_array
-
-    return as_float_array(value, name, tail, allow_batch=batch)
-
-
 def _inertia_params(inertia, form: str):
-    from .._core.validation import as_float_array
-
     if form == "diagonal":
         arr = np.asarray(inertia, float)
         if arr.shape == (3, 3):
@@ -297,9 +290,7 @@ def _inertia_params(inertia, form: str):
             arr = np.diag(arr)
         arr = as_float_array(arr, "inertia (principal moments)", (3,), allow_batch=False)
         return tuple(arr)
-    J = as_float_array(inertia, "inertia", (3, 3), allow_batch=False)
-    if np.abs(J - J.T).max() > 1e-12 * np.abs(J).max():
-        raise InputError(f"inertia must be symmetric, got max |J - J^T| = {np.abs(J - J.T).max():.3g}")
+    J = as_symmetric_matrix3(inertia, "inertia", allow_batch=False)
     return (J[0, 0], J[1, 1], J[2, 2], J[0, 1], J[0, 2], J[1, 2])
 
 
