@@ -32,7 +32,7 @@ Formulas (``m_body = I w`` the body angular momentum, ``G = |m_body|``, ``2T = m
     major: w1 = A cn(u|m), w2 = s B sn(u|m), w3 = s C dn(u|m),   s = sign w3
     minor: w3 = A cn(u|m), w2 = s B sn(u|m), w1 = s C dn(u|m),   s = sign w1
 
-with ``A, B, C, lam, m`` given in ``_EllipticMotion``.  The attitude is written as
+with ``A, B, C, lam, m`` given in ``EllipticMotion``.  The attitude is written as
 
     R_WB(t) = R_WB(0) P(m0)^T Rot(d, psi(t)) P(m(t))
 
@@ -63,18 +63,17 @@ the body frame as given.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
-import scipy.special as sc
 
-from .._core.errors import InputError, InvalidInertiaError
+from .._core.errors import InputError
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
 from .._core.validation import as_float_array, as_unit_quat
 from ..massprops.principal import principal_axes_batch
 from ..massprops.validity import as_principal_moments
-from .elliptic import ellipk, ellippi, incomplete_pi_local, jacobi_reduced
+from .exact_motions import (ConstantMotion, EllipticMotion, SeparatrixMotion, SymmetricTopMotion, axis_angle_quat,
+                            deltas, minimal_rotation_quat)
 
 __all__ = [
     "exact_solution",
@@ -98,253 +97,6 @@ def _as_times(t) -> np.ndarray:
         bad = ta[~np.isfinite(ta)].ravel()[0]
         raise InputError(f"t must hold finite times in s, got {bad!r}")
     return ta
-
-
-# ============================================================================ small helpers
-def _axis_angle_quat(axis, angle) -> np.ndarray:
-    """Quaternion (..., 4) of the rotation by ``angle`` (...) about the unit ``axis`` (3,) or (..., 3)."""
-    angle = np.asarray(angle, dtype=float)
-    half = 0.5 * angle
-    axis = np.asarray(axis, dtype=float)
-    return np.concatenate([np.cos(half)[..., None], np.sin(half)[..., None] * axis], axis=-1)
-
-
-def _minimal_rotation_quat(n_hat, d) -> np.ndarray:
-    """Quaternion (..., 4) of the smallest rotation taking the unit vectors n_hat (..., 3) onto d (3,).
-
-    ``p = (1 + c, n x d) / sqrt(2 (1 + c))`` with ``c = n.d``; callers guarantee ``c > -1``
-    (here ``c > 0`` always).
-    """
-    c = n_hat @ d
-    v = np.cross(n_hat, d)
-    return np.concatenate([(1.0 + c)[..., None], v], axis=-1) / np.sqrt(2.0 * (1.0 + c))[..., None]
-
-
-def _deltas(I, m):
-    """``D_j = |m|^2 - 2T I_j`` without cancellation (Celledoni et al.'s invariants).
-
-    Called with the unit vector ``m / G`` (so ``D_j / G^2``): no underflow or overflow of
-    ``m^2`` whatever the scale of the angular momentum.
-    """
-    I1, I2, I3 = I
-    m1s, m2s, m3s = m * m
-    D1 = m2s * (I2 - I1) / I2 + m3s * (I3 - I1) / I3
-    D2 = m1s * (I1 - I2) / I1 + m3s * (I3 - I2) / I3
-    D3 = m1s * (I1 - I3) / I1 + m2s * (I2 - I3) / I2
-    return D1, D2, D3
-
-
-# ============================================================================ motions (frame P)
-class _Constant:
-    """Rest, sphere, steady spin: constant omega, rotation about it at |omega|."""
-
-    def __init__(self, w0):
-        self.w0 = w0
-        rate = float(np.linalg.norm(w0))
-        self.rate = rate
-        self.axis = w0 / rate if rate > 0 else np.array([1.0, 0.0, 0.0])
-
-    def omega(self, t):
-        return np.broadcast_to(self.w0, t.shape + (3,)).copy()
-
-    def quat_from_start(self, t):
-        """``q_P0_P(t)``: rotation from the initial principal frame to the current one."""
-        return _axis_angle_quat(self.axis, self.rate * t)
-
-
-class _SymmetricTop:
-    """Two equal moments: regular precession.
-
-    With ``s`` the symmetry axis, ``I_t`` the transverse moment and
-    ``Omega = (I_s - I_t) w_s / I_t``: ``w(t) = Rot(e_s, Omega t) w0`` and
-    ``R(t) = R0 Rot(m0/G, G t / I_t) Rot(e_s, -Omega t)``.
-    """
-
-    def __init__(self, I, w0, s_axis: int, I_t: float):
-        self.s = s_axis
-        self.e_s = np.eye(3)[s_axis]
-        self.w0 = w0
-        self.Omega = (I[s_axis] - I_t) * w0[s_axis] / I_t
-        m0 = I * w0
-        self.G = float(np.linalg.norm(m0))
-        self.L_hat = m0 / self.G
-        self.I_t = I_t
-
-    def omega(self, t):
-        ang = self.Omega * t
-        c, s = np.cos(ang), np.sin(ang)
-        k = self.s
-        i, j = (k + 1) % 3, (k + 2) % 3
-        w = np.empty(t.shape + (3,))
-        # rotation about e_k (right-handed cyclic order i -> j -> k)
-        w[..., i] = c * self.w0[i] - s * self.w0[j]
-        w[..., j] = s * self.w0[i] + c * self.w0[j]
-        w[..., k] = self.w0[k]
-        return w
-
-    def quat_from_start(self, t):
-        a = _axis_angle_quat(self.L_hat, self.G / self.I_t * t)
-        b = _axis_angle_quat(self.e_s, -self.Omega * t)
-        return quat_multiply(a, b)
-
-
-@dataclass
-class _EllipticMotion:
-    """Asymmetric body off the separatrix: Jacobi elliptic functions (constants precomputed)."""
-
-    I: np.ndarray
-    w0: np.ndarray
-    major: bool
-    G: float
-    D: tuple
-
-    def __post_init__(self):
-        I1, I2, I3 = self.I
-        D1, D2, D3 = self.D          # D_j / G^2
-        G = self.G
-        if self.major:
-            # circulation about e3: cn on axis 1, sn on 2, dn on 3
-            self.cn_axis, self.dn_axis = 0, 2
-            self.A = G * math.sqrt(-D3 / (I1 * (I3 - I1)))
-            self.B = G * math.sqrt(-D3 / (I2 * (I3 - I2)))
-            self.C = G * math.sqrt(D1 / (I3 * (I3 - I1)))
-            self.lam = G * math.sqrt((I3 - I2) * D1 / (I1 * I2 * I3))
-            self.m = (I2 - I1) * (-D3) / ((I3 - I2) * D1)
-            self.mc = D2 * (I3 - I1) / ((I3 - I2) * D1)
-            self.n = -I3 * (I2 - I1) / (I1 * (I3 - I2))
-            self.sqrt_1mn = math.sqrt(I2 * (I3 - I1) / (I1 * (I3 - I2)))
-            self.s_c = 1.0
-            I_d = I3
-        else:
-            # circulation about e1: cn on axis 3, sn on 2, dn on 1
-            self.cn_axis, self.dn_axis = 2, 0
-            self.A = G * math.sqrt(D1 / (I3 * (I3 - I1)))
-            self.B = G * math.sqrt(D1 / (I2 * (I2 - I1)))
-            self.C = G * math.sqrt(-D3 / (I1 * (I3 - I1)))
-            self.lam = G * math.sqrt((I2 - I1) * (-D3) / (I1 * I2 * I3))
-            self.m = (I3 - I2) * D1 / ((I2 - I1) * (-D3))
-            self.mc = (-D2) * (I3 - I1) / ((I2 - I1) * (-D3))
-            self.n = -I1 * (I3 - I2) / (I3 * (I2 - I1))
-            self.sqrt_1mn = math.sqrt(I2 * (I3 - I1) / (I3 * (I2 - I1)))
-            self.s_c = -1.0
-            I_d = I1
-        self.mc = min(max(self.mc, 0.0), 1.0)
-        self.m = min(max(self.m, 0.0), 1.0)
-        self.I_d = I_d
-        self.sigma = 1.0 if self.w0[self.dn_axis] > 0 else -1.0
-        self.d = self.sigma * np.eye(3)[self.dn_axis]
-        self.a = I_d * self.C / G
-        self.K = float(ellipk(mc=self.mc))
-        self.period = 4.0 * self.K / self.lam
-        self.u0 = self._initial_phase()
-        self.coef = self.s_c * G * (I3 - I1) / (self.lam * I1 * I3)
-        self.Pi_c = float(ellippi(self.n, mc=self.mc))
-        # J(u) gains this much per half period of am (am -> am + pi)
-        self.J_half = 2.0 * self.Pi_c - self.a * math.pi / self.sqrt_1mn
-        self.J0 = float(self._J(jacobi_reduced(self.u0, mc=self.mc)))
-        self.rotation_per_period = G / I_d * self.period + self.coef * 2.0 * self.J_half
-
-    # ---------------------------------------------------------------- phase
-    def _initial_phase(self) -> float:
-        """``u0`` with ``sn(u0) = s w_sn/B``, ``cn(u0) = w_cn/A``, in (-2K, 2K].
-
-        Near ``am = +-pi/2`` (the slow passage by the saddle), ``F(phi|m)`` is computed as
-        ``K - F(phi'|m)`` with ``sn(phi') = |cn|/dn``, ``cn(phi') = k' |sn|/dn``, which keeps
-        full precision when ``1 - m`` is tiny.
-        """
-        sn0 = self.sigma * self.w0[1] / self.B
-        cn0 = self.w0[self.cn_axis] / self.A
-        h = math.hypot(sn0, cn0)
-        s, c = abs(sn0) / h, abs(cn0) / h
-        mc = self.mc
-        if s <= c:
-            F = s * float(sc.elliprf(c * c, c * c + mc * s * s, 1.0))
-        else:
-            dn0 = math.sqrt(c * c + mc * s * s)
-            sv, cv = c / dn0, s * math.sqrt(mc) / dn0
-            v = sv * float(sc.elliprf(cv * cv, mc / (dn0 * dn0), 1.0))
-            F = self.K - v
-        u_abs = F if cn0 >= 0 else 2.0 * self.K - F
-        return u_abs if sn0 >= 0 else -u_abs
-
-    # ---------------------------------------------------------------- evaluation
-    def _J(self, jr):
-        """``J(u) = Pi(n; am u|m) - a/sqrt(1-n) atan(sqrt(1-n) tan am u)`` (continuous branch)."""
-        local = incomplete_pi_local(self.n, jr.sn_r, jr.cn_r, jr.dn * jr.dn)
-        theta = np.arctan2(self.sqrt_1mn * jr.sn_r, jr.cn_r)
-        return jr.j * self.J_half + local - self.a / self.sqrt_1mn * theta
-
-    def _at(self, t):
-        jr = jacobi_reduced(self.lam * t + self.u0, mc=self.mc)
-        w = np.empty(t.shape + (3,))
-        w[..., self.cn_axis] = self.A * jr.cn
-        w[..., 1] = self.sigma * self.B * jr.sn
-        w[..., self.dn_axis] = self.sigma * self.C * jr.dn
-        psi = self.G / self.I_d * t + self.coef * (self._J(jr) - self.J0)
-        return w, psi
-
-    def omega(self, t):
-        return self._at(t)[0]
-
-    def psi(self, t):
-        return self._at(t)[1]
-
-    def omega_psi(self, t):
-        return self._at(t)
-
-
-@dataclass
-class _SeparatrixMotion:
-    """``D2 = 0``: heteroclinic motion towards +-G e2 (hyperbolic functions).
-
-    ``m(t) = (s1 B13 sech x, G tanh x, s3 B31 sech x)`` with ``x = lam t - nu``; the
-    attitude angle about ``d = s3 e3`` integrates ``int dx / (1 + b sech x)`` in closed form.
-    """
-
-    I: np.ndarray
-    w0: np.ndarray
-    G: float
-    D: tuple
-
-    def __post_init__(self):
-        I1, I2, I3 = self.I
-        D1, D2, D3 = self.D          # D_j / G^2
-        G = self.G
-        m0 = self.I * self.w0
-        self.s1 = 1.0 if m0[0] > 0 else -1.0
-        self.s3 = 1.0 if m0[2] > 0 else -1.0
-        self.B13 = G * math.sqrt(I1 * (-D3) / (I3 - I1))
-        self.B31 = G * math.sqrt(I3 * D1 / (I3 - I1))
-        self.lam = self.s1 * self.s3 * G * math.sqrt(-D1 * D3 / (I1 * I3))
-        # nu = -atanh(m2/G), with 1 -+ m2/G from m1^2 + m3^2 (no cancellation)
-        perp = math.hypot(m0[0], m0[2])
-        at = math.log((G + abs(m0[1])) / perp)
-        self.nu = -math.copysign(at, m0[1])
-        self.d = self.s3 * np.array([0.0, 0.0, 1.0])
-        self.I_d = I3
-        self.D3 = D3 * G * G
-        self.c_half = self.B13 / (G + self.B31)       # sqrt((1 - b)/(1 + b)), b = B31/G
-        self.ratio = 2.0 * self.B31 / self.B13         # 2 b / sqrt(1 - b^2)
-        self.x0 = -self.nu
-        self.atan0 = math.atan(self.c_half * math.tanh(0.5 * self.x0))
-
-    def omega_psi(self, t):
-        x = self.lam * t - self.nu
-        sech = 1.0 / np.cosh(np.clip(x, -700.0, 700.0))
-        m = np.empty(t.shape + (3,))
-        m[..., 0] = self.s1 * self.B13 * sech
-        m[..., 1] = self.G * np.tanh(x)
-        m[..., 2] = self.s3 * self.B31 * sech
-        w = m / self.I
-        bracket = (x - self.x0) - self.ratio * (np.arctan(self.c_half * np.tanh(0.5 * x)) - self.atan0)
-        psi = self.G / self.I_d * t - self.D3 / (self.G * self.I_d * self.lam) * bracket
-        return w, psi
-
-    def omega(self, t):
-        return self.omega_psi(t)[0]
-
-    def psi(self, t):
-        return self.omega_psi(t)[1]
 
 
 # ============================================================================ public class
@@ -441,13 +193,13 @@ class ExactSolution:
         scale = I[2]
         eq01 = I[1] - I[0] <= equal_rtol * scale
         eq12 = I[2] - I[1] <= equal_rtol * scale
-        D = _deltas(I, m0 / G) if G > 0 else (0.0, 0.0, 0.0)
+        D = deltas(I, m0 / G) if G > 0 else (0.0, 0.0, 0.0)
         if G == 0.0:
             self.regime = "rest"
-            self._motion = _Constant(w0)
+            self._motion = ConstantMotion(w0)
         elif eq01 and eq12:
             self.regime = "sphere"
-            self._motion = _Constant(w0)
+            self._motion = ConstantMotion(w0)
         elif eq01 or eq12:
             s_axis = 2 if eq01 else 0
             pair = (0, 1) if eq01 else (1, 2)
@@ -455,26 +207,26 @@ class ExactSolution:
             transverse = np.delete(w0, s_axis)
             if not np.any(transverse) or w0[s_axis] == 0.0:
                 self.regime = "steady_spin"
-                self._motion = _Constant(w0)
+                self._motion = ConstantMotion(w0)
             else:
                 self.regime = "symmetric_top"
-                top = _SymmetricTop(I, w0, s_axis, I_t)
+                top = SymmetricTopMotion(I, w0, s_axis, I_t)
                 self._motion = top
                 self.rate = abs(top.Omega)
                 self.period = 2.0 * math.pi / abs(top.Omega)
         elif D[0] == 0.0 or D[2] == 0.0 or (w0[0] == 0.0 and w0[2] == 0.0):
             # exactly along a principal axis (D1 = 0: e1; D3 = 0: e3; m1 = m3 = 0: e2)
             self.regime = "steady_spin"
-            self._motion = _Constant(w0)
+            self._motion = ConstantMotion(w0)
         elif D[1] == 0.0:
             self.regime = "separatrix"
-            sep = _SeparatrixMotion(I, w0, G, D)
+            sep = SeparatrixMotion(I, w0, G, D)
             self._motion = sep
             self.rate = abs(sep.lam)
             self.parameter, self.complementary_parameter = 1.0, 0.0
             self.period = math.inf
         else:
-            ell = _EllipticMotion(I, w0, major=D[1] > 0, G=G, D=D)
+            ell = EllipticMotion(I, w0, major=D[1] > 0, G=G, D=D)
             self.regime = "major_axis" if ell.major else "minor_axis"
             self._motion = ell
             self.rate = ell.lam
@@ -482,20 +234,20 @@ class ExactSolution:
             self.complementary_parameter = ell.mc
             self.period = ell.period
             self.rotation_per_period = ell.rotation_per_period
-        if isinstance(self._motion, (_EllipticMotion, _SeparatrixMotion)):
+        if isinstance(self._motion, (EllipticMotion, SeparatrixMotion)):
             # q_WP(t) = q_WP0 p(m0)^* Rot(d, psi(t)) p(m(t)): the constant left factor
             self._q_left = quat_multiply(self._q_WP0,
-                                         quat_conjugate(_minimal_rotation_quat(m0 / G, self._motion.d)))
+                                         quat_conjugate(minimal_rotation_quat(m0 / G, self._motion.d)))
 
     # ---------------------------------------------------------------- evaluation
     def _omega_q_principal(self, t):
         mot = self._motion
-        if isinstance(mot, (_EllipticMotion, _SeparatrixMotion)):
+        if isinstance(mot, (EllipticMotion, SeparatrixMotion)):
             w, psi = mot.omega_psi(t)
             mvec = self._I * w
             n_hat = mvec / np.linalg.norm(mvec, axis=-1, keepdims=True)
-            p = _minimal_rotation_quat(n_hat, mot.d)
-            q = quat_multiply(quat_multiply(self._q_left, _axis_angle_quat(mot.d, psi)), p)
+            p = minimal_rotation_quat(n_hat, mot.d)
+            q = quat_multiply(quat_multiply(self._q_left, axis_angle_quat(mot.d, psi)), p)
         else:
             w = mot.omega(t)
             q = quat_multiply(self._q_WP0, mot.quat_from_start(t))
@@ -545,7 +297,7 @@ class ExactSolution:
         against published values; NaN in the other regimes.
         """
         ta = _as_times(t)
-        if isinstance(self._motion, (_EllipticMotion, _SeparatrixMotion)):
+        if isinstance(self._motion, (EllipticMotion, SeparatrixMotion)):
             return self._motion.psi(ta)
         return np.full(ta.shape, math.nan)
 
@@ -572,7 +324,7 @@ class ExactSolution:
         elliptic regimes.
         """
         mot = self._motion
-        if not isinstance(mot, _EllipticMotion):
+        if not isinstance(mot, EllipticMotion):
             return np.empty(0)
         t0, t1 = float(t_start), float(t_end)
         k0 = math.ceil((mot.lam * t0 + mot.u0) / (2.0 * mot.K))

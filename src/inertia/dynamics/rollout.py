@@ -125,27 +125,8 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     (5, 13)
     """
     body = check_body(body)
-    if n_steps is None:
-        if u is None:
-            raise InputError("give n_steps when u is None (zero input held for n_steps steps)")
-        u = as_float_array(u, "u", (INPUT_SIZE,))
-        if u.ndim < 2:
-            raise InputError(f"u must be a time-major sequence (n_steps, ..., 6) when n_steps is None, "
-                             f"got shape {u.shape}; pass n_steps to hold one input")
-        n = u.shape[0]
-        u_batch = u.shape[1:-1]
-        held = False
-    else:
-        n = as_count(n_steps, "n_steps", 0)
-        u = np.zeros(INPUT_SIZE) if u is None else as_float_array(u, "u", (INPUT_SIZE,))
-        u_batch = u.shape[:-1]
-        held = True
-    if save_every is None:
-        every = 0
-    else:
-        every = as_count(save_every, "save_every", 1)
-        if n % every:
-            raise InputError(f"n_steps ({n}) must be a multiple of save_every ({every})")
+    u, n, u_batch, held = _input_plan(u, n_steps)
+    every = _save_plan(save_every, n)
     x0 = as_float_array(x0, "x0", (STATE_SIZE,)).copy()
     x0[..., Q_WORLD_BODY] = as_unit_quat(x0[..., Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
     hf = as_time_step(h)
@@ -174,6 +155,31 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
         out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
         out = state_from_principal(body, out)
     return out[0] if every == 0 else out
+
+
+def _input_plan(u, n_steps):
+    """``(u, n, u_batch, held)``: a held input for ``n_steps`` steps, or a time-major sequence."""
+    if n_steps is None:
+        if u is None:
+            raise InputError("give n_steps when u is None (zero input held for n_steps steps)")
+        u = as_float_array(u, "u", (INPUT_SIZE,))
+        if u.ndim < 2:
+            raise InputError(f"u must be a time-major sequence (n_steps, ..., 6) when n_steps is None, "
+                             f"got shape {u.shape}; pass n_steps to hold one input")
+        return u, u.shape[0], u.shape[1:-1], False
+    n = as_count(n_steps, "n_steps", 0)
+    u = np.zeros(INPUT_SIZE) if u is None else as_float_array(u, "u", (INPUT_SIZE,))
+    return u, n, u.shape[:-1], True
+
+
+def _save_plan(save_every, n: int) -> int:
+    """Steps between saved states (0: only the final state)."""
+    if save_every is None:
+        return 0
+    every = as_count(save_every, "save_every", 1)
+    if n % every:
+        raise InputError(f"n_steps ({n}) must be a multiple of save_every ({every})")
+    return every
 
 
 def _inputs_to_principal(body, u, body_force):
