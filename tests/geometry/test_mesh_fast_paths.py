@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inertia.geometry import checks as mesh_checks, mesh_io
-from inertia.geometry.checks import analyse_mesh, _weld_map_numpy, compact_vertices, validate_inputs
+from inertia.geometry import mesh_arrays as mesh_checks, mesh_io
+from inertia.geometry.checks import analyse_mesh
+from inertia.geometry.mesh_arrays import compact_vertices, validate_inputs, weld_map_numpy
 
 nbk = pytest.importorskip("inertia.geometry._topology_numba")
 
@@ -49,17 +50,17 @@ def test_weld_map_matches_numpy_on_hand_built_rows():
                   [np.inf, 1, 1], [3, 4, 5], [0, -0.0, 2 + 4.5e-16], [0, 0, 2], [0, 0.0, 2]])
     rep = nbk.weld_map(v)
     assert rep.tolist() == [0, 0, 2, 3, 0, 5, 6, 5, 8, 9, 9]  # -0.0 == 0.0; NaN/inf rows stay alone
-    assert np.array_equal(rep, _weld_map_numpy(v))
+    assert np.array_equal(rep, weld_map_numpy(v))
 
 
 def test_weld_map_matches_numpy_with_many_groups_and_table_growth():
     rng = np.random.default_rng(7)
     pool = rng.normal(size=(5000, 3))
     v = pool[rng.integers(0, len(pool), size=40000)]   # ~5000 groups: the table doubles several times
-    assert np.array_equal(nbk.weld_map(v), _weld_map_numpy(v))
+    assert np.array_equal(nbk.weld_map(v), weld_map_numpy(v))
     grid = np.array(np.meshgrid(*[np.arange(30.0)] * 3)).reshape(3, -1).T   # equal low bits: hash spread
     grid = np.concatenate([grid, grid[::-1]])
-    assert np.array_equal(nbk.weld_map(grid), _weld_map_numpy(grid))
+    assert np.array_equal(nbk.weld_map(grid), weld_map_numpy(grid))
 
 
 def test_weld_vertices_is_the_same_with_and_without_numba(shared_data, monkeypatch):
@@ -76,7 +77,7 @@ def test_weld_keeps_the_lowest_index_coordinates_and_drops_unreferenced():
     v = np.array([[9.0, 9, 9], [0, 0, 0], [1, 0, 0], [0, 1, 0], [-0.0, 0, 0], [0, 0, 1]])
     f = np.array([[4, 2, 3], [4, 3, 5], [4, 5, 2], [2, 5, 3]])
     fast = nbk.weld_compact(v, f)
-    rep = _weld_map_numpy(v)
+    rep = weld_map_numpy(v)
     slow = compact_vertices(v, rep[f])
     assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1])
     assert fast[0].shape == (4, 3) and np.signbit(fast[0][0, 0]) == np.signbit(v[1, 0])
@@ -199,7 +200,7 @@ def test_clean_verdict_is_given_only_to_meshes_without_any_defect(case):
     assert _report_key(fast) == _report_key(full)
     out = np.empty(2)
     vv, ff = validate_inputs(v, f)
-    rep = _weld_map_numpy(vv)
+    rep = weld_map_numpy(vv)
     ok = nbk.closed_single_shell(vv, rep[np.clip(ff, 0, len(vv) - 1)], 1e-12, out) if case != "bad_index" else \
         nbk.closed_single_shell(vv, ff, 1e-12, out)
     assert ok == (full.codes == () and full.n_components == 1), case

@@ -17,7 +17,8 @@ import pytest
 import inertia
 from inertia.errors import InputError, MeshError, MeshFileError, MissingDependencyError
 from inertia.massprops.mesh import mesh_properties
-from inertia.geometry.checks import MeshDefectWarning, check_mesh
+from inertia.errors import MeshDefectWarning
+from inertia.geometry.checks import check_mesh
 from inertia.geometry.mesh_io import UNITS, load_mesh
 from inertia.massprops.mesh import mesh_file_properties
 

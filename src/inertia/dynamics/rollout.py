@@ -127,19 +127,7 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     body = check_body(body)
     u, n, u_batch, held = _input_plan(u, n_steps)
     every = _save_plan(save_every, n)
-    x0 = as_float_array(x0, "x0", (STATE_SIZE,)).copy()
-    x0[..., Q_WORLD_BODY] = as_unit_quat(x0[..., Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
-    hf = as_time_step(h)
-    force_frame = check_force_frame(force_frame)
-    body_force = force_frame == "body"
-    g = None if gravity is None else as_float_array(gravity, "gravity", (3,))
-    if g is not None and g.shape != (3,):
-        raise InputError(f"gravity must have shape (3,), got {g.shape}")
-    try:
-        batch = np.broadcast_shapes(x0.shape[:-1], u_batch, body.batch_shape)
-    except ValueError:
-        raise InputError(f"batch shapes do not broadcast: x0 {x0.shape}, u {u.shape} "
-                         f"({'held' if held else 'time-major'}), body {body.batch_shape}") from None
+    x0, hf, body_force, g, batch = _check_state(x0, h, force_frame, gravity, u, u_batch, held, body)
     which = _choose_backend(backend, method)
     rot_step = resolve_method(method)
 
@@ -155,6 +143,24 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
         out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
         out = state_from_principal(body, out)
     return out[0] if every == 0 else out
+
+
+def _check_state(x0, h, force_frame, gravity, u, u_batch, held, body):
+    """``(x0, h, body_force, gravity, batch shape)`` checked and broadcast for :func:`rollout`."""
+    x0 = as_float_array(x0, "x0", (STATE_SIZE,)).copy()
+    x0[..., Q_WORLD_BODY] = as_unit_quat(x0[..., Q_WORLD_BODY], "x0[..., 6:10] (q_world_body)")
+    hf = as_time_step(h)
+    force_frame = check_force_frame(force_frame)
+    body_force = force_frame == "body"
+    g = None if gravity is None else as_float_array(gravity, "gravity", (3,))
+    if g is not None and g.shape != (3,):
+        raise InputError(f"gravity must have shape (3,), got {g.shape}")
+    try:
+        batch = np.broadcast_shapes(x0.shape[:-1], u_batch, body.batch_shape)
+    except ValueError:
+        raise InputError(f"batch shapes do not broadcast: x0 {x0.shape}, u {u.shape} "
+                         f"({'held' if held else 'time-major'}), body {body.batch_shape}") from None
+    return x0, hf, body_force, g, batch
 
 
 def _input_plan(u, n_steps):

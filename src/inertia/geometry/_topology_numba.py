@@ -258,6 +258,10 @@ def near_merge_map(vertices, tol):
     return rep
 
 
+# One numeric kernel kept whole (146 lines, over the 80-line rule on purpose): its passes
+# (indices, areas, edge hash, winding, one component, volume sign) share the hash tables and
+# early exits of a single compiled loop nest; split into functions they would pass those
+# tables around and lose the one-pass structure that makes the clean-mesh check O(n).
 @nb.njit(**_JIT)
 def closed_single_shell(vertices, faces, area_rtol, out):
     """True when the mesh is one closed, consistently wound component of positive volume.
@@ -451,6 +455,8 @@ def _key_hash(k0, k1, k2):
     return _mix3(np.uint64(k0) | (np.uint64(k1) << _S32), np.uint64(k2), np.uint64(0x5BD1E995))
 
 
+# One numeric kernel kept whole (86 lines): the weld of the STL's corner bits and the
+# near-merge share one table in one compiled pass; it mirrors weld_and_merge step by step.
 @nb.njit(**_JIT)
 def stl_weld_and_merge(corners, rtol):
     """Weld the corners of a binary STL, then merge within the tolerance.

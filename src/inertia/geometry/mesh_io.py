@@ -65,7 +65,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
     and a k-d tree.  Both give the same groups.
     """
-    from .checks import topology_kernels, compact_vertices, validate_inputs, weld_vertices
+    from .mesh_arrays import compact_vertices, topology_kernels, validate_inputs, weld_vertices
 
     kernels = topology_kernels()
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
@@ -195,7 +195,7 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
     """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
     over the file's records (no float64 triangle soup); None without numba or when the
     compiled merge declines (the caller then takes the general route)."""
-    from .checks import topology_kernels
+    from .mesh_arrays import topology_kernels
 
     kernels = topology_kernels()
     if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively

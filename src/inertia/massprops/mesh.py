@@ -24,7 +24,10 @@ import numpy as np
 from .._core.errors import InputError, MeshError
 from .._core.validation import resolve_mass
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
-from ..geometry.checks import MeshDefectWarning, analyse_mesh, compact_vertices, orient_analysed, validate_inputs
+from .._core.errors import MeshDefectWarning
+from ..geometry.checks import analyse_mesh
+from ..geometry.mesh_arrays import compact_vertices, validate_inputs
+from ..geometry.orient import orient_analysed
 from ..geometry.integrals import central_inertia, shell_integrals, solid_integrals
 
 __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]

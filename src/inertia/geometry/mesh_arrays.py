@@ -1,0 +1,141 @@
+"""Mesh arrays: input validation, exact welding of equal vertices, compaction.
+
+Every function here returns arrays that the compiled kernels may read: validated in their
+final shape (``(V, 3)`` finite-or-not float64, ``(F, 3)`` int64 indices in range are checked
+by the analysis, not here).  The numba kernels of :mod:`._topology_numba` are twins of the
+NumPy code (tests/geometry/test_mesh_fast_paths.py compares them).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._core.errors import InputError
+
+__all__ = ["validate_inputs", "topology_kernels", "weld_map", "weld_map_numpy", "weld_vertices", "compact_vertices"]
+
+
+def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+    """Coerce ``vertices`` to float64 (V, 3) and ``faces`` to int64 (F, 3), or raise InputError.
+
+    Non-finite coordinates and out-of-range indices are *not* refused here: they are mesh
+    defects (``non_finite``, ``bad_index``) reported by :func:`check_mesh`.  Float face arrays
+    are accepted when every value is integral.  Empty inputs become (0, 3) arrays.
+    """
+    try:
+        v = np.asarray(vertices, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"vertices must be a numeric (V, 3) array, got {type(vertices).__name__}: {exc}") from None
+    if v.size == 0:
+        v = v.reshape(0, 3)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise InputError(f"vertices must have shape (V, 3), got {v.shape}")
+
+    f = np.asarray(faces)
+    if f.size == 0:
+        f = np.zeros((0, 3), dtype=np.int64)
+    if f.dtype == bool or not (np.issubdtype(f.dtype, np.integer) or np.issubdtype(f.dtype, np.floating)):
+        raise InputError(f"faces must be an integer (F, 3) array of vertex indices, got dtype {f.dtype}")
+    if f.ndim != 2 or f.shape[1] != 3:
+        hint = " (triangulate polygons first)" if f.ndim == 2 and f.shape[1] > 3 else ""
+        raise InputError(f"faces must have shape (F, 3){hint}, got {f.shape}")
+    if np.issubdtype(f.dtype, np.floating):
+        bad = ~np.isfinite(f) | (f != np.round(f)) | (np.abs(f) > 2.0**62)
+        if bad.any():
+            k = tuple(int(i) for i in np.argwhere(bad)[0])
+            raise InputError(f"faces must hold integer vertex indices; faces[{k[0]}, {k[1]}] = {float(f[k])!r} "
+                             f"({int(bad.sum())} non-integral values)")
+    elif f.dtype == np.uint64 and f.size and f.max() > np.iinfo(np.int64).max:
+        raise InputError(f"faces hold an index too large for int64: {int(f.max())}")
+    return v, f.astype(np.int64, copy=False)
+
+
+# ---------------------------------------------------------------------------------- compiled path
+# None: not tried yet; False: numba unavailable; else the module of compiled kernels
+_topology_state = None
+
+
+def topology_kernels():
+    """The numba welding/topology kernels (:mod:`._topology_numba`), or None without numba.
+
+    They give the same answers as the NumPy code here, in O(n) hash passes instead of sorts;
+    tests compare the two.
+    """
+    global _topology_state
+    if _topology_state is None:
+        try:
+            from . import _topology_numba as kernels
+        except ImportError:
+            kernels = False
+        _topology_state = kernels
+    return _topology_state or None
+
+
+# ---------------------------------------------------------------------------------- welding
+def weld_map(vertices: np.ndarray) -> np.ndarray:
+    """``rep[i]``: the lowest index of a vertex with exactly the coordinates of vertex i.
+
+    Non-finite vertices map to themselves; ``+ 0.0`` folds -0.0 onto 0.0.  Compiled: one
+    hash-table pass.  NumPy: the rows are grouped by a 64-bit hash of their bits (one sort);
+    equal hashes are confirmed by comparing the rows, and a collision falls back to a
+    lexicographic sort.
+    """
+    kernels = topology_kernels()
+    if kernels is not None:
+        return kernels.weld_map(np.ascontiguousarray(vertices, dtype=np.float64))
+    return weld_map_numpy(vertices)
+
+
+def weld_map_numpy(vertices: np.ndarray) -> np.ndarray:
+    """NumPy version of :func:`weld_map`."""
+    n = len(vertices)
+    rep = np.arange(n, dtype=np.int64)
+    fin = np.flatnonzero(np.isfinite(vertices).all(axis=1))
+    if len(fin) < 2:
+        return rep
+    v = np.ascontiguousarray(vertices[fin] + 0.0)
+    bits = v.view(np.uint64).reshape(-1, 3)
+    h = (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)) ^ (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)) \
+        ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
+    h ^= h >> np.uint64(29)
+    order = np.argsort(h, kind="stable")               # stable: equal rows stay in index order
+    s = v[order]
+    same_row = np.all(s[1:] == s[:-1], axis=1)
+    hs = h[order]
+    if np.any((hs[1:] == hs[:-1]) & ~same_row):        # hash collision: sort the rows themselves
+        order = np.lexsort((v[:, 2], v[:, 1], v[:, 0]))  # lexsort is stable too
+        s = v[order]
+        same_row = np.all(s[1:] == s[:-1], axis=1)
+    new_run = np.r_[True, ~same_row]
+    run_id = np.cumsum(new_run) - 1
+    first = fin[order[new_run]]
+    rep[fin[order]] = first[run_id]
+    return rep
+
+
+def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+    """Merge vertices of exactly equal coordinates and drop unreferenced vertices.
+
+    Returns ``(vertices (V', 3) float64, faces (F, 3) int64)``, vertices in order of first
+    use by the original indices.  Faces must index ``vertices`` (no range check here).
+    """
+    v, f = validate_inputs(vertices, faces)
+    if len(f) == 0:
+        return v[:0], f
+    kernels = topology_kernels()
+    if kernels is not None:
+        return kernels.weld_compact(np.ascontiguousarray(v), np.ascontiguousarray(f))
+    rep = weld_map(v)
+    fw = rep[f]
+    return compact_vertices(v, fw)
+
+
+def compact_vertices(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop unreferenced vertices and renumber the faces, keeping the vertices' order.
+
+    The same result as ``np.unique(faces, return_inverse=True)`` in O(V + F), without a sort.
+    """
+    used = np.zeros(len(vertices), dtype=bool)
+    used[faces.ravel()] = True
+    new_index = np.cumsum(used, dtype=np.int64) - 1
+    return vertices[used], new_index[faces]
