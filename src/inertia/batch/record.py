@@ -27,8 +27,10 @@ COLUMN_DOCS = {
     "size_bytes": "file size when read (with mtime_ns and path: the resume key)",
     "mtime_ns": "file modification time, ns since the epoch",
     "status": "ok | warning (result valid, see warnings) | error (no result; see reason)",
-    "reason": "error code: not_found, unreadable, malformed, empty, non_finite, bad_index, open_edges, non_manifold_edges, "
-              "inconsistent_winding, inverted, non_positive_volume, invalid_input, invalid_inertia, internal_error",
+    "reason": "error code (the error's stable code, see inertia.errors): not_found, unreadable, malformed, empty, "
+              "unsupported_format, non_finite, bad_index, open_edges, non_manifold_edges, inconsistent_winding, "
+              "inverted, non_positive_volume, zero_area, not_orientable, invalid_mesh, invalid_input, "
+              "invalid_inertia, missing_dependency, internal_error",
     "message": "the full error message (empty when ok)",
     "warnings": "list of warning texts (accepted defects, zero-area faces)",
     "units": "length unit the file was read in",
@@ -59,28 +61,10 @@ def _empty_row(job: Job) -> dict:
 
 
 def _reason_of(exc) -> str:
-    from .._core.errors import InputError, InvalidInertiaError, MeshError, MeshFileError
+    """The row's ``reason``: the stable ``code`` of one of our errors (never its message text)."""
+    from .._core.errors import InertiaError
 
-    if isinstance(exc, MeshFileError):
-        text = str(exc)
-        if "not found" in text:
-            return "not_found"
-        if "holds no triangles" in text:
-            return "empty"
-        if "malformed" in text:
-            return "malformed"
-        return "unreadable"
-    if isinstance(exc, MeshError):
-        report = getattr(exc, "report", None)
-        codes = [d.code for d in report.errors] if report is not None else []
-        if codes:
-            return codes[0]
-        return "non_positive_volume" if "volume" in str(exc) else "invalid_mesh"
-    if isinstance(exc, InvalidInertiaError):
-        return "invalid_inertia"
-    if isinstance(exc, InputError):
-        return "invalid_input"
-    return "internal_error"
+    return exc.code if isinstance(exc, InertiaError) else "internal_error"
 
 
 def _reraise_interrupt(exc: BaseException) -> None:
@@ -169,6 +153,8 @@ def warm_up() -> None:
     """
     import tempfile
 
+    from .._core.errors import InertiaError
+
     import numpy as np
 
     # an octahedron, outward wound, as a binary STL (the common dataset format)
@@ -182,4 +168,4 @@ def warm_up() -> None:
             fh.write(b"inertia warm-up".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes())
         row = process_file(Job(path))
     if row["status"] != "ok":
-        raise RuntimeError(f"warm-up mesh failed: {row['message']}")
+        raise InertiaError(f"warm-up mesh failed: {row['message']}", code="internal_error")

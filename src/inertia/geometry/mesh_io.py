@@ -114,7 +114,7 @@ def _scene_triangles(trimesh, loaded, path: Path):
     if isinstance(loaded, trimesh.Trimesh):
         return np.asarray(loaded.vertices, dtype=np.float64), np.asarray(loaded.faces, dtype=np.int64)
     if not isinstance(loaded, trimesh.Scene):
-        raise MeshFileError(f"{path}: holds no triangle mesh (trimesh read a {type(loaded).__name__})")
+        raise MeshFileError(f"{path}: holds no triangle mesh (trimesh read a {type(loaded).__name__})", code="empty")
     vs, fs, offset = [], [], 0
     for node in loaded.graph.nodes_geometry:
         T_scene_node, geom_name = loaded.graph[node]
@@ -156,7 +156,7 @@ def _stl_kind(p: Path) -> int:
 def _stl_kind_of(head: bytes, size: int, p) -> int:
     """:func:`_stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
     if size == 0:
-        raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)")
+        raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)", code="empty")
     text = head.lstrip().lower()
     ascii_like = text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024)
     if size >= 84:
@@ -169,8 +169,9 @@ def _stl_kind_of(head: bytes, size: int, p) -> int:
         n = int.from_bytes(head[80:84], "little")
         raise MeshFileError(f"{p}: malformed binary STL: its header announces {n} triangles "
                             f"({84 + 50 * n} bytes) but the file has {size} bytes (truncated or corrupt), "
-                            "and it is not ASCII STL either")
-    raise MeshFileError(f"{p}: malformed STL: {size} bytes is too short for binary STL and it is not ASCII STL")
+                            "and it is not ASCII STL either", code="malformed")
+    raise MeshFileError(f"{p}: malformed STL: {size} bytes is too short for binary STL and it is not ASCII STL",
+                        code="malformed")
 
 
 #: the same records with the corners as raw 32-bit words (for welding by bits)
@@ -206,7 +207,7 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
         except OSError as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
     if len(data) != 84 + 50 * n:
-        raise MeshFileError(f"{p}: malformed binary STL: the file changed size while being read")
+        raise MeshFileError(f"{p}: malformed binary STL: the file changed size while being read", code="malformed")
     records = np.frombuffer(data, dtype=_STL_BITS, count=n, offset=84)
     vertices, faces, done = kernels.stl_weld_and_merge(records["corners"], float(merge_rtol))
     return (vertices, faces) if done else None
@@ -242,11 +243,11 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
         raise MeshFileError(f"{p}: unsupported mesh file extension {ext!r}; supported: "
-                            f"{', '.join(SUPPORTED_EXTENSIONS)}")
+                            f"{', '.join(SUPPORTED_EXTENSIONS)}", code="unsupported_format")
     try:
         st = os.stat(p)
     except FileNotFoundError:
-        raise MeshFileError(f"{p}: mesh file not found") from None
+        raise MeshFileError(f"{p}: mesh file not found", code="not_found") from None
     except OSError as exc:
         raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from None
     if not stat.S_ISREG(st.st_mode):
@@ -275,8 +276,8 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
         except Exception as exc:  # trimesh raises many types on malformed files
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
     if len(faces) == 0 or len(vertices) == 0:
-        raise MeshFileError(f"{p}: mesh file holds no triangles")
+        raise MeshFileError(f"{p}: mesh file holds no triangles", code="empty")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
-        raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1}")
+        raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1}", code="malformed")
     vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
     return vertices * factor, faces

@@ -74,7 +74,7 @@ def orient_analysed(vertices: np.ndarray, faces: np.ndarray, analysis: MeshAnaly
     if bad is not None:
         raise MeshError(f"{what} cannot be oriented consistently (a non-orientable surface, such as a Moebius "
                         f"strip, or faces that conflict across a shared edge): after re-orienting, {bad.message}.",
-                        report=an.report)
+                        report=an.report, code="not_orientable")
     if an.closed:
         wrong = an.inverted_components
     elif an.comp_volume is not None:

@@ -146,7 +146,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     if shell:
         area, first, second, r = shell_integrals(vc, fc)
         if not area > 0:
-            raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report)
+            raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report, code="zero_area")
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
         com, inertia = central_inertia(area, first, second, r, rho)
         props = MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
@@ -157,7 +157,8 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
         hint = ("; fix_orientation=True re-orients an inward-wound closed mesh" if volume < 0 and not fix_orientation
                 else "")
         raise MeshError(f"{what} has signed volume {volume:.6g} <= 0, so it does not enclose a solid "
-                        f"(faces wound inward, or a flat or open surface){hint}.", report=report)
+                        f"(faces wound inward, or a flat or open surface){hint}.", report=report,
+                        code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, first, second, r, rho)
     props = MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._core.errors import InputError
+
 
 @dataclass
 class Inertial:
@@ -75,7 +77,19 @@ class RobotModel:
     document: object = None
 
     def link(self, name: str) -> Link:
+        """The link called ``name``; :class:`~inertia.errors.InputError` (also a KeyError) names the
+        links there are when there is none."""
         for lk in self.links:
             if lk.name == name:
                 return lk
-        raise KeyError(name)
+        raise LinkNotFoundError(f"{self.path}: no link named {name!r}; the links are "
+                                f"{', '.join(repr(lk.name) for lk in self.links) or 'none'}")
+
+
+class LinkNotFoundError(InputError, KeyError):
+    """No link of that name in the model (an :class:`~inertia.errors.InputError` and a ``KeyError``)."""
+
+    code = "link_not_found"
+
+    def __str__(self) -> str:          # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""

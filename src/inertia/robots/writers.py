@@ -65,5 +65,7 @@ def inertial_block(props, fmt: str, *, indent: str = "") -> str:
                  f'<!-- equivalently: <inertial pos="{format_vector(c)}" mass="{format_number(props.mass)}" '
                  f'diaginertia="{format_vector(moments)}" quat="{format_vector(matrix_to_quat(R))}"/> -->']
     else:
-        raise ValueError(f"unknown format {fmt!r}; use one of {FORMATS}")
+        from .._core.errors import InputError
+
+        raise InputError(f"unknown format {fmt!r}; use one of {FORMATS}")
     return "\n".join(indent + line for line in lines) + "\n"

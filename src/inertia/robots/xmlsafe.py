@@ -18,11 +18,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 from xml.parsers import expat
 
-from .._core.errors import InertiaError
-
-
-class RobotFileError(InertiaError, ValueError):
-    """A robot description file that cannot be read: unsafe, malformed or missing."""
+from .._core.errors import RobotFileError
 
 
 class Document:
