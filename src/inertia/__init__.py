@@ -4,6 +4,14 @@ Conventions: SI units; inertia matrices hold negated products (``L = I @ omega``
 quaternions are scalar-first ``(w, x, y, z)``; ``R_world_body`` maps body to world
 coordinates.
 
+The top level holds what a newcomer types first: the value type, the primitives, meshes,
+assemblies, the validity check, the particle models, the equivalent solids and the main
+errors.  Everything else lives in the subpackages, which follow the data flow:
+:mod:`inertia.geometry` (mesh files, checks, integrals) -> :mod:`inertia.massprops` (tensor
+operations, principal axes, canonical form, validity) -> :mod:`inertia.particles`,
+:mod:`inertia.dynamics`, :mod:`inertia.symbolic` -> :mod:`inertia.robots` ->
+:mod:`inertia.viz` -> :mod:`inertia.batch`; :mod:`inertia.errors` has every error type.
+
 Public names are imported lazily (PEP 562) so that ``import inertia`` and the
 command line start without loading NumPy until a name is used.
 """
@@ -15,33 +23,16 @@ from ._core.version import __version__
 
 # public name -> module that defines it
 _EXPORTS = {
-    # errors
-    "InertiaError": "inertia.errors",
-    "InputError": "inertia.errors",
-    "InvalidInertiaError": "inertia.errors",
-    "NoEquivalentModelError": "inertia.errors",
-    "MeshError": "inertia.errors",
-    "MeshFileError": "inertia.errors",
-    "MissingDependencyError": "inertia.errors",
-    "IntegrationError": "inertia.errors",
-    "InertiaWarning": "inertia.errors",
-    "MeshDefectWarning": "inertia.errors",
-    # value type and core functions
+    # the errors a caller meets most (all of them: inertia.errors)
+    "InertiaError": "inertia._core.errors",
+    "InputError": "inertia._core.errors",
+    "InvalidInertiaError": "inertia._core.errors",
+    "MeshError": "inertia._core.errors",
+    "MeshFileError": "inertia._core.errors",
+    # the value type, validity, point masses and assemblies
     "MassProperties": "inertia.massprops.properties",
-    "CanonicalForm": "inertia.massprops.properties",
-    "point_masses": "inertia.massprops.point_masses",
-    "principal_axes": "inertia.massprops.principal",
-    "principal_frame": "inertia.massprops.principal",
     "check_inertia": "inertia.massprops.validity",
-    "is_physical": "inertia.massprops.validity",
-    "Violation": "inertia.massprops.validity",
-    "point_mass_inertia": "inertia.massprops.tensor",
-    "inertia_about_point": "inertia.massprops.tensor",
-    "inertia_about_com": "inertia.massprops.tensor",
-    "rotate_inertia": "inertia.massprops.tensor",
-    "moment_about_line": "inertia.massprops.tensor",
-    "inertia_from_elements": "inertia.massprops.tensor",
-    "elements_from_inertia": "inertia.massprops.tensor",
+    "point_masses": "inertia.massprops.point_masses",
     "Part": "inertia.massprops.assembly",
     "assemble": "inertia.massprops.assembly",
     # primitives
@@ -56,15 +47,11 @@ _EXPORTS = {
     "spherical_shell": "inertia.massprops.primitives",
     # meshes
     "mesh_properties": "inertia.massprops.mesh",
-    "check_mesh": "inertia.geometry.checks",
-    "MeshReport": "inertia.geometry.checks",
-    "load_mesh": "inertia.geometry.mesh_io",
     "mesh_file_properties": "inertia.massprops.mesh",
-    # equivalents
+    "load_mesh": "inertia.geometry.mesh_io",
+    # equivalent solids and particle models
     "equivalent_box": "inertia.massprops.equivalent",
     "equivalent_ellipsoid": "inertia.massprops.equivalent",
-    # particle models
-    "ParticleModel": "inertia.particles.models",
     "six_point_model": "inertia.particles.models",
     "four_point_model": "inertia.particles.models",
 }

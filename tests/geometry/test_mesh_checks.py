@@ -72,8 +72,8 @@ def test_clean_box_reports_ok_and_gives_the_exact_box():
 
 
 def test_public_names_are_exported_lazily():
-    assert inertia.check_mesh is check_mesh
-    assert inertia.MeshReport is MeshReport
+    assert inertia.geometry.check_mesh is check_mesh
+    assert inertia.geometry.MeshReport is MeshReport
     assert inertia.mesh_properties is mesh_properties
 
 

@@ -291,7 +291,7 @@ def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(name, monkeypatc
 
 def test_importing_the_modules_does_not_import_trimesh():
     import subprocess
-    code = ("import sys, inertia; inertia.load_mesh; inertia.check_mesh; inertia.mesh_properties; "
+    code = ("import sys, inertia; inertia.load_mesh; inertia.geometry.check_mesh; inertia.mesh_properties; "
             "import inertia.geometry.mesh_io; print('trimesh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

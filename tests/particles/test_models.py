@@ -392,7 +392,7 @@ def test_repeated_moments(make, moments):
 def test_lazy_exports():
     assert inertia.six_point_model is six_point_model
     assert inertia.four_point_model is four_point_model
-    assert inertia.ParticleModel is ParticleModel
+    assert inertia.particles.ParticleModel is ParticleModel
 
 
 def test_massprops_never_imports_particles():

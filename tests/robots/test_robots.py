@@ -80,7 +80,7 @@ def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys):
                            for i in changed)
     fixed = read_robot(out).link("arm_base").inertial.inertia_declared
     np.testing.assert_allclose(fixed, nearest_physical_inertia(np.diag([1.11, 100.11, 1.01])), rtol=1e-15)
-    assert inertia.is_physical(fixed)
+    assert inertia.massprops.is_physical(fixed)
     # refusing to overwrite the input without --in-place
     assert _run(capsys, "fix", src, "-o", src)[0] == 1
 
@@ -96,7 +96,7 @@ def test_nearest_physical_inertia_is_the_projection():
     expected_w = w - (w @ n) / 3 * n
     np.testing.assert_allclose(np.sort(np.linalg.eigvalsh(fixed)), np.sort(expected_w), rtol=1e-9)
     np.testing.assert_allclose(R.T @ fixed @ R, np.diag(expected_w), atol=1e-8)  # same axes
-    assert inertia.is_physical(fixed)
+    assert inertia.massprops.is_physical(fixed)
     ok = np.diag([1.0, 2.0, 2.5])
     assert np.array_equal(nearest_physical_inertia(ok), ok)
 
@@ -328,9 +328,9 @@ def test_cad_sign_products_are_diagnosed_and_flipped(tmp_path, capsys):
     """A tensor whose products were entered with the CAD (positive-product) sign: invalid as
     tensor elements, valid once negated; check says so and fix --flip-products repairs it."""
     J = np.array([[1.15, -0.52, -0.25], [-0.52, 1.53, -0.34], [-0.25, -0.34, 1.9]]) * 1e-4  # physical
-    assert inertia.is_physical(J)
+    assert inertia.massprops.is_physical(J)
     cad = 2 * np.diag(np.diag(J)) - J  # products with the wrong sign
-    assert not inertia.is_physical(cad)
+    assert not inertia.massprops.is_physical(cad)
     urdf = tmp_path / "cad.urdf"
     e = {k: repr(float(cad[i, j])) for k, (i, j) in
          {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2), "izz": (2, 2)}.items()}
@@ -377,7 +377,8 @@ def test_declaration_after_a_comment_is_read_and_written_back(tmp_path, capsys):
 @needs_robots
 def test_unusable_mesh_note_is_one_line_naming_the_defects_check_mesh_finds():
     # truth: SOURCES.md lists head.stl as not watertight; check_mesh on the loaded file says why
-    from inertia import check_mesh, load_mesh
+    from inertia import load_mesh
+    from inertia.geometry import check_mesh
 
     report = check_model(read_robot(GOOD[1]))
     chassis = next(lk for lk in report.links if lk.name == "chassis")

@@ -8,7 +8,7 @@ Every method has the same signature, so callers can swap them::
 * ``omega_body`` (..., 3) [rad/s]: angular velocity of the body, expressed in the body frame.
 * ``moments`` (..., 3) [kg m^2]: principal moments of inertia about the center of mass.
   **The body frame must be the principal frame** (inertia ``diag(moments)`` in it); rotate
-  a general inertia to its principal axes first (:func:`inertia.principal_axes`).
+  a general inertia to its principal axes first (:func:`inertia.massprops.principal_axes`).
 * ``h`` [s]: step size, finite and non-zero (negative steps integrate backwards; the
   symmetric methods then retrace their forward steps to rounding).
 * ``torque_body`` (..., 3) [N m] or None: torque about the center of mass **expressed in the

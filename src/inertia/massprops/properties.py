@@ -272,7 +272,7 @@ class CanonicalForm:
     props : MassProperties in frame ``"principal"``.
     R_body_principal : (3, 3) proper rotation, columns are the principal axes expressed in F.
     p_body_com : (3,) m, COM in F (the origin of P).
-    degenerate : tuple of tuples of int, repeated moments (see :func:`inertia.principal_axes`).
+    degenerate : tuple of tuples of int, repeated moments (see :func:`inertia.massprops.principal_axes`).
     rtol : float, tolerance used to decide repeated moments.
     frame : str, name of F.
     """
