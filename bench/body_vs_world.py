@@ -59,9 +59,9 @@ from collections import Counter
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from inertia._core.rotations import quat_from_rotvec, quat_to_matrix
 from inertia.dynamics import equations as eq
 from inertia.dynamics.diagnostics import attitude_error
-from inertia._core.rotations import quat_from_rotvec, quat_to_matrix
 
 # Module-level aliases, so the flop counter can swap in counting versions.
 sqrt = math.sqrt

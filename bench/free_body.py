@@ -38,9 +38,9 @@ import time
 
 import numpy as np
 
+from inertia.dynamics import RigidBody, pack_state
 from inertia.dynamics.integrators import METHODS
 from inertia.dynamics.rollout import COMPILED_METHODS, numba_available, rollout
-from inertia.dynamics import RigidBody, pack_state
 from inertia.dynamics.state import OMEGA_BODY
 
 SIZE = np.array([0.1, 0.2, 0.4])           # m, box edges along body x, y, z

@@ -10,8 +10,14 @@ import itertools
 import numpy as np
 import pytest
 
-from inertia.batch.run import (CHUNK_BYTES, FILE_COST_BYTES, GUIDED_SHARE, MAX_CHUNK_FILES, TAIL_CHUNKS_PER_WORKER,
-                               make_chunks)
+from inertia.batch.run import (
+    CHUNK_BYTES,
+    FILE_COST_BYTES,
+    GUIDED_SHARE,
+    MAX_CHUNK_FILES,
+    TAIL_CHUNKS_PER_WORKER,
+    make_chunks,
+)
 from inertia.batch.sources import Job
 
 

@@ -19,7 +19,6 @@ import inertia
 from inertia.cli.main import main
 
 
-
 @pytest.fixture(scope="module")
 def sample_obj(tmp_path_factory) -> Path:
     """An OBJ file in centimetres: the T-handle's display mesh (our own generator, 64 sides)."""

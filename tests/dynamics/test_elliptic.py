@@ -7,8 +7,7 @@ import numpy as np
 import pytest
 import scipy.special as sc
 
-from inertia.dynamics.elliptic import (ellipe, ellipeinc, ellipj, ellipk, ellipkinc, ellippi, ellippiinc,
-                                       jacobi_reduced)
+from inertia.dynamics.elliptic import ellipe, ellipeinc, ellipj, ellipk, ellipkinc, ellippi, ellippiinc, jacobi_reduced
 from inertia.errors import InputError
 
 mp = pytest.importorskip("mpmath")

@@ -12,13 +12,27 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from inertia.dynamics import diagnostics, equations, integrators
-from inertia.dynamics.diagnostics import (angular_momentum_norm, angular_momentum_world, attitude_error,
-                                          kinetic_energy, quat_norm)
-from inertia.dynamics.equations import (angular_acceleration_body, angular_acceleration_principal, euler_residual,
-                                        inertia_world, omega_world_from_momentum, omega_world_principal, quat_rate,
-                                        quat_rate_world, state_rate_body, state_rate_world)
 from inertia._core.rotations import quat_from_rotvec, quat_multiply, quat_to_matrix
+from inertia.dynamics import diagnostics, equations, integrators
+from inertia.dynamics.diagnostics import (
+    angular_momentum_norm,
+    angular_momentum_world,
+    attitude_error,
+    kinetic_energy,
+    quat_norm,
+)
+from inertia.dynamics.equations import (
+    angular_acceleration_body,
+    angular_acceleration_principal,
+    euler_residual,
+    inertia_world,
+    omega_world_from_momentum,
+    omega_world_principal,
+    quat_rate,
+    quat_rate_world,
+    state_rate_body,
+    state_rate_world,
+)
 from inertia.errors import InputError, InvalidInertiaError
 
 

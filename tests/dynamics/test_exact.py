@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from inertia.dynamics.exact import REGIMES, ExactSolution, FreeBody, exact_solution
 from inertia._core.rotations import quat_from_rotvec, quat_multiply, quat_to_matrix
+from inertia.dynamics.exact import REGIMES, ExactSolution, FreeBody, exact_solution
 from inertia.errors import InputError, InvalidInertiaError
 
 

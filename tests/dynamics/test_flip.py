@@ -10,8 +10,16 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from inertia.dynamics.exact import ExactSolution, exact_solution
-from inertia.dynamics.flip import (axis_stability, detect_flips, euler_jacobian, flip_interval,
-                                   flip_interval_approx, flip_times, intermediate_axis, unstable_axis)
+from inertia.dynamics.flip import (
+    axis_stability,
+    detect_flips,
+    euler_jacobian,
+    flip_interval,
+    flip_interval_approx,
+    flip_times,
+    intermediate_axis,
+    unstable_axis,
+)
 from inertia.errors import InputError, InvalidInertiaError
 
 REFERENCE_INTERVAL = 20.7546097647      # I = (1, 2, 3), w0 = (0.01, 1, 0): shared/notes §3

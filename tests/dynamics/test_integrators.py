@@ -16,11 +16,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from inertia.dynamics import integrators as it
-from inertia.dynamics.diagnostics import (angular_momentum_norm, attitude_error, kinetic_energy,
-                                          trajectory_invariants)
-from inertia.dynamics.equations import angular_acceleration_principal, state_rate_body
 from inertia._core.rotations import quat_from_rotvec, quat_multiply
+from inertia.dynamics import integrators as it
+from inertia.dynamics.diagnostics import angular_momentum_norm, attitude_error, kinetic_energy, trajectory_invariants
+from inertia.dynamics.equations import angular_acceleration_principal, state_rate_body
 from inertia.errors import InputError, IntegrationError, InvalidInertiaError
 
 I_TEST = np.array([2 / 3, 1.0, 2.0])

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from inertia.dynamics.rollout import COMPILED_METHODS, numba_available, rollout
 from inertia.dynamics import RigidBody, pack_state, step
+from inertia.dynamics.rollout import COMPILED_METHODS, numba_available, rollout
 from inertia.dynamics.state import OMEGA_BODY, Q_WORLD_BODY
 from inertia.errors import InputError, MissingDependencyError
 

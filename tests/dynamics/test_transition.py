@@ -8,10 +8,19 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from inertia.dynamics.integrators import METHODS
 from inertia._core.rotations import quat_multiply, quat_to_matrix
-from inertia.dynamics import RigidBody, RigidState, jacobians, pack_input, pack_state, perturb_state, state_error
-from inertia.dynamics import step, unpack_state
+from inertia.dynamics import (
+    RigidBody,
+    RigidState,
+    jacobians,
+    pack_input,
+    pack_state,
+    perturb_state,
+    state_error,
+    step,
+    unpack_state,
+)
+from inertia.dynamics.integrators import METHODS
 from inertia.dynamics.state import DTHETA_BODY, OMEGA_BODY, P_WORLD, Q_WORLD_BODY, V_WORLD
 from inertia.errors import InputError, InvalidInertiaError
 

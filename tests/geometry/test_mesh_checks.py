@@ -14,13 +14,12 @@ import numpy as np
 import pytest
 
 import inertia
-from inertia.errors import InertiaError, InputError, MeshError
-from inertia.massprops.mesh import mesh_properties
-from inertia.errors import MeshDefectWarning
+from inertia.errors import InertiaError, InputError, MeshDefectWarning, MeshError
 from inertia.geometry.checks import check_mesh
 from inertia.geometry.mesh_arrays import validate_inputs, weld_vertices
 from inertia.geometry.orient import orient_faces
 from inertia.geometry.report import Defect, MeshReport
+from inertia.massprops.mesh import mesh_properties
 
 SIZE = np.array([1.0, 2.0, 3.0])
 CENTER = np.array([10.0, -20.0, 30.0])

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inertia.geometry import mesh_arrays as mesh_checks, mesh_io
+from inertia.geometry import mesh_arrays as mesh_checks
+from inertia.geometry import mesh_io
 from inertia.geometry.checks import analyse_mesh
 from inertia.geometry.mesh_arrays import compact_vertices, validate_inputs, weld_map_numpy
 

@@ -15,12 +15,10 @@ import numpy as np
 import pytest
 
 import inertia
-from inertia.errors import InputError, MeshError, MeshFileError, MissingDependencyError
-from inertia.massprops.mesh import mesh_properties
-from inertia.errors import MeshDefectWarning
+from inertia.errors import InputError, MeshDefectWarning, MeshError, MeshFileError, MissingDependencyError
 from inertia.geometry.checks import check_mesh
 from inertia.geometry.mesh_io import UNITS, load_mesh
-from inertia.massprops.mesh import mesh_file_properties
+from inertia.massprops.mesh import mesh_file_properties, mesh_properties
 
 trimesh = pytest.importorskip("trimesh", reason="trimesh (optional dependency inertia[mesh]) is not installed")
 

@@ -16,7 +16,6 @@ from hypothesis import strategies as st
 
 import inertia
 from inertia.errors import InertiaError, InputError, InvalidInertiaError
-from inertia.massprops import tensor
 from inertia.massprops.principal import principal_axes, principal_frame
 
 from ..conftest import random_point_cloud, random_rotation

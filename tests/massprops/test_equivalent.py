@@ -18,8 +18,13 @@ from scipy.spatial.transform import Rotation
 
 import inertia
 from inertia.errors import InputError, NoEquivalentModelError
-from inertia.massprops.equivalent import (EquivalentBox, EquivalentEllipsoid, equivalent_box,
-                                          equivalent_ellipsoid, principal_second_moments)
+from inertia.massprops.equivalent import (
+    EquivalentBox,
+    EquivalentEllipsoid,
+    equivalent_box,
+    equivalent_ellipsoid,
+    principal_second_moments,
+)
 from inertia.massprops.properties import MassProperties
 
 RTOL = 1e-12

@@ -21,8 +21,19 @@ import scipy.special
 from scipy import integrate
 
 import inertia
-from inertia import (InputError, box, capsule, cone, cylinder, ellipsoid, mesh_properties, sphere,
-                     spherical_shell, torus, tube)
+from inertia import (
+    InputError,
+    box,
+    capsule,
+    cone,
+    cylinder,
+    ellipsoid,
+    mesh_properties,
+    sphere,
+    spherical_shell,
+    torus,
+    tube,
+)
 
 trimesh = pytest.importorskip("trimesh")
 

@@ -13,7 +13,7 @@ import pytest
 
 import inertia
 from inertia.cli.main import main
-from inertia.robots import check_model, fix_file, inertial_block, nearest_physical_inertia, read_robot
+from inertia.robots import check_model, inertial_block, nearest_physical_inertia, read_robot
 from inertia.robots.geometry import link_geometry_properties
 from inertia.robots.mjcf import quat_matrix
 from inertia.robots.xmlsafe import RobotFileError

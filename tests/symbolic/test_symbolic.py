@@ -16,13 +16,22 @@ import pytest
 sp = pytest.importorskip("sympy")
 
 import inertia  # noqa: E402
+from inertia._core.rotations import matrix_to_quat, quat_to_matrix  # noqa: E402
 from inertia.dynamics import exact_solution  # noqa: E402
 from inertia.dynamics.equations import angular_acceleration_body  # noqa: E402
-from inertia._core.rotations import matrix_to_quat, quat_to_matrix  # noqa: E402
 from inertia.errors import InputError  # noqa: E402
-from inertia.symbolic import (SEQUENCES, EulerAngleSystem, GimbalLockError, GimbalLockWarning,  # noqa: E402
-                              ParticleRoute, derive, det_kinematic, kinematic_matrix, rotation_matrix)
-from inertia.symbolic import rigid  # noqa: E402
+from inertia.symbolic import (  # noqa: E402
+    SEQUENCES,
+    EulerAngleSystem,
+    GimbalLockError,
+    GimbalLockWarning,
+    ParticleRoute,
+    derive,
+    det_kinematic,
+    kinematic_matrix,
+    rigid,  # noqa: E402
+    rotation_matrix,
+)
 
 Rotation = pytest.importorskip("scipy.spatial.transform").Rotation
 Q = sp.symbols("q1:4", real=True)

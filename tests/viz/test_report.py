@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import time
 from pathlib import Path
 
 import numpy as np
@@ -176,7 +175,7 @@ def test_page_in_headless_chromium(report):
         q0 = page.evaluate("window.inertiaState.quaternion")
         shot0 = page.screenshot()
         page.click("#play")
-        page.wait_for_function(f"window.inertiaState.frame > 10", timeout=20_000)
+        page.wait_for_function("window.inertiaState.frame > 10", timeout=20_000)
         page.wait_for_timeout(200)
         q1 = page.evaluate("window.inertiaState.quaternion")
         shot1 = page.screenshot()

@@ -25,7 +25,8 @@ def format_of(path, fmt: str | None = None) -> str:
             raise InputError(f"unknown format {fmt!r}; use one of {', '.join(FORMATS)}")
         return fmt
     ext = Path(path).suffix.lower().lstrip(".")
-    return {"parquet": "parquet", "pq": "parquet", "csv": "csv", "jsonl": "jsonl", "ndjson": "jsonl"}.get(ext, "parquet")
+    formats = {"parquet": "parquet", "pq": "parquet", "csv": "csv", "jsonl": "jsonl", "ndjson": "jsonl"}
+    return formats.get(ext, "parquet")
 
 
 _INT_COLUMNS = ("size_bytes", "mtime_ns", "n_vertices", "n_faces")

@@ -85,8 +85,8 @@ def _reraise_interrupt(exc: BaseException) -> None:
 def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
     from .._core.errors import InertiaError
-    from ..massprops.mesh import compute_mesh_properties
     from ..geometry.mesh_io import load_mesh
+    from ..massprops.mesh import compute_mesh_properties
 
     t0 = time.perf_counter()
     row = _empty_row(job)
@@ -153,9 +153,9 @@ def warm_up() -> None:
     """
     import tempfile
 
-    from .._core.errors import InertiaError
-
     import numpy as np
+
+    from .._core.errors import InertiaError
 
     # an octahedron, outward wound, as a binary STL (the common dataset format)
     v = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype="<f4")

@@ -34,8 +34,15 @@ from pathlib import Path
 
 from .._core.errors import InputError
 from .._core.progress import Progress
-from .output import (format_of, read_table, rows_to_table, table_to_frame, write_frame, write_rows_parquet,
-                     write_table_parquet)
+from .output import (
+    format_of,
+    read_table,
+    rows_to_table,
+    table_to_frame,
+    write_frame,
+    write_rows_parquet,
+    write_table_parquet,
+)
 from .record import process_chunk, process_packed
 from .sources import Job, collect_jobs
 

@@ -65,8 +65,8 @@ def register(sub) -> None:
 def run(args) -> int:
     import sys
 
-    from ..batch.run import run_batch
     from .._core.errors import InputError
+    from ..batch.run import run_batch
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")

@@ -69,7 +69,6 @@ def run(args) -> int:
     import sys
 
     from ..robots.xmlsafe import RobotFileError
-
     from . import _format as fmt
 
     try:

@@ -53,7 +53,6 @@ def run(args) -> int:
 
     from .._core.errors import InputError
     from ..robots.xmlsafe import RobotFileError
-
     from .check import MASS_UNITS
 
     if args.density is not None and not args.from_geometry:

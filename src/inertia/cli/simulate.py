@@ -124,8 +124,8 @@ def resolve_body(args) -> Body:
     """Body from SOURCE or --moments (exactly one), validated (physical principal moments)."""
     import numpy as np
 
-    from ..massprops.validity import as_principal_moments
     from .._core.errors import InputError
+    from ..massprops.validity import as_principal_moments
 
     if args.source is not None and args.moments is not None:
         raise InputError(f"give either SOURCE ({args.source!r}) or --moments ({args.moments!r}), not both")
@@ -148,16 +148,17 @@ def resolve_body(args) -> Body:
     props, info = load_source(args, source=args.source)
     pf = props.principal_frame()
     I = as_principal_moments(pf.moments, f"principal moments of {args.source}", allow_batch=False)
-    return Body(I, np.asarray(pf.R_body_principal, float), f"{args.source} (principal moments {fmt.vector(I)} kg m^2)", info)
+    label = f"{args.source} (principal moments {fmt.vector(I)} kg m^2)"
+    return Body(I, np.asarray(pf.R_body_principal, float), label, info)
 
 
 def initial_state(args, body):
     """``(omega0_P, q0_WP)`` in the computation frame P from --omega and --q0 (given in frame B)."""
     import numpy as np
 
-    from .._core.tolerances import QUAT_NORM_TOL
-    from .._core.rotations import matrix_to_quat, quat_multiply
     from .._core.errors import InputError
+    from .._core.rotations import matrix_to_quat, quat_multiply
+    from .._core.tolerances import QUAT_NORM_TOL
 
     w_B = np.array(parse_numbers(args.omega, "--omega", 3, what="components (rad/s)"))
     q_text = getattr(args, "q0", None)

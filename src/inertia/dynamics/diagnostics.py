@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.rotations import quat_to_matrix
 from .._core.validation import as_float_array, as_symmetric_matrix3
 from ..massprops.validity import as_principal_moments
-from .._core.rotations import quat_to_matrix
 
 __all__ = [
     "angular_momentum_body",

@@ -29,14 +29,11 @@ See ``docs/dynamics.md`` for which formulation is cheaper (measured in
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from .._core.errors import InputError
-from .._core.validation import as_float_array, as_symmetric_matrix3, as_time_step, as_unit_quat
-from ..massprops.validity import as_principal_moments
 from .._core.rotations import cross3, quat_multiply_vector, quat_to_matrix, vector_multiply_quat
+from .._core.validation import as_float_array, as_symmetric_matrix3
+from ..massprops.validity import as_principal_moments
 
 __all__ = [
     "angular_acceleration_principal",
@@ -319,5 +316,6 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     else:
         w_W = omega_world_principal(L, R, a)
     dL = np.zeros(np.broadcast_shapes(L.shape, w_W.shape)) if torque_world is None else \
-        np.broadcast_to(as_float_array(torque_world, "torque_world", (3,)), np.broadcast_shapes(L.shape, w_W.shape)).copy()
+        np.broadcast_to(as_float_array(torque_world, "torque_world", (3,)),
+                        np.broadcast_shapes(L.shape, w_W.shape)).copy()
     return 0.5 * vector_multiply_quat(w_W, q), dL

@@ -67,13 +67,20 @@ import math
 import numpy as np
 
 from .._core.errors import InputError
-from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
+from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.validation import as_float_array, as_unit_quat
 from ..massprops.principal import principal_axes_batch
 from ..massprops.validity import as_principal_moments
-from .exact_motions import (ConstantMotion, EllipticMotion, SeparatrixMotion, SymmetricTopMotion, axis_angle_quat,
-                            deltas, minimal_rotation_quat)
+from .exact_motions import (
+    ConstantMotion,
+    EllipticMotion,
+    SeparatrixMotion,
+    SymmetricTopMotion,
+    axis_angle_quat,
+    deltas,
+    minimal_rotation_quat,
+)
 
 __all__ = [
     "exact_solution",

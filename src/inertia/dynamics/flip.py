@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core.errors import InputError
-from .._core.validation import as_float_array
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
+from .._core.validation import as_float_array
 from ..massprops.validity import as_principal_moments
 from .exact import ExactSolution
 

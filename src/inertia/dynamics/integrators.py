@@ -45,8 +45,17 @@ import numpy as np
 from .._core.errors import InputError, IntegrationError  # noqa: F401 (re-exported)
 from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
 from ..massprops.validity import as_principal_moments
-from .integrator_kernels import (KERNELS, NEWTON_MAX_ITER, kernel_dmv, kernel_dmv4, kernel_euler_explicit,
-                                 kernel_euler_implicit, kernel_midpoint, kernel_rk4, kernel_splitting)
+from .integrator_kernels import (
+    KERNELS,
+    NEWTON_MAX_ITER,
+    kernel_dmv,
+    kernel_dmv4,
+    kernel_euler_explicit,
+    kernel_euler_implicit,
+    kernel_midpoint,
+    kernel_rk4,
+    kernel_splitting,
+)
 
 __all__ = [
     "step_euler_explicit",

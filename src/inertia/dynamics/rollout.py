@@ -27,8 +27,7 @@ from .._core.validation import as_count, as_float_array, as_time_step, as_unit_q
 from .body import RigidBody, check_body
 from .integrators import DEFAULT_METHOD
 from .state import FORCE, INPUT_SIZE, Q_WORLD_BODY, STATE_SIZE, TORQUE_BODY
-from .transition import (check_force_frame, resolve_method, state_from_principal, state_to_principal,
-                         step_principal)
+from .transition import check_force_frame, resolve_method, state_from_principal, state_to_principal, step_principal
 
 __all__ = ["rollout", "COMPILED_METHODS", "BACKENDS", "numba_available"]
 

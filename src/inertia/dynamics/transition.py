@@ -43,8 +43,19 @@ from .._core.rotations import quat_conjugate, quat_multiply, quat_rotate
 from .._core.validation import as_float_array, as_time_step, as_unit_quat
 from .body import BodyView, RigidBody, check_body
 from .integrators import DEFAULT_METHOD
-from .state import (ERROR_STATE_SIZE, FORCE, INPUT_SIZE, OMEGA_BODY, P_WORLD, Q_WORLD_BODY, STATE_SIZE,
-                    TORQUE_BODY, V_WORLD, perturb_state, state_error)
+from .state import (
+    ERROR_STATE_SIZE,
+    FORCE,
+    INPUT_SIZE,
+    OMEGA_BODY,
+    P_WORLD,
+    Q_WORLD_BODY,
+    STATE_SIZE,
+    TORQUE_BODY,
+    V_WORLD,
+    perturb_state,
+    state_error,
+)
 
 __all__ = ["step", "jacobians", "resolve_method", "JACOBIAN_REL_STEP", "step_principal",
            "state_to_principal", "state_from_principal", "check_force_frame", "DEFAULT_METHOD"]

@@ -34,9 +34,10 @@ SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "of
                         ".glb": "glb", ".gltf": "gltf"}
 
 #: Vertices closer than MERGE_RTOL * (bounding-box diagonal) are merged on loading (or
-#: closer than 64 ulps of the largest coordinate, when that is larger).  Far below the resolution of float32 files (6e-8 relative), far above double
-#: rounding noise (1e-16 relative): on the shared test meshes distinct vertices are >= 2e-7
-#: apart relative to the diagonal and split copies <= 1e-16.
+#: closer than 64 ulps of the largest coordinate, when that is larger).  Far below the
+#: resolution of float32 files (6e-8 relative), far above double rounding noise (1e-16
+#: relative): on the shared test meshes distinct vertices are >= 2e-7 apart relative to
+#: the diagonal and split copies <= 1e-16.
 MERGE_RTOL = 1e-10
 
 

@@ -48,9 +48,9 @@ from fractions import Fraction
 import numpy as np
 
 from .._core.errors import InputError, NoEquivalentModelError
+from .._core.tolerances import PHYSICAL_RTOL
 from .._core.validation import as_rotation_matrix, as_vector3, frozen_array
 from .properties import CanonicalForm, MassProperties
-from .._core.tolerances import PHYSICAL_RTOL
 from .validity import Violation, check_inertia
 
 __all__ = [
@@ -208,7 +208,8 @@ class _EquivalentSolid:
         object.__setattr__(self, "mass", m)
         object.__setattr__(self, "dims", frozen_array(dims))
         object.__setattr__(self, "R_body_principal",
-                           frozen_array(as_rotation_matrix(self.R_body_principal, "R_body_principal", allow_batch=False)))
+                           frozen_array(as_rotation_matrix(self.R_body_principal, "R_body_principal",
+                                                           allow_batch=False)))
         object.__setattr__(self, "p_body_com", frozen_array(as_vector3(self.p_body_com, "p_body_com")))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
@@ -232,7 +233,8 @@ class _EquivalentSolid:
         Returns
         -------
         MassProperties
-            ``mass`` [kg]; ``com = p_body_com`` [m, in F]; ``inertia_com = R_body_principal diag(I_P) R_body_principal^T``
+            ``mass`` [kg]; ``com = p_body_com`` [m, in F];
+            ``inertia_com = R_body_principal diag(I_P) R_body_principal^T``
             [kg m^2, about the COM, axes of F]; ``volume`` [m^3] (0 for a lamina); frame ``frame``.
             Built with ``validate=False``: a uniform solid is physical by construction, and a
             lamina sits exactly on the triangle inequality.

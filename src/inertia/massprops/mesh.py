@@ -19,16 +19,13 @@ from __future__ import annotations
 
 import warnings
 
-import numpy as np
-
-from .._core.errors import InputError, MeshError
+from .._core.errors import InputError, MeshDefectWarning, MeshError
 from .._core.validation import resolve_mass
-from ..geometry.mesh_io import MERGE_RTOL, load_mesh
-from .._core.errors import MeshDefectWarning
 from ..geometry.checks import analyse_mesh
-from ..geometry.mesh_arrays import compact_vertices, validate_inputs
-from ..geometry.orient import orient_analysed
 from ..geometry.integrals import central_inertia, shell_integrals, solid_integrals
+from ..geometry.mesh_arrays import compact_vertices, validate_inputs
+from ..geometry.mesh_io import MERGE_RTOL, load_mesh
+from ..geometry.orient import orient_analysed
 
 __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
 
@@ -146,7 +143,8 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     if shell:
         area, first, second, r = shell_integrals(vc, fc)
         if not area > 0:
-            raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report, code="zero_area")
+            raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report,
+                            code="zero_area")
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
         com, inertia = central_inertia(area, first, second, r, rho)
         props = MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))

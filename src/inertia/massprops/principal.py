@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core.validation import as_float_array
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
+from .._core.validation import as_float_array
 
 
 def _unit(v):

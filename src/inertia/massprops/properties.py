@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError
-from . import tensor as _t
-from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3, frozen_array
-from .principal import PrincipalFrame, principal_frame
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
+from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3, frozen_array
+from . import tensor as _t
+from .principal import PrincipalFrame, principal_frame
 from .validity import Violation, check_inertia, raise_if_invalid
 
 

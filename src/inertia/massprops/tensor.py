@@ -31,7 +31,8 @@ def point_mass_inertia(masses, positions) -> np.ndarray:
     m = as_float_array(masses, "masses", ())
     r = as_float_array(positions, "positions", (3,))
     if m.shape != r.shape[:-1]:
-        raise InputError(f"masses shape {m.shape} does not match positions shape {r.shape} (expected masses (..., N), positions (..., N, 3))")
+        raise InputError(f"masses shape {m.shape} does not match positions shape {r.shape} "
+                         f"(expected masses (..., N), positions (..., N, 3))")
     # sum_k m_k r_k r_k^T, then I = tr(S) 1 - S
     S = np.einsum("...k,...ki,...kj->...ij", m, r, r)
     return np.trace(S, axis1=-2, axis2=-1)[..., None, None] * _EYE - S

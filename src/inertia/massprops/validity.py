@@ -15,14 +15,13 @@ Conditions (checked in this order, all reported, none short-circuits another):
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError, InvalidInertiaError
-from .._core.validation import as_float_array
 from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
+from .._core.validation import as_float_array
 
 
 @dataclass(frozen=True)
@@ -57,7 +56,8 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     if com is not None:
         c = np.asarray(com, float)
         if c.shape != (3,) or not np.all(np.isfinite(c)):
-            out.append(Violation("not_finite", f"center of mass must be 3 finite numbers, got {c.tolist()}", {"com": c.tolist()}))
+            out.append(Violation("not_finite", f"center of mass must be 3 finite numbers, got {c.tolist()}",
+                                 {"com": c.tolist()}))
     I = np.asarray(inertia, float)
     if I.shape != (3, 3):
         raise InputError(f"inertia must have shape (3, 3), got {I.shape}")

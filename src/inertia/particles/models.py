@@ -33,10 +33,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.tolerances import PHYSICAL_RTOL
 from .._core.validation import as_float_array, as_rotation_matrix, as_vector3, frozen_array
 from ..massprops.equivalent import PrincipalSecondMoments, principal_second_moments
 from ..massprops.properties import MassProperties
-from .._core.tolerances import PHYSICAL_RTOL
 
 __all__ = ["ParticleModel", "six_point_model", "four_point_model"]
 

@@ -28,7 +28,7 @@ import numpy as np
 from .._core.errors import InputError
 from .geometry import link_geometry_properties
 from .io import read_robot
-from .writers import inertia_elements, format_number, format_vector
+from .writers import format_number, format_vector, inertia_elements
 from .xmlsafe import serialize
 
 #: smallest principal moment the projection allows, relative to the trace
@@ -144,7 +144,8 @@ def _set_mjcf(el, props, mass_scale: float) -> None:
     e = inertia_elements(props.inertia_com)
     el.set("pos", format_vector(props.com))
     el.set("mass", format_number(props.mass / mass_scale))
-    el.set("fullinertia", " ".join(format_number(e[k] / mass_scale) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
+    keys = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
+    el.set("fullinertia", " ".join(format_number(e[k] / mass_scale) for k in keys))
 
 
 def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,
@@ -196,8 +197,9 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
             fixed = nearest_physical_inertia(declared_own)
             if np.array_equal(fixed, 0.5 * (declared_own + declared_own.T)):
                 continue
-            report.changed[link.name] = (f"principal moments {np.array2string(np.linalg.eigvalsh(declared_own), precision=6)}"
-                                         f" -> {np.array2string(np.linalg.eigvalsh(fixed), precision=6)} kg m^2 "
+            before = np.array2string(np.linalg.eigvalsh(declared_own), precision=6)
+            after = np.array2string(np.linalg.eigvalsh(fixed), precision=6)
+            report.changed[link.name] = (f"principal moments {before} -> {after} kg m^2 "
                                          "(nearest physical, same axes)")
             _set_tensor(model.format, inertial.element, fixed, mass_scale)
             continue

@@ -23,9 +23,9 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
 
     Raises InertiaError (with a message naming the shape) when it cannot be computed.
     """
+    from ..geometry.mesh_io import load_mesh
     from ..massprops import primitives
     from ..massprops.mesh import mesh_properties
-    from ..geometry.mesh_io import load_mesh
 
     rho = geom.density if geom.density is not None else density
     k, p = geom.kind, geom.params

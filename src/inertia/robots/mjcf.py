@@ -236,7 +236,10 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
         axis = a1 - a0
         half = np.linalg.norm(axis) / 2
         R = _orientation({"zaxis": " ".join(repr(float(x)) for x in axis)}, comp, where)
-        size = [size[0], half] if kind in ("capsule", "cylinder") else [size[0], size[1] if len(size) > 1 else size[0], half]
+        if kind in ("capsule", "cylinder"):
+            size = [size[0], half]
+        else:
+            size = [size[0], size[1] if len(size) > 1 else size[0], half]
     need = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}
     if kind in need and len(size) < need[kind]:
         raise RobotFileError(f"{where}: {kind} geom needs {need[kind]} size values, got {len(size)}")

@@ -48,7 +48,8 @@ def inertial_block(props, fmt: str, *, indent: str = "") -> str:
         lines = ["<inertial>",
                  f'  <origin xyz="{format_vector(c)}" rpy="0 0 0"/>',
                  f'  <mass value="{format_number(props.mass)}"/>',
-                 '  <inertia ' + " ".join(f'{k}="{format_number(e[k])}"' for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+                 '  <inertia ' + " ".join(f'{k}="{format_number(e[k])}"'
+                                         for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
                  + "/>",
                  "</inertial>"]
     elif fmt == "sdf":

@@ -14,9 +14,9 @@ import numpy as np
 
 def render_frames(study, six_body_principal, box_half, *, n_frames: int = 48, size_px: int = 360):
     """RGB frames (n, H, W, 3) uint8 of the body at ``n_frames`` evenly spaced times."""
-    from ..dynamics.exact import exact_solution
     from .._core.rotations import quat_to_matrix
-    from .plots import pyplot, box_wire
+    from ..dynamics.exact import exact_solution
+    from .plots import box_wire, pyplot
 
     plt = pyplot()
     t = np.linspace(study.t[0], study.t[-1], n_frames)

@@ -80,7 +80,8 @@ def write_index(out: Path, *, title: str, credit: str | None, props, study, file
 <title>{html.escape(title)}</title>
 <style>body{{font-family:system-ui,sans-serif;max-width:960px;margin:auto;padding:1rem;color:#222}}
 table{{border-collapse:collapse}}th,td{{text-align:left;padding:2px 8px;border-bottom:1px solid #ddd;font-size:.9rem}}
-td{{font-family:monospace}}img,video{{max-width:100%}}figure{{margin:1rem 0}}.credit{{color:#666;font-size:.85rem}}</style>
+td{{font-family:monospace}}img,video{{max-width:100%}}figure{{margin:1rem 0}}
+.credit{{color:#666;font-size:.85rem}}</style>
 </head><body>
 <h1>{html.escape(title)}</h1>
 {credit_html}
@@ -118,9 +119,9 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, mesh=
     ``progress(step_name)`` is called before each step (for a progress bar).
     """
     from .._core.atomic import write_text_atomic
+    from ..dynamics.flip_study import flip_study
     from ..particles.models import six_point_model
     from . import plots
-    from ..dynamics.flip_study import flip_study
     from .page import page_data, write_page
 
     step = progress or (lambda name: None)
