@@ -23,6 +23,7 @@ from inertia.dynamics import (
 from inertia.dynamics.integrators import METHODS
 from inertia.dynamics.state import DTHETA_BODY, OMEGA_BODY, P_WORLD, Q_WORLD_BODY, V_WORLD
 from inertia.errors import InputError, InvalidInertiaError
+from tests.scipy_quat import as_wxyz, from_wxyz
 
 # box 0.1 x 0.2 x 0.4 m, 1 kg: principal moments (kg m^2), ascending
 BOX_MOMENTS = np.array([0.2 ** 2 + 0.4 ** 2, 0.1 ** 2 + 0.4 ** 2, 0.1 ** 2 + 0.2 ** 2])[::-1] / 12.0
@@ -38,7 +39,7 @@ def random_rotation(rng) -> np.ndarray:
 
 def random_state(rng, shape=(), spin=3.0) -> np.ndarray:
     n = int(np.prod(shape, dtype=int))
-    q = Rotation.random(max(n, 1), random_state=rng).as_quat(scalar_first=True)
+    q = as_wxyz(Rotation.random(max(n, 1), random_state=rng))
     x = np.concatenate([rng.normal(size=(max(n, 1), 3)), rng.normal(size=(max(n, 1), 3)), q,
                         spin * rng.normal(size=(max(n, 1), 3))], axis=-1)
     return x.reshape(shape + (13,)) if shape else x[0]
@@ -146,7 +147,7 @@ def test_constant_world_force_and_gravity_exact(method):
     F = np.array([3.0, -1.0, 2.0])
     g = np.array([0.0, 0.0, -9.81])
     p0, v0 = np.array([1.0, -2.0, 0.5]), np.array([0.3, 0.1, 4.0])
-    x = pack_state(p0, v0, Rotation.random(random_state=rng).as_quat(scalar_first=True), [0.5, 3.0, 0.2])
+    x = pack_state(p0, v0, as_wxyz(Rotation.random(random_state=rng)), [0.5, 3.0, 0.2])
     u = pack_input(F, [0.01, -0.02, 0.005])
     h, n = 0.005, 400
     for _ in range(n):
@@ -170,7 +171,7 @@ def test_free_fall():
 def test_body_frame_force_without_rotation_is_exact_and_turns_with_the_attitude():
     body = RigidBody.from_principal_moments(2.0, BOX_MOMENTS)
     R = Rotation.from_rotvec([0.3, -0.4, 1.1])
-    x0 = pack_state([0, 0, 0], [0, 0, 0], R.as_quat(scalar_first=True), [0, 0, 0])
+    x0 = pack_state([0, 0, 0], [0, 0, 0], as_wxyz(R), [0, 0, 0])
     F_B = np.array([1.0, 2.0, -0.5])
     x = x0
     for _ in range(50):
@@ -205,7 +206,7 @@ def test_general_inertia_moves_like_its_principal_counterpart(method):
     rng = np.random.default_rng(3)
     body_B, R_BP = general_body(rng)
     body_P = RigidBody.from_principal_moments(1.3, BOX_MOMENTS)
-    q_BP = Rotation.from_matrix(R_BP).as_quat(scalar_first=True)
+    q_BP = as_wxyz(Rotation.from_matrix(R_BP))
     x_P = random_state(rng, spin=2.0)
     # same physical state described with the body frame B: q_WB = q_WP q_BP^-1, w_B = R_BP w_P
     x_B = x_P.copy()
@@ -258,16 +259,16 @@ def fd_jacobians(x, u, h, eps_x=1e-6, eps_u=1e-6, **kw):
     def plus(x0, dx):
         y = x0.copy()
         y[0:6] += dx[0:6]
-        R = Rotation.from_quat(x0[6:10], scalar_first=True) * Rotation.from_rotvec(dx[6:9])
-        y[6:10] = R.as_quat(scalar_first=True)
+        R = from_wxyz(x0[6:10]) * Rotation.from_rotvec(dx[6:9])
+        y[6:10] = as_wxyz(R)
         y[10:13] += dx[9:12]
         return y
 
     def minus(y, x0):
         d = np.empty(12)
         d[0:6] = y[0:6] - x0[0:6]
-        d[6:9] = (Rotation.from_quat(x0[6:10], scalar_first=True).inv()
-                  * Rotation.from_quat(y[6:10], scalar_first=True)).as_rotvec()
+        d[6:9] = (from_wxyz(x0[6:10]).inv()
+                  * from_wxyz(y[6:10])).as_rotvec()
         d[9:12] = y[10:13] - x0[10:13]
         return d
 

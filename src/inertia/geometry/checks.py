@@ -306,7 +306,7 @@ class _EdgeGroups:
         self.src = src = ft.ravel()
         self.dst = dst = ft[:, [1, 2, 0]].ravel()
         key = np.minimum(src, dst) * np.int64(V) + np.maximum(src, dst)
-        self.order = order = np.argsort(key)
+        self.order = order = np.argsort(key, kind="stable")   # stable: examples list faces in index order
         self.skey = skey = key[order]
         self.start = start = np.flatnonzero(np.r_[True, skey[1:] != skey[:-1]])
         self.counts = np.diff(np.r_[start, len(skey)])
