@@ -219,3 +219,227 @@ def make_mesh_set(d: Path) -> MeshSet:
 
     return MeshSet(dir=d, watertight=watertight, broken=broken, noise_open_edges=noise_open,
                    soup_volume=vol, soup_volume_centred=vol_c, soup_message_volume=r"-\d+\.\d+")
+
+
+# ----------------------------------------------------------------------------- robots
+@dataclass
+class RobotSet:
+    """A folder of robot files laid out as ``../shared/data/robots`` and what tests may assert.
+
+    ``good`` maps each folder to ``(file, least number of links)``: files whose inertials are
+    all valid and agree with their geometry.
+    """
+
+    root: Path
+    tier: str = "made"
+
+    @property
+    def simple_arm(self) -> Path:
+        return self.root / "simple_arm_sdf_INVALID" / "simple_arm" / "model.sdf"
+
+    @property
+    def pendulum(self) -> Path:
+        return self.root / "double_pendulum_urdf" / "urdf" / "double_pendulum.urdf"
+
+    @property
+    def barkour_dir(self) -> Path:
+        return self.root / "barkour_v0_mjcf"
+
+    @property
+    def good(self) -> dict:
+        n = {"real": (3, 13, 1), "made": (3, 4, 1)}[self.tier]
+        return {"double_pendulum_urdf": (self.pendulum, n[0]),
+                "barkour_v0_mjcf": (self.barkour_dir / "barkour_v0_mjx.xml", n[1]),
+                "cordless_drill_sdf": (self.root / "cordless_drill_sdf" / "cordless_drill" / "model.sdf", n[2])}
+
+
+def real_robot_set(root: Path) -> RobotSet:
+    return RobotSet(root=root, tier="real")
+
+
+def _box_corners(extents, centre):
+    import trimesh
+
+    m = trimesh.creation.box(extents=extents)
+    return (m.vertices + centre)[m.faces]
+
+
+def _f(x) -> str:
+    """A float as XML text (repr of a Python float: shortest round-trip digits)."""
+    return repr(float(x))
+
+
+def _sdf_inertia(I, indent):
+    tags = {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2), "izz": (2, 2)}
+    return "\n".join(f"{indent}<{t}>{_f(float(I[i, j]))}</{t}>" for t, (i, j) in tags.items())
+
+
+# simple_arm: arm_base breaks the triangle inequality (1.01 + 1.11 < 100.11), as the real
+# gazebo_models file does; the link sits on line 4, its <inertial> on line 5
+SIMPLE_ARM_SDF = """<?xml version="1.0" ?>
+<sdf version="1.5">
+  <model name="simple_arm">
+    <link name="arm_base">
+      <inertial>
+        <pose>0 0 0.00099 0 0 0</pose>
+        <inertia>
+          <ixx>1.11</ixx>
+          <ixy>0</ixy>
+          <ixz>0</ixz>
+          <iyy>100.11</iyy>
+          <iyz>0</iyz>
+          <izz>1.01</izz>
+        </inertia>
+        <mass>101.0</mass>
+      </inertial>
+    </link>
+    <!-- a valid second link -->
+    <link name="arm_shoulder_pan">
+      <pose>0 0 1.1 0 0 0</pose>
+      <inertial>
+        <pose>0.045455 0 0 0 0 0</pose>
+        <inertia>
+          <ixx>0.011</ixx>
+          <ixy>0</ixy>
+          <ixz>0</ixz>
+          <iyy>0.0225</iyy>
+          <iyz>0</iyz>
+          <izz>0.0135</izz>
+        </inertia>
+        <mass>1.1</mass>
+      </inertial>
+    </link>
+    <joint name="arm_shoulder_pan_joint" type="revolute">
+      <parent>arm_base</parent>
+      <child>arm_shoulder_pan</child>
+      <axis><xyz>0 0 1</xyz></axis>
+    </joint>
+  </model>
+</sdf>
+"""
+
+
+def _pendulum(d: Path):
+    """A URDF of three links, each a box mesh (../meshes/NAME.stl) with its exact inertial."""
+    (d / "urdf").mkdir(parents=True)
+    (d / "meshes").mkdir()
+    links = {"base_link": ((0.0625, 0.0625, 0.125), (0.0, 0.0, 0.0625), 0.5),
+             "link1": ((0.03125, 0.015625, 0.25), (0.0, 0.0078125, 0.125), 0.25),
+             "link2": ((0.015625, 0.03125, 0.1875), (0.0, -0.0078125, 0.09375), 0.125)}
+    parts = ['<?xml version="1.0" encoding="utf-8"?>', "<!-- a made stand-in for example-robot-data's double pendulum -->",
+             '<robot name="2dof_planar">']
+    for name, (ext, c, m) in links.items():
+        write_binary_stl(d / "meshes" / f"{name}.stl", _box_corners(ext, c))
+        I = box_inertia(ext, m)
+        geo = f'<geometry><mesh filename="../meshes/{name}.stl"/></geometry>'
+        parts += [f'  <link name="{name}">',
+                  f'    <inertial><origin xyz="{_f(c[0])} {_f(c[1])} {_f(c[2])}" rpy="0 0 0"/><mass value="{_f(m)}"/>',
+                  f'      <inertia ixx="{_f(I[0, 0])}" ixy="0" ixz="0" iyy="{_f(I[1, 1])}" iyz="0" izz="{_f(I[2, 2])}"/></inertial>',
+                  f'    <visual><origin xyz="0 0 0" rpy="0 0 0"/>{geo}</visual>',
+                  f'    <collision><origin xyz="0 0 0" rpy="0 0 0"/>{geo}</collision>',
+                  "  </link>"]
+    for parent, child, z in (("base_link", "link1", 0.125), ("link1", "link2", 0.25)):
+        parts += [f'  <joint name="{child}_joint" type="continuous"><parent link="{parent}"/><child link="{child}"/>',
+                  f'    <origin xyz="0 0 {_f(z)}" rpy="0 0 0"/><axis xyz="1 0 0"/></joint>']
+    (d / "urdf" / "double_pendulum.urdf").write_text("\n".join(parts + ["</robot>"]) + "\n")
+
+
+def _barkour(d: Path):
+    """MJCF bodies with mesh geoms: closed (foot, handle), open (head) and non-manifold (body)."""
+    import trimesh
+
+    d.mkdir(parents=True)
+    foot_ext, foot_c = (0.03125, 0.0625, 0.015625), (0.0078125, 0.0, -0.015625)
+    write_binary_stl(d / "foot.stl", _box_corners(foot_ext, foot_c))
+    v, f = _cylinder(24, 0.015, 0.1, [0.004, -0.003, 0.02])
+    write_binary_stl(d / "handle.stl", v[f])
+    v, f = _cylinder(16, 0.05, 0.04, [0.0, 0.0, 0.02])
+    top = np.all(np.isclose(v[f][..., 2], v[:, 2].max()), axis=1)
+    write_binary_stl(d / "head.stl", v[f[~top]])   # open: no top cap
+    box = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
+    write_binary_stl(d / "body.stl", np.concatenate([(box.vertices + [0.05 * k, 0.05 * k, 0])[box.faces]
+                                                     for k in range(2)]))  # two cubes sharing an edge
+    m = 0.25
+    I = box_inertia(foot_ext, m)
+    legs = "".join(f"""
+      <body name="leg_{k}" pos="{x} 0 -0.1">
+        <joint name="knee_{k}" axis="0 1 0"/>
+        <inertial pos="{_f(foot_c[0])} {_f(foot_c[1])} {_f(foot_c[2])}" mass="{_f(m)}" diaginertia="{_f(I[0, 0])} {_f(I[1, 1])} {_f(I[2, 2])}"/>
+        <geom class="visual" mesh="foot"/>
+        <geom type="sphere" size="0.01" pos="0 0 -0.03"/>
+      </body>""" for k, x in ((1, 0.1), (2, -0.1)))
+    (d / "barkour_v0_mjx.xml").write_text(f"""<mujoco model="made_quadruped">
+  <compiler angle="radian" meshdir="." autolimits="true"/>
+  <default>
+    <geom contype="0" conaffinity="0" type="mesh"/>
+    <default class="visual">
+      <geom contype="0" conaffinity="0" density="0" group="1"/>
+    </default>
+  </default>
+  <asset>
+    <mesh file="head.stl"/>
+    <mesh file="handle.stl"/>
+    <mesh file="foot.stl"/>
+  </asset>
+  <worldbody>
+    <body name="chassis" pos="0 0 0.3">
+      <freejoint/>
+      <inertial pos="0 0 0.02" quat="1 0 0 0" mass="3.5" diaginertia="0.03 0.02 0.015"/>
+      <geom class="visual" mesh="head"/>
+      <geom class="visual" mesh="handle"/>
+      <geom type="box" size="0.1 0.05 0.03"/>{legs}
+      <body name="tail" pos="-0.12 0 0">
+        <inertial pos="0 0 0" mass="0.1" diaginertia="2e-5 3e-5 4e-5"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+
+
+def _drill(d: Path):
+    """An SDF model with model:// URIs: a .dae visual (not usable for inertia) and a closed
+    STL collision mesh its declared inertial matches."""
+    (d / "meshes").mkdir(parents=True)
+    ext, c, m = (0.0625, 0.125, 0.25), np.array([0.0, 0.0, 0.125]), 1.5
+    write_binary_stl(d / "meshes" / "cordless_drill.stl", _box_corners(ext, c))
+    (d / "meshes" / "cordless_drill.dae").write_text(
+        '<?xml version="1.0"?>\n<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">\n'
+        "  <asset/>\n</COLLADA>\n")
+    (d / "model.config").write_text('<?xml version="1.0"?>\n<model><name>Cordless Drill</name>'
+                                    "<sdf version=\"1.5\">model.sdf</sdf></model>\n")
+    pose = c + [0.0, 0.0, -0.09]
+    (d / "model.sdf").write_text(f"""<?xml version="1.0" ?>
+<sdf version="1.5">
+  <model name="drill">
+    <link name="link">
+      <inertial>
+        <pose>{_f(pose[0])} {_f(pose[1])} {_f(pose[2])} 0 0 0</pose>
+        <inertia>
+{_sdf_inertia(box_inertia(ext, m), "          ")}
+        </inertia>
+        <mass>{_f(m)}</mass>
+      </inertial>
+      <collision name="collision">
+        <pose>0 0 -0.09 0 0 0</pose>
+        <geometry><mesh><uri>model://cordless_drill/meshes/cordless_drill.stl</uri></mesh></geometry>
+      </collision>
+      <visual name="visual">
+        <pose>0 0 -0.09 0 0 0</pose>
+        <geometry><mesh><uri>model://cordless_drill/meshes/cordless_drill.dae</uri></mesh></geometry>
+      </visual>
+    </link>
+  </model>
+</sdf>
+""")
+
+
+def make_robot_set(root: Path) -> RobotSet:
+    """Write the made robot files into ``root`` (the layout of ``../shared/data/robots``)."""
+    arm = root / "simple_arm_sdf_INVALID" / "simple_arm"
+    arm.mkdir(parents=True)
+    (arm / "model.sdf").write_text(SIMPLE_ARM_SDF)
+    _pendulum(root / "double_pendulum_urdf")
+    _barkour(root / "barkour_v0_mjcf")
+    _drill(root / "cordless_drill_sdf" / "cordless_drill")
+    return RobotSet(root=root)
