@@ -30,7 +30,7 @@ def _run(capsys, *argv):
     return code, out.out, out.err
 
 
-# ----------------------------------------------------------------------------- the shared robots
+# ----------------------------------------------------------------------------- the test robot files
 
 
 def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys, robots):
