@@ -37,7 +37,9 @@ from pathlib import Path
 
 import numpy as np
 
-MESH_DIR = Path(os.environ.get("INERTIA_MESH_DIR", "/work/shared/data/meshes"))
+# ../shared/data/meshes beside the checkout (this file is bench/ in the repository root)
+MESH_DIR = Path(os.environ.get("INERTIA_MESH_DIR",
+                               Path(__file__).resolve().parents[2] / "shared" / "data" / "meshes"))
 
 
 def load_meshes():

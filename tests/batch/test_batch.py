@@ -1,4 +1,4 @@
-"""Batch runs over a folder of real and broken meshes, on a real 2-worker Dask LocalCluster.
+"""Batch runs over a folder of good, defective and broken meshes (made here, and real ones), on a real 2-worker Dask LocalCluster.
 
 Truth: every row equals what the single-file API (inertia.mesh_file_properties) gives for
 that file, bit for bit, and every broken file has its named reason; an interrupted run,
@@ -42,12 +42,10 @@ def _cube_obj(path, *, inward=False, nan=False):
 
 
 @pytest.fixture(scope="module")
-def dataset(tmp_path_factory):
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "meshes"
-    if not root.is_dir():
-        pytest.skip(f"shared meshes not found at {root}")
+def dataset(tmp_path_factory, meshes):
+    """A folder of good, defective and broken files: the test meshes (made, or ../shared/data
+    in the real-data tier) and broken files written here."""
+    root = meshes.dir
     d = tmp_path_factory.mktemp("dataset")
     (d / "sub").mkdir()
     for name in GOOD:

@@ -177,8 +177,8 @@ def test_bad_usage_is_argparse_error(capsys):
     assert rc == 2 and "--density" in err and "Traceback" not in err
 
 
-def test_open_mesh_is_refused_with_file_and_edges_named(capsys, shared_data):
-    path = shared_data / "meshes" / "teapot_open.stl"
+def test_open_mesh_is_refused_with_file_and_edges_named(capsys, meshes):
+    path = meshes.path("teapot_open.stl")
     rc, out, err = run(capsys, "props", path)
     assert rc == 1 and out == "" and "Traceback" not in err
     assert "teapot_open.stl" in err
@@ -186,8 +186,8 @@ def test_open_mesh_is_refused_with_file_and_edges_named(capsys, shared_data):
     assert "--accept-defects" in err  # says how to go on anyway
 
 
-def test_open_mesh_accepted_on_request_carries_warnings(capsys, shared_data):
-    path = shared_data / "meshes" / "teapot_open.stl"
+def test_open_mesh_accepted_on_request_carries_warnings(capsys, meshes):
+    path = meshes.path("teapot_open.stl")
     rc, out, err = run(capsys, "props", path, "--accept-defects", "--format", "json")
     if rc != 0:  # the open teapot may still have no meaningful volume: then a clean error
         assert rc == 1 and "Traceback" not in err

@@ -1,6 +1,6 @@
 """Euler's law in the body and world frames, quaternion kinematics, diagnostics.
 
-Reference values: /work/shared/notes/free-rigid-body.md §7 (TC1, TC3), computed there from
+Reference values: ../shared/notes/free-rigid-body.md §7 (TC1, TC3), computed there from
 the exact elliptic solution and checked against DOP853.
 """
 

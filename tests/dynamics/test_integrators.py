@@ -3,7 +3,7 @@
 Test body (note §2.2 / §7 TC3, the Hairer-Lubich-Wanner example relabelled): I = (2/3, 1, 2),
 m0 = (sin 1.1, 0, cos 1.1), q0 = identity.  References: scipy DOP853 at rtol = atol = 1e-13 on
 Euler's equations plus the quaternion kinematics (agrees with the note's exact values to
-2e-12, see test_equations.py), and the figures of /work/shared/notes/free-rigid-body.md.
+2e-12, see test_equations.py), and the figures of ../shared/notes/free-rigid-body.md.
 """
 
 from __future__ import annotations

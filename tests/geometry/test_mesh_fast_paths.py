@@ -2,7 +2,7 @@
 
 Truth: the NumPy implementations (sort-based weld, k-d tree merge, full analysis), which the
 rest of the suite checks against closed forms.  The compiled kernels must give the same
-groups, the same arrays and the same verdicts, on the shared real meshes and on meshes built
+groups, the same arrays and the same verdicts, on the test meshes (made and real) and on meshes built
 to hit each branch (signed zeros, NaN rows, chains of near pairs, cell boundaries, every
 defect).
 """
@@ -19,7 +19,7 @@ from inertia.geometry.mesh_arrays import compact_vertices, validate_inputs, weld
 
 nbk = pytest.importorskip("inertia.geometry._topology_numba")
 
-REAL = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "soup.stl",
+TEST_MESHES = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "soup.stl",
         "teapot_open.stl", "cycloidal.ply", "tray_bottom_ascii.stl", "spot.obj"]
 
 
@@ -29,10 +29,10 @@ def numpy_only(monkeypatch):
     monkeypatch.setattr(mesh_checks, "_topology_state", False)
 
 
-def _raw(shared_data, name):
+def _raw(meshes, name):
     """The file's arrays as trimesh reads them, before any welding."""
     trimesh = pytest.importorskip("trimesh")
-    loaded = trimesh.load(str(shared_data / "meshes" / name), process=False)
+    loaded = trimesh.load(str(meshes.path(name)), process=False)
     return mesh_io._scene_triangles(trimesh, loaded, name)
 
 
@@ -64,9 +64,9 @@ def test_weld_map_matches_numpy_with_many_groups_and_table_growth():
     assert np.array_equal(nbk.weld_map(grid), weld_map_numpy(grid))
 
 
-def test_weld_vertices_is_the_same_with_and_without_numba(shared_data, monkeypatch):
+def test_weld_vertices_is_the_same_with_and_without_numba(meshes, monkeypatch):
     for name in ("featuretype.stl", "spot.obj", "wingnut.obj"):
-        v, f = _raw(shared_data, name)
+        v, f = _raw(meshes, name)
         fast = mesh_checks.weld_vertices(v, f)
         monkeypatch.setattr(mesh_checks, "_topology_state", False)
         slow = mesh_checks.weld_vertices(v, f)
@@ -117,10 +117,10 @@ def test_near_merge_groups_match_the_kd_tree():
     assert len(np.unique(rep)) < len(v) - 500  # the cases above did merge
 
 
-def test_merge_close_vertices_is_the_same_with_and_without_numba(shared_data, monkeypatch):
+def test_merge_close_vertices_is_the_same_with_and_without_numba(meshes, monkeypatch):
     # featuretype and idler_riser need the near merge (split copies 1e-16 apart)
     for name in ("featuretype.stl", "idler_riser_binary_solid_header.stl", "ballA.off", "spot.obj"):
-        v, f = _raw(shared_data, name)
+        v, f = _raw(meshes, name)
         fast = mesh_io._merge_close_vertices(v, f, mesh_io.MERGE_RTOL)
         monkeypatch.setattr(mesh_checks, "_topology_state", False)
         slow = mesh_io._merge_close_vertices(v, f, mesh_io.MERGE_RTOL)
@@ -157,15 +157,15 @@ def _both_reports(v, f, welded=False):
     return fast.report, full.report
 
 
-@pytest.mark.parametrize("name", REAL)
-def test_clean_verdict_and_report_match_the_full_analysis_on_real_meshes(shared_data, name):
-    v, f = mesh_io.load_mesh(shared_data / "meshes" / name)
+@pytest.mark.parametrize("name", TEST_MESHES)
+def test_clean_verdict_and_report_match_the_full_analysis_on_test_meshes(meshes, name):
+    v, f = mesh_io.load_mesh(meshes.path(name))
     fast, full = _both_reports(v, f, welded=True)
     assert _report_key(fast) == _report_key(full)
     assert fast.area == pytest.approx(full.area, rel=1e-12)
     if full.ok and full.n_components == 1:
         assert fast.volume == pytest.approx(full.volume, rel=1e-12)
-    raw = _raw(shared_data, name)            # unwelded: the kernel welds by itself
+    raw = _raw(meshes, name)            # unwelded: the kernel welds by itself
     fast, full = _both_reports(*raw)
     assert _report_key(fast) == _report_key(full)
 
@@ -228,11 +228,11 @@ def test_high_valence_vertex_uses_the_sorted_matching():
     assert not nbk.closed_single_shell(v, f[:-1], 1e-12, out)  # open at the center
 
 
-def test_mesh_properties_are_identical_with_and_without_numba(shared_data, monkeypatch):
+def test_mesh_properties_are_identical_with_and_without_numba(meshes, monkeypatch):
     import inertia
 
     for name in ("featuretype.stl", "wingnut.obj", "ballA.off"):
-        path = shared_data / "meshes" / name
+        path = meshes.path(name)
         fast = inertia.mesh_file_properties(path, density=1000.0)
         monkeypatch.setattr(mesh_checks, "_topology_state", False)
         slow = inertia.mesh_file_properties(path, density=1000.0)
@@ -247,9 +247,9 @@ def _write_stl(path, corners):
     path.write_bytes(b"x".ljust(80) + len(corners).to_bytes(4, "little") + rec.tobytes())
 
 
-def test_stl_bytes_kernel_equals_the_soup_route(shared_data, tmp_path):
+def test_stl_bytes_kernel_equals_the_soup_route(meshes, tmp_path):
     """Welding float32 bits straight from the file gives the arrays of the float64 soup route."""
-    cases = {name: shared_data / "meshes" / name
+    cases = {name: meshes.path(name)
              for name in ("featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl")}
     rng = np.random.default_rng(5)
     v, f = _box_soup(rng)

@@ -1,8 +1,9 @@
-"""Reading mesh files and their mass properties, on real meshes from ../shared/data/meshes.
+"""Reading mesh files and their mass properties, on meshes the tests write (tests/_make.py)
+and on the real meshes of ../shared/data/meshes (real-data tier).
 
 Truth: trimesh's own mass_properties (an independent implementation of the same integrals),
 evaluated with the mesh translated so its bounding-box center is at the origin, and the
-face counts and volumes listed in shared/data/SOURCES.md.
+face counts and volumes of closed forms (made meshes) or listed in ../shared/data/SOURCES.md.
 """
 
 from __future__ import annotations
@@ -22,31 +23,12 @@ from inertia.massprops.mesh import mesh_file_properties, mesh_properties
 
 trimesh = pytest.importorskip("trimesh", reason="trimesh (optional dependency inertia[mesh]) is not installed")
 
-SHARED_MESHES = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "meshes"
-
-# file -> (faces, volume in file units^3 from SOURCES.md, 6 significant digits)
-WATERTIGHT = {
-    "wingnut.obj": (6090, 22.0966),
-    "ballA.off": (3796, 1401.11),
-    "featuretype.stl": (3476, 11.6277),
-    "idler_riser_binary_solid_header.stl": (1572, 1.4878),
-    "tray_bottom_ascii.stl": (4520, 347866.0),
-    "spot.obj": (23062, 0.687986),
-}
-# file -> (faces, code, count, area-weighted check is done against trimesh)
-BROKEN = {
-    "teapot_open.stl": (894, "open_edges", 64),
-    "soup.stl": (100, "open_edges", 300),
-    # not open: 242 edges where closed parts touch (4 faces each, 2 per direction)
-    "cycloidal.ply": (43368, "non_manifold_edges", 242),
-}
-
-
-def mesh_file(name: str) -> Path:
-    p = SHARED_MESHES / name
-    if not p.is_file():
-        pytest.skip(f"shared test mesh not found: {p} (the ../shared/data checkout is absent)")
-    return p
+# The meshes come from the `meshes` fixture (tests/conftest.py): written by tests/_make.py
+# ("made") or the curated files of ../shared/data/meshes ("real", with the figures of its
+# SOURCES.md).  Both carry the same names and the same traits.
+WATERTIGHT = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "spot.obj",
+              "tray_bottom_ascii.stl", "wingnut.obj"]
+BROKEN = ["cycloidal.ply", "soup.stl", "teapot_open.stl"]
 
 
 def trimesh_reference(path: Path):
@@ -59,10 +41,10 @@ def trimesh_reference(path: Path):
 
 
 # ---------------------------------------------------------------- real watertight meshes
-@pytest.mark.parametrize("name", sorted(WATERTIGHT))
-def test_watertight_meshes_load_report_ok_and_match_trimesh(name):
-    path = mesh_file(name)
-    n_faces, volume_listed = WATERTIGHT[name]
+@pytest.mark.parametrize("name", WATERTIGHT)
+def test_watertight_meshes_load_report_ok_and_match_trimesh(meshes, name):
+    path = meshes.path(name)
+    n_faces, volume_listed = meshes.watertight[name]
     v, f = load_mesh(path)
     assert v.dtype == np.float64 and v.shape[1] == 3 and f.dtype == np.int64 and f.shape == (n_faces, 3)
     r = check_mesh(v, f)
@@ -80,8 +62,8 @@ def test_watertight_meshes_load_report_ok_and_match_trimesh(name):
     assert np.all(moments > 0) and np.linalg.det(axes) == pytest.approx(1.0)
 
 
-def test_spot_obj_is_watertight_only_after_welding_seams():
-    path = mesh_file("spot.obj")
+def test_spot_obj_is_watertight_only_after_welding_seams(meshes):
+    path = meshes.path("spot.obj")
     raw = trimesh.load(str(path), process=False, force="mesh")
     assert not raw.is_watertight  # split at UV seams as read
     r = check_mesh(raw.vertices, raw.faces)  # check_mesh welds exactly equal vertices itself
@@ -90,8 +72,8 @@ def test_spot_obj_is_watertight_only_after_welding_seams():
     assert len(v) == len(raw.vertices) - r.n_welded
 
 
-def test_fix_orientation_repairs_random_flips_of_a_real_mesh():
-    v, f = load_mesh(mesh_file("spot.obj"))
+def test_fix_orientation_repairs_random_flips_of_a_real_mesh(meshes):
+    v, f = load_mesh(meshes.path("spot.obj"))
     ref = mesh_properties(v, f, density=1.0)
     rng = np.random.default_rng(1)
     flipped = rng.random(len(f)) < 0.3
@@ -109,30 +91,31 @@ def test_fix_orientation_repairs_random_flips_of_a_real_mesh():
     assert q.isclose(ref, rtol=1e-12)
 
 
-def test_binary_stl_with_solid_header():
-    path = mesh_file("idler_riser_binary_solid_header.stl")
+def test_binary_stl_with_solid_header(meshes):
+    path = meshes.path("idler_riser_binary_solid_header.stl")
     data = path.read_bytes()
-    assert data[:5] == b"solid" and len(data) == 84 + 50 * 1572  # really binary
+    n_faces = meshes.watertight["idler_riser_binary_solid_header.stl"][0]
+    assert data[:5] == b"solid" and len(data) == 84 + 50 * n_faces  # really binary
     v, f = load_mesh(path)
-    assert f.shape == (1572, 3) and check_mesh(v, f).ok
+    assert f.shape == (n_faces, 3) and check_mesh(v, f).ok
 
 
-def test_stl_merges_float_noise_copies_of_a_vertex():
+def test_stl_merges_float_noise_copies_of_a_vertex(meshes):
     """featuretype.stl repeats some vertices with noise (e.g. -2.7e-16 for 0): open unless merged."""
-    path = mesh_file("featuretype.stl")
+    path = meshes.path("featuretype.stl")
     raw = trimesh.load(str(path), process=False, force="mesh")
-    assert check_mesh(raw.vertices, raw.faces).count("open_edges") == 576  # exact welding is not enough
+    assert check_mesh(raw.vertices, raw.faces).count("open_edges") == meshes.noise_open_edges > 0  # exact welding is not enough
     v, f = load_mesh(path, merge_rtol=0.0)
-    assert check_mesh(v, f).count("open_edges") == 576
+    assert check_mesh(v, f).count("open_edges") == meshes.noise_open_edges
     v, f = load_mesh(path)
     assert check_mesh(v, f).ok
 
 
 # ---------------------------------------------------------------- real broken meshes
-@pytest.mark.parametrize("name", sorted(BROKEN))
-def test_broken_meshes_raise_naming_the_file_and_the_defect(name):
-    path = mesh_file(name)
-    n_faces, code, count = BROKEN[name]
+@pytest.mark.parametrize("name", BROKEN)
+def test_broken_meshes_raise_naming_the_file_and_the_defect(meshes, name):
+    path = meshes.path(name)
+    n_faces, code, count = meshes.broken[name]
     v, f = load_mesh(path)
     assert f.shape == (n_faces, 3)
     r = check_mesh(v, f)
@@ -146,9 +129,9 @@ def test_broken_meshes_raise_naming_the_file_and_the_defect(name):
     assert exc.value.report.count(code) == count
 
 
-@pytest.mark.parametrize("name", sorted(BROKEN))
-def test_broken_meshes_as_shells(name):
-    path = mesh_file(name)
+@pytest.mark.parametrize("name", BROKEN)
+def test_broken_meshes_as_shells(meshes, name):
+    path = meshes.path(name)
     with warnings.catch_warnings():
         warnings.simplefilter("error", MeshDefectWarning)
         p = mesh_file_properties(path, density=2.0, shell=True)
@@ -159,9 +142,9 @@ def test_broken_meshes_as_shells(name):
 
 
 @pytest.mark.parametrize("name", ["teapot_open.stl", "cycloidal.ply"])
-def test_broken_meshes_accepted_with_warnings(name):
-    path = mesh_file(name)
-    _, code, count = BROKEN[name]
+def test_broken_meshes_accepted_with_warnings(meshes, name):
+    path = meshes.path(name)
+    _, code, count = meshes.broken[name]
     with pytest.warns(MeshDefectWarning, match=f"{code} accepted") as rec:
         p = mesh_file_properties(path, density=1.0, on_defect="warn")
     assert rec[0].filename == __file__
@@ -170,9 +153,9 @@ def test_broken_meshes_accepted_with_warnings(name):
     assert p.volume > 0 and p.is_physical()
 
 
-def test_cycloidal_accepted_matches_trimesh():
+def test_cycloidal_accepted_matches_trimesh(meshes):
     """Its non-manifold edges are balanced, so the surface is closed and the integrals are right."""
-    path = mesh_file("cycloidal.ply")
+    path = meshes.path("cycloidal.ply")
     with pytest.warns(MeshDefectWarning):
         p = mesh_file_properties(path, density=1.0, on_defect="warn")
     vol, com, I, diag, _ = trimesh_reference(path)
@@ -181,30 +164,31 @@ def test_cycloidal_accepted_matches_trimesh():
     np.testing.assert_allclose(p.inertia_com, I, rtol=0, atol=1e-10 * np.abs(I).max())
 
 
-def test_open_mesh_volume_depends_on_the_reference_point():
+def test_open_mesh_volume_depends_on_the_reference_point(meshes):
     """Why open meshes are refused: their 'volume' is not a property of the surface.
 
     Relative to its bounding-box center soup.stl (100 loose triangles) has a negative signed
     volume, so even on_defect="warn" refuses it; trimesh reports 0.168 for the same file as
     placed, and -0.065 once it is moved to its bounding-box center.
     """
-    path = mesh_file("soup.stl")
+    path = meshes.path("soup.stl")
     with pytest.warns(MeshDefectWarning, match="open_edges accepted"), \
-            pytest.raises(MeshError, match=r"soup\.stl has signed volume -0\.11\d+ <= 0"):
+            pytest.raises(MeshError, match=rf"soup\.stl has signed volume {meshes.soup_message_volume} <= 0"):
         mesh_file_properties(path, density=1.0, on_defect="warn")
-    assert trimesh.load(str(path), process=False, force="mesh").volume == pytest.approx(0.168215, rel=1e-5)
-    assert trimesh_reference(path)[0] == pytest.approx(-0.0653581, rel=1e-5)
+    assert trimesh.load(str(path), process=False, force="mesh").volume == pytest.approx(meshes.soup_volume, rel=1e-5)
+    assert trimesh_reference(path)[0] == pytest.approx(meshes.soup_volume_centred, rel=1e-5)
+    assert meshes.soup_volume > 0 > meshes.soup_volume_centred
 
 
-def test_cycloidal_non_manifold_edges_are_balanced():
-    v, f = load_mesh(mesh_file("cycloidal.ply"))
+def test_cycloidal_non_manifold_edges_are_balanced(meshes):
+    v, f = load_mesh(meshes.path("cycloidal.ply"))
     d = check_mesh(v, f).get("non_manifold_edges")
-    assert d.example["balanced"] == d.count == 242 and len(d.example["faces"]) == 4
+    assert d.example["balanced"] == d.count == meshes.broken["cycloidal.ply"][2] and len(d.example["faces"]) == 4
 
 
 # ---------------------------------------------------------------- units
-def test_units_scale_coordinates():
-    path = mesh_file("wingnut.obj")
+def test_units_scale_coordinates(meshes):
+    path = meshes.path("wingnut.obj")
     v_m, f_m = load_mesh(path)
     v_mm, f_mm = load_mesh(path, units="mm")
     assert np.array_equal(f_m, f_mm)
@@ -220,9 +204,9 @@ def test_units_scale_coordinates():
     assert set(UNITS) == {"m", "cm", "mm", "um", "in", "ft"}
 
 
-def test_unknown_unit():
+def test_unknown_unit(meshes):
     with pytest.raises(InputError, match=r"unknown length unit 'furlong'; valid units: m, cm, mm, um, in, ft"):
-        load_mesh(mesh_file("soup.stl"), units="furlong")
+        load_mesh(meshes.path("soup.stl"), units="furlong")
 
 
 # ---------------------------------------------------------------- file errors
@@ -264,18 +248,18 @@ def test_directory_is_not_a_file(tmp_path):
         load_mesh(d)
 
 
-def test_missing_trimesh_is_a_missing_dependency_error(monkeypatch):
+def test_missing_trimesh_is_a_missing_dependency_error(meshes, monkeypatch):
     monkeypatch.setitem(sys.modules, "trimesh", None)  # makes `import trimesh` raise ImportError
     with pytest.raises(MissingDependencyError, match=r'pip install "inertia\[mesh\]"'):
-        load_mesh(mesh_file("wingnut.obj"))
+        load_mesh(meshes.path("wingnut.obj"))
     assert isinstance(MissingDependencyError("x"), ImportError)
 
 
 @pytest.mark.parametrize("name", ["featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl"])
-def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(name, monkeypatch):
+def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(meshes, name, monkeypatch):
     from inertia.geometry.mesh_io import _read_binary_stl, _stl_kind
 
-    path = Path(mesh_file(name))
+    path = Path(meshes.path(name))
     n = _stl_kind(path)
     assert n > 0  # binary, even behind a header that starts with "solid"
     loaded = trimesh.load(str(path), file_type="stl", process=False)
@@ -334,16 +318,16 @@ def test_lazy_exports():
     assert inertia.mesh_file_properties is mesh_file_properties
 
 
-def test_truncated_binary_stl_is_named(tmp_path, shared_data):
+def test_truncated_binary_stl_is_named(tmp_path, meshes):
     """A binary STL cut short must not read as fewer triangles (or none): its size is 84 + 50 N."""
-    src = shared_data / "meshes" / "featuretype.stl"
-    if not src.exists():
-        pytest.skip(f"shared test mesh not found: {src}")
+    src = meshes.path("featuretype.stl")
+    n = meshes.watertight["featuretype.stl"][0]
     data = src.read_bytes()
     cut = tmp_path / "cut.stl"
     cut.write_bytes(data[:-50])  # one triangle short
-    with pytest.raises(MeshFileError, match=r"header announces 3476 triangles \(173884 bytes\) but the file has 173834"):
+    with pytest.raises(MeshFileError, match=rf"header announces {n} triangles \({84 + 50 * n} bytes\) but the file has {34 + 50 * n}"):
         load_mesh(cut)
     # the intact file and the binary file whose header starts with "solid" still read
-    assert len(load_mesh(src)[1]) == 3476
-    assert len(load_mesh(shared_data / "meshes" / "idler_riser_binary_solid_header.stl")[1]) == 1572
+    assert len(load_mesh(src)[1]) == n
+    idler = meshes.path("idler_riser_binary_solid_header.stl")
+    assert len(load_mesh(idler)[1]) == meshes.watertight[idler.name][0]

@@ -1,12 +1,12 @@
 """Robot files: reading, checking, fixing and writing inertials, against independent truth:
-the defects SOURCES.md documents in ../shared/data/robots, MuJoCo's own compiler, closed
-forms of primitives, and round trips through the files we write."""
+the defects the test files carry (made by tests/_make.py with the traits SOURCES.md documents
+in ../shared/data/robots, and those real files in the real-data tier), MuJoCo's own compiler,
+closed forms of primitives, and round trips through the files we write."""
 
 from __future__ import annotations
 
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,13 +18,9 @@ from inertia.robots.geometry import link_geometry_properties
 from inertia.robots.mjcf import quat_matrix
 from inertia.robots.xmlsafe import RobotFileError
 
-ROBOTS = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "robots"
-SIMPLE_ARM = ROBOTS / "simple_arm_sdf_INVALID" / "simple_arm" / "model.sdf"
-GOOD = [ROBOTS / "double_pendulum_urdf" / "urdf" / "double_pendulum.urdf",
-        ROBOTS / "barkour_v0_mjcf" / "barkour_v0_mjx.xml",
-        ROBOTS / "cordless_drill_sdf" / "cordless_drill" / "model.sdf"]
-
-needs_robots = pytest.mark.skipif(not ROBOTS.is_dir(), reason=f"shared robot files not found at {ROBOTS}")
+# The robot files come from the `robots` fixture (tests/conftest.py): written by
+# tests/_make.py ("made") or ../shared/data/robots ("real"), in the same layout.
+GOOD = ["double_pendulum_urdf", "barkour_v0_mjcf", "cordless_drill_sdf"]
 
 
 def _run(capsys, *argv):
@@ -33,11 +29,11 @@ def _run(capsys, *argv):
     return code, out.out, out.err
 
 
-# ----------------------------------------------------------------------------- the shared robots
+# ----------------------------------------------------------------------------- the test robot files
 
 
-@needs_robots
-def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys):
+def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys, robots):
+    SIMPLE_ARM = robots.simple_arm
     code, out, _ = _run(capsys, "check", SIMPLE_ARM, "--format", "json")
     report = json.loads(out)
     assert code == 1
@@ -51,21 +47,19 @@ def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys):
     assert set(arm_base) >= {"name", "line", "errors", "warnings"}
 
 
-@needs_robots
-@pytest.mark.parametrize("path", GOOD, ids=lambda p: p.parent.name)
-def test_good_robots_have_no_errors_and_no_warnings(path, capsys):
+@pytest.mark.parametrize("key", GOOD)
+def test_good_robots_have_no_errors_and_no_warnings(key, capsys, robots):
+    path, least_links = robots.good[key]
     code, out, _ = _run(capsys, "check", path, "--format", "json")
     report = json.loads(out)
     assert code == 0
     assert all(not lk["errors"] and not lk["warnings"] for lk in report["links"]), report
-    counts = {"double_pendulum.urdf": 3, "barkour_v0_mjx.xml": 13, "model.sdf": 1}
-    assert len([lk for lk in report["links"]]) >= counts[path.name]
+    assert len(report["links"]) >= least_links
 
 
-@needs_robots
-def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys):
+def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys, robots):
     src = tmp_path / "model.sdf"
-    shutil.copy(SIMPLE_ARM, src)
+    shutil.copy(robots.simple_arm, src)
     before = src.read_bytes()
     out = tmp_path / "fixed.sdf"
     code, _, err = _run(capsys, "fix", src, "-o", out)
@@ -133,13 +127,12 @@ MJCF_TEST = """<mujoco model="t">
 """
 
 
-@needs_robots
 @pytest.mark.parametrize("angle,seq", [("radian", "xyz"), ("degree", "zyx"), ("radian", "XYZ")])
-def test_mjcf_geometry_inertia_equals_mujocos_compiler(tmp_path, angle, seq):
+def test_mjcf_geometry_inertia_equals_mujocos_compiler(tmp_path, angle, seq, robots):
     mujoco = pytest.importorskip("mujoco")
     deg = angle == "degree"
     e = "0.1 0.2 0.3" if not deg else "5.7 11.5 17.2"
-    xml = MJCF_TEST.format(angle=angle, seq=seq, meshdir=ROBOTS / "barkour_v0_mjcf", e1=e, a1="30" if deg else "0.5")
+    xml = MJCF_TEST.format(angle=angle, seq=seq, meshdir=robots.barkour_dir, e1=e, a1="30" if deg else "0.5")
     path = tmp_path / "t.xml"
     path.write_text(xml)
     m = mujoco.MjModel.from_xml_path(str(path))
@@ -270,12 +263,12 @@ def test_missing_mesh_is_a_warning_and_the_check_goes_on(tmp_path, capsys):
     assert b["errors"] == [] and b["warnings"] == []
 
 
-@needs_robots
-def test_package_and_model_uris_resolve_with_search_paths(tmp_path, capsys):
+def test_package_and_model_uris_resolve_with_search_paths(tmp_path, capsys, robots):
     pkg = tmp_path / "pkgs" / "my_robot" / "meshes"
     pkg.mkdir(parents=True)
-    shutil.copy(ROBOTS / "double_pendulum_urdf" / "meshes" / "link1.stl", pkg / "link1.stl")
-    src = (ROBOTS / "double_pendulum_urdf" / "urdf" / "double_pendulum.urdf").read_text()
+    shutil.copy(robots.pendulum.parents[1] / "meshes" / "link1.stl", pkg / "link1.stl")
+    src = robots.pendulum.read_text()
+    assert "../meshes/link1.stl" in src
     urdf = tmp_path / "robot" / "r.urdf"
     urdf.parent.mkdir()
     urdf.write_text(src.replace("../meshes/link1.stl", "package://my_robot/meshes/link1.stl"))
@@ -302,13 +295,12 @@ def test_mass_units_convert_at_the_edge(tmp_path, capsys):
     assert check_model(model).n_errors == 0
 
 
-@needs_robots
-def test_mjcf_bodies_without_inertial_are_checked_through_their_geoms(tmp_path, capsys):
+def test_mjcf_bodies_without_inertial_are_checked_through_their_geoms(tmp_path, capsys, robots):
     """MuJoCo's inertiafromgeom="auto": a body without <inertial> gets the geoms' inertia, so
     the check computes it; an open mesh there is a warning, a good box is nothing."""
     xml = tmp_path / "ifg.xml"
     xml.write_text(f"""<mujoco>
-  <compiler meshdir="{ROBOTS / 'barkour_v0_mjcf'}"/>
+  <compiler meshdir="{robots.barkour_dir}"/>
   <asset><mesh name="body" file="body.stl"/></asset>
   <worldbody>
     <body name="ok"><geom type="box" size="0.1 0.2 0.3"/></body>
@@ -374,25 +366,24 @@ def test_declaration_after_a_comment_is_read_and_written_back(tmp_path, capsys):
     assert _run(capsys, "check", fixed)[0] == 0
 
 
-@needs_robots
-def test_unusable_mesh_note_is_one_line_naming_the_defects_check_mesh_finds():
-    # truth: SOURCES.md lists head.stl as not watertight; check_mesh on the loaded file says why
+def test_unusable_mesh_note_is_one_line_naming_the_defects_check_mesh_finds(robots):
+    # truth: head.stl is not watertight (SOURCES.md; made open); check_mesh on the loaded file says why
     from inertia import load_mesh
     from inertia.geometry import check_mesh
 
-    report = check_model(read_robot(GOOD[1]))
+    report = check_model(read_robot(robots.good["barkour_v0_mjcf"][0]))
     chassis = next(lk for lk in report.links if lk.name == "chassis")
     notes = [n.message for n in chassis.notes if "head.stl" in n.message]
     assert len(notes) == 1 and "\n" not in notes[0] and len(notes[0]) < 400
-    codes = check_mesh(*load_mesh(ROBOTS / "barkour_v0_mjcf" / "head.stl")).codes
+    codes = check_mesh(*load_mesh(robots.barkour_dir / "head.stl")).codes
     assert codes and all(c in notes[0] for c in codes)
     assert report.n_errors == 0 and report.n_warnings == 0
 
 
-@needs_robots
-def test_unusable_visual_falls_back_to_the_collision_mesh(tmp_path):
-    # truth: the drill's declared inertial (gazebo_models) and its own collision STL agree
-    src = ROBOTS / "cordless_drill_sdf"
+def test_unusable_visual_falls_back_to_the_collision_mesh(tmp_path, robots):
+    # truth: the drill's declared inertial (gazebo_models; made: the box's closed form) and
+    # its own collision STL agree
+    src = robots.root / "cordless_drill_sdf"
     shutil.copytree(src, tmp_path / "m")
     sdf = tmp_path / "m" / "cordless_drill" / "model.sdf"
     link = check_model(read_robot(sdf)).links[0]
