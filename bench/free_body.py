@@ -12,7 +12,7 @@ disabled, ``timestep = 1 ms``.
 
 Measured, all in this run (MuJoCo needs ``pip install mujoco``; without it only our rows):
 
-1. **One body, RK4**: steps/s of ``inertia.dynamics.rollout.rollout(..., method="rk4",
+1. **One body, RK4**: steps/s of ``inertia.dynamics.rollouts.rollout(..., method="rk4",
    backend="numba")`` (final state only, and saving every state) against MuJoCo's loop
    (``mj_step`` called from Python with ``opt.integrator = RK4``) and, for reference, MuJoCo's
    C rollout (``mujoco.rollout.rollout``, one thread).  Target: >= 20x MuJoCo's loop.
@@ -40,7 +40,7 @@ import numpy as np
 
 from inertia.dynamics import RigidBody, pack_state
 from inertia.dynamics.integrators import METHODS
-from inertia.dynamics.rollout import COMPILED_METHODS, numba_available, rollout
+from inertia.dynamics.rollouts import COMPILED_METHODS, numba_available, rollout
 from inertia.dynamics.state import OMEGA_BODY
 
 SIZE = np.array([0.1, 0.2, 0.4])           # m, box edges along body x, y, z

@@ -69,6 +69,7 @@ def meshes(request, tmp_path_factory) -> _make.MeshSet:
     """The test meshes: written here ("made") or ``../shared/data/meshes`` ("real")."""
     if request.param == "real":
         return _make.real_mesh_set(_require_shared_data() / "meshes")
+    pytest.importorskip("trimesh", reason="the made meshes are written with trimesh (extra inertia[mesh])")
     return _make.make_mesh_set(tmp_path_factory.mktemp("meshes"))
 
 
@@ -77,6 +78,7 @@ def robots(request, tmp_path_factory) -> _make.RobotSet:
     """The test robot files: written here ("made") or ``../shared/data/robots`` ("real")."""
     if request.param == "real":
         return _make.real_robot_set(_require_shared_data() / "robots")
+    pytest.importorskip("trimesh", reason="the made robot meshes are written with trimesh (extra inertia[mesh])")
     return _make.make_robot_set(tmp_path_factory.mktemp("robots"))
 
 

@@ -32,7 +32,7 @@ _EXPORTS = {
     # the value type, validity, point masses and assemblies
     "MassProperties": "inertia.massprops.properties",
     "check_inertia": "inertia.massprops.validity",
-    "point_masses": "inertia.massprops.point_masses",
+    "point_masses": "inertia.massprops.properties",
     "Part": "inertia.massprops.assembly",
     "assemble": "inertia.massprops.assembly",
     # primitives

@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from inertia.dynamics import RigidBody, pack_state, step
-from inertia.dynamics.rollout import COMPILED_METHODS, numba_available, rollout
+from inertia.dynamics.rollouts import COMPILED_METHODS, numba_available, rollout
 from inertia.dynamics.state import OMEGA_BODY, Q_WORLD_BODY
 from inertia.errors import InputError, MissingDependencyError
 from tests.scipy_quat import as_wxyz, from_wxyz

@@ -250,7 +250,7 @@ def test_directory_is_not_a_file(tmp_path):
 
 def test_missing_trimesh_is_a_missing_dependency_error(meshes, monkeypatch):
     monkeypatch.setitem(sys.modules, "trimesh", None)  # makes `import trimesh` raise ImportError
-    with pytest.raises(MissingDependencyError, match=r'pip install "inertia\[mesh\]"'):
+    with pytest.raises(MissingDependencyError, match=r"pip install 'inertia\[mesh\]'"):
         load_mesh(meshes.path("wingnut.obj"))
     assert isinstance(MissingDependencyError("x"), ImportError)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from .._core.optional import require
 from .output import to_frame
 from .record import COLUMNS, process_chunk
 from .run import execute
@@ -25,6 +26,7 @@ def mass_properties_table(sources, *, density=None, mass=None, units: str = "m",
     local Dask cluster), a ``"tcp://..."`` address or a ``distributed.Client``.  Bad files
     are rows with ``status == "error"`` and a ``reason``; nothing is written to disk.
     """
+    require("pandas", "a mass-properties table")
     jobs = _jobs_from(sources, density, mass, units)
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     rows = execute(jobs, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files)
@@ -39,8 +41,8 @@ def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", 
     column (and optional ``density``, ``mass``, ``units``).  Nothing runs until you compute
     or write it (e.g. ``.to_parquet(folder)``), on whatever scheduler is active.
     """
-    import dask.bag as db
-    import dask.dataframe as dd
+    db = require("dask.bag", "a lazy Dask table")
+    dd = require("dask.dataframe", "a lazy Dask table")
 
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     default = Job("", density, mass, units)

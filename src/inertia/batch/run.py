@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.errors import InputError
+from .._core.optional import require
 from .._core.progress import Progress
 from .output import (
     format_of,
@@ -213,13 +214,7 @@ class _Executor:
     def __enter__(self):
         if self.scheduler == "synchronous":
             return self
-        try:
-            from distributed import Client
-        except ImportError:
-            from .._core.errors import MissingDependencyError
-
-            raise MissingDependencyError("batch runs need Dask: pip install 'inertia[batch]' "
-                                         "(or use scheduler='synchronous')") from None
+        Client = require("distributed", "a batch run on a Dask cluster (or use scheduler='synchronous')").Client
         if self.scheduler in (None, "local"):
             self.cluster = local_cluster(self.n_workers)
             self.client = Client(self.cluster)
@@ -313,6 +308,8 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     Returns a :class:`BatchSummary`; the table itself is in ``output``.
     """
     t0 = time.perf_counter()
+    for module in ("pandas", "pyarrow"):
+        require(module, "a batch run")
     output = Path(output)
     fmt = format_of(output, fmt)
     if on_defect not in ("raise", "warn"):

@@ -13,7 +13,7 @@ from __future__ import annotations
 from .._core.lazy import lazy_namespace
 
 _MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "flip_study", "diagnostics", "state", "body",
-            "transition", "rollout")
+            "transition", "rollouts")
 
 # public name -> submodule that defines it
 _EXPORTS = {
@@ -33,7 +33,7 @@ _EXPORTS = {
     # 6-DOF transition function
     "RigidBody": "body", "step": "transition", "jacobians": "transition",
     "pack_state": "state", "unpack_state": "state", "pack_input": "state", "RigidState": "state",
-    "perturb_state": "state", "state_error": "state", "rollout": "rollout", "DEFAULT_METHOD": "integrators",
+    "perturb_state": "state", "state_error": "state", "rollout": "rollouts", "DEFAULT_METHOD": "integrators",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

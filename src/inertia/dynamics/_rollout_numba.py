@@ -1,6 +1,6 @@
-"""Numba kernels of :mod:`inertia.dynamics.rollout` (private; imports numba at module level).
+"""Numba kernels of :mod:`inertia.dynamics.rollouts` (private; imports numba at module level).
 
-This module is imported only from inside the functions of :mod:`inertia.dynamics.rollout`
+This module is imported only from inside the functions of :mod:`inertia.dynamics.rollouts`
 that need it, so ``import inertia`` never imports numba.  Every kernel is compiled with
 ``cache=True`` (the machine code is stored next to this file in ``__pycache__``).
 

@@ -129,7 +129,7 @@ def step_principal(x_P, u_P, h, mass, moments, rot_step, gravity, body_force: bo
 
     ``u_P = [F, tau_P]`` with F in the world frame, or in P when ``body_force``.  ``mass``
     (..., 1) kg, ``moments`` (..., 3).  No checks; shared by :func:`step` and the NumPy path
-    of :mod:`inertia.dynamics.rollout` (whose numba kernels transcribe it).
+    of :mod:`inertia.dynamics.rollouts` (whose numba kernels transcribe it).
     """
     p, v, q, w = x_P[..., P_WORLD], x_P[..., V_WORLD], x_P[..., Q_WORLD_BODY], x_P[..., OMEGA_BODY]
     F, tau = u_P[..., FORCE], u_P[..., TORQUE_BODY]

@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._core.errors import InputError, MeshFileError, MissingDependencyError
+from .._core.errors import InputError, MeshFileError
+from .._core.optional import require
 
 __all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
@@ -43,12 +44,7 @@ MERGE_RTOL = 1e-10
 
 def _import_trimesh():
     """Import trimesh, or raise MissingDependencyError saying how to install it."""
-    try:
-        import trimesh
-    except ImportError:
-        raise MissingDependencyError(
-            'reading mesh files needs the optional dependency trimesh: pip install "inertia[mesh]"') from None
-    return trimesh
+    return require("trimesh", "reading mesh files")
 
 
 def _unit_factor(units) -> float:

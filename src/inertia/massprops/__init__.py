@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .._core.lazy import lazy_namespace
 
-_MODULES = ("properties", "tensor", "principal", "validity", "primitives", "ellipsoid_surface", "point_masses",
+_MODULES = ("properties", "tensor", "principal", "validity", "primitives", "ellipsoid_surface",
             "assembly", "equivalent", "bodies", "mesh")
 
 # public name -> submodule that defines it
@@ -25,7 +25,7 @@ _EXPORTS = {
     "box": "primitives", "sphere": "primitives", "ellipsoid": "primitives", "cylinder": "primitives",
     "cone": "primitives", "capsule": "primitives", "torus": "primitives", "tube": "primitives",
     "spherical_shell": "primitives",
-    "point_masses": "point_masses", "Part": "assembly", "assemble": "assembly",
+    "point_masses": "properties", "Part": "assembly", "assemble": "assembly",
     "equivalent_box": "equivalent", "equivalent_ellipsoid": "equivalent",
     "t_handle": "bodies", "BuiltBody": "bodies",
     "mesh_properties": "mesh", "mesh_file_properties": "mesh",

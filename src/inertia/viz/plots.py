@@ -10,14 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .._core.optional import require
+
 
 def pyplot():
-    try:
-        import matplotlib
-    except ImportError:
-        from .._core.errors import MissingDependencyError
-
-        raise MissingDependencyError("plots need matplotlib: pip install 'inertia[viz]'") from None
+    matplotlib = require("matplotlib", "plots")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
