@@ -6,14 +6,12 @@ the exact elliptic solution and checked against DOP853.
 
 from __future__ import annotations
 
-import doctest
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 from inertia._core.rotations import quat_from_rotvec, quat_multiply, quat_to_matrix
-from inertia.dynamics import diagnostics, equations, integrators
+from inertia.dynamics import diagnostics, integrators
 from inertia.dynamics.diagnostics import (
     angular_momentum_norm,
     angular_momentum_world,
@@ -288,9 +286,3 @@ def test_input_errors_name_the_argument():
         kinetic_energy([1, 2, 3], [1, 2, 3], inertia_body=np.eye(3))
     with pytest.raises(InputError, match=r"q_world_body must have shape \(\.\.\., 4\)"):
         quat_rate([1, 0, 0], [1, 2, 3])
-
-
-@pytest.mark.parametrize("module", [equations, integrators, diagnostics])
-def test_docstring_examples(module):
-    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
-    assert result.failed == 0

@@ -247,6 +247,8 @@ def step(x, u, h, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None, force
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from inertia.dynamics import RigidBody, jacobians, pack_state, step
     >>> body = RigidBody(1.0, np.diag([0.0167, 0.0142, 0.0042]))
     >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0, 0, 1.0])
     >>> step(x0, np.zeros(6), 1e-3, body=body).shape
@@ -317,6 +319,8 @@ def jacobians(x, u, h, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None,
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from inertia.dynamics import RigidBody, jacobians, pack_state, step
     >>> body = RigidBody(1.0, np.diag([0.0167, 0.0142, 0.0042]))
     >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.1, 2.0, 0.0])
     >>> A, B = jacobians(x0, np.zeros(6), 1e-2, body=body)

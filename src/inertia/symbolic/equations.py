@@ -298,9 +298,14 @@ def derive(sequence: str = "ZYX", *, translation: bool = False, gravity: bool = 
            inertia: str = "full") -> EquationsOfMotion:
     """Equations of motion of a rigid body in Euler angles (see :class:`EulerAngleSystem`).
 
-    >>> eom = derive("ZYX")                 # doctest: +SKIP
-    >>> f = eom.numeric()
+    The angular accelerations of a torque-free body at one configuration (angles [rad],
+    rates [rad/s], inertia in body axes [kg m^2]):
+
+    >>> import numpy as np
+    >>> from inertia.symbolic import derive
+    >>> f = derive("ZYX").numeric()
     >>> f([0.3, -0.2, 0.1], [0.1, 0.2, 0.3], inertia=np.diag([1.0, 2.0, 3.0]))
+    array([ 0.0370925 , -0.00249772, -0.00395917])
     """
     return EquationsOfMotion(EulerAngleSystem(sequence, translation=translation, gravity=gravity,
                                               inertia=inertia))
