@@ -311,3 +311,33 @@ def test_accepted_defects_are_warning_rows_with_the_single_file_numbers(dataset)
     assert row["status"] == "warning" and row["reason"] == "" and len(row["warnings"]) >= 1
     assert list(row["warnings"]) == list(ref.warnings)
     assert row["mass"] == ref.mass and np.array_equal(row["com"], ref.com)
+
+
+@pytest.mark.slow
+def test_a_file_that_kills_its_worker_costs_one_row_not_the_run(tmp_path):
+    # truth: the single-file API for every other file; the lost file is named in its row
+    from inertia.batch.record import process_file
+    from inertia.batch.run import _Executor, local_cluster
+    from inertia.batch.sources import Job
+    from tests.batch._crashing import crashing_task
+
+    for k in range(5):
+        _cube_obj(tmp_path / f"cube{k}.obj")
+    _cube_obj(tmp_path / "CRASH.obj")
+    jobs = [Job(str(p), 1000.0, None, "m") for p in sorted(tmp_path.glob("*.obj"))]
+    chunks = [jobs[:3], jobs[3:]]
+    cluster = local_cluster(2)
+    try:
+        with distributed.Client(cluster) as client:
+            ex = _Executor(client, 2)
+            with ex:
+                got = dict(ex.map(chunks, {}, task=crashing_task))
+    finally:
+        cluster.close()
+    rows = [row for i in sorted(got) for row in got[i]]
+    assert [r["path"] for r in rows] == [j.path for j in jobs]
+    for job, row in zip(jobs, rows):
+        if "CRASH" in job.path:
+            assert row["status"] == "error" and row["reason"] == "crashed" and job.path in row["message"]
+        else:
+            assert row["status"] == "ok" and row["mass"] == process_file(job)["mass"] == 1000.0

@@ -24,6 +24,12 @@ PHYSICAL_RTOL = 1e-12
 #: count as distinct.
 REPEATED_MOMENTS_RTOL = 1e-13
 
+#: Mesh checks: the largest coordinate magnitude a mesh may hold (in metres after unit
+#: conversion, or in the caller's unit).  Second moments grow as size**5 (times a density
+#: up to ~1e4), so 1e60 keeps every integral below ~1e305, inside float64; beyond it a
+#: vertex is the defect ``out_of_range``, not an overflow read as "zero-area faces".
+COORDINATE_LIMIT = 1e60
+
 #: Mesh checks: a face is degenerate when its area is below
 #: DEGENERATE_AREA_RTOL * (bounding-box diagonal)**2.
 DEGENERATE_AREA_RTOL = 1e-14

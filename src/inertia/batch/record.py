@@ -28,9 +28,10 @@ COLUMN_DOCS = {
     "mtime_ns": "file modification time, ns since the epoch",
     "status": "ok | warning (result valid, see warnings) | error (no result; see reason)",
     "reason": "error code (the error's stable code, see inertia.errors): not_found, unreadable, malformed, empty, "
-              "unsupported_format, non_finite, bad_index, open_edges, non_manifold_edges, inconsistent_winding, "
-              "inverted, non_positive_volume, zero_area, not_orientable, invalid_mesh, invalid_input, "
-              "invalid_inertia, missing_dependency, internal_error",
+              "unsupported_format, non_finite, out_of_range, bad_index, open_edges, non_manifold_edges, "
+              "inconsistent_winding, inverted, non_positive_volume, zero_area, not_orientable, invalid_mesh, "
+              "invalid_input, invalid_inertia, missing_dependency, internal_error, "
+              "crashed (the file's worker process was lost)",
     "message": "the full error message (empty when ok)",
     "warnings": "list of warning texts (accepted defects, zero-area faces)",
     "units": "length unit the file was read in",
@@ -124,6 +125,16 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
         _reraise_interrupt(exc)
         row.update(status="error", reason="internal_error", message=f"{type(exc).__name__}: {exc}")
     row["elapsed_s"] = time.perf_counter() - t0
+    return row
+
+
+def crashed_row(job: Job, error=None) -> dict:
+    """The row of a file whose processing was lost with its worker process (``reason="crashed"``)."""
+    row = _empty_row(job)
+    what = f" ({type(error).__name__}: {error})" if error is not None else ""
+    row.update(status="error", reason="crashed",
+               message=f"{job.path}: processing this file ended its worker process{what}; "
+                       "no result (please report the file)")
     return row
 
 

@@ -44,7 +44,7 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .record import process_chunk, process_packed
+from .record import crashed_row, process_chunk, process_packed
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -196,8 +196,11 @@ def local_cluster(n_workers: int):
 
     environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", None) or {})
     environ.update(WORKER_MALLOC_ENV)
+    # allowed-failures 1: a task that kills its worker twice is given up (then isolated, see
+    # _Executor.map) instead of killing four workers in turn
     with dask.config.set({"distributed.nanny.pre-spawn-environ": environ,
-                          "distributed.worker.profile.enabled": False}):
+                          "distributed.worker.profile.enabled": False,
+                          "distributed.scheduler.allowed-failures": 1}):
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                             dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
                             silence_logs=logging.ERROR)
@@ -239,7 +242,14 @@ class _Executor:
         except Exception:  # noqa: BLE001 - an estimate is enough
             return self.n_workers
 
-    def map(self, chunks, options):
+    def map(self, chunks, options, task=None):
+        """Yield ``(i, rows of chunks[i])`` as chunks finish.
+
+        On a cluster, a chunk whose task fails (a worker process lost, e.g. killed by a
+        crash in a compiled library) is split and its files are retried one per task; a file
+        that still fails costs one error row (``reason="crashed"``, naming the file), never
+        the run.  ``task`` replaces :func:`process_packed` (tests).
+        """
         if self.client is None:
             for i, chunk in enumerate(chunks):
                 yield i, process_chunk(chunk, options)
@@ -248,14 +258,41 @@ class _Executor:
 
         from distributed import as_completed
 
-        futures = [self.client.submit(process_packed, pickle.dumps((chunk, options), protocol=pickle.HIGHEST_PROTOCOL),
-                                      pure=False, key=f"inertia-chunk-{i}-{id(self)}")
-                   for i, chunk in enumerate(chunks)]
-        index = {f.key: i for i, f in enumerate(futures)}
+        task = task or process_packed
+        pending = {}  # future key -> (chunk index, sub-index or None, jobs)
+
+        def submit(jobs, i, sub):
+            key = f"inertia-chunk-{i}-{'all' if sub is None else sub}-{id(self)}"
+            fut = self.client.submit(task, pickle.dumps((jobs, options), protocol=pickle.HIGHEST_PROTOCOL),
+                                     pure=False, key=key)
+            pending[fut.key] = (i, sub, jobs)
+            return fut
+
+        futures = [submit(chunk, i, None) for i, chunk in enumerate(chunks)]
         self._futures = futures
+        split_rows: dict[int, dict] = {}
         # with_results: the client fetches each result as its task finishes, in the background
-        for fut, packed in as_completed(futures, with_results=True):
-            yield index[fut.key], pickle.loads(packed)
+        seq = as_completed(futures, with_results=True, raise_errors=False)
+        for fut, result in seq:
+            i, sub, jobs = pending.pop(fut.key)
+            if fut.status == "finished":
+                rows = pickle.loads(result)
+            elif sub is None and len(jobs) > 1:  # isolate: one file per task
+                split_rows[i] = {}
+                for k, job in enumerate(jobs):
+                    new = submit([job], i, k)
+                    self._futures.append(new)
+                    seq.add(new)
+                continue
+            else:
+                rows = [crashed_row(jobs[0], result)]
+            if sub is None:
+                yield i, rows
+                continue
+            split_rows[i][sub] = rows[0]
+            if len(split_rows[i]) == len(chunks[i]):
+                done = split_rows.pop(i)
+                yield i, [done[k] for k in range(len(chunks[i]))]
 
     def __exit__(self, *exc):
         futures = getattr(self, "_futures", None)

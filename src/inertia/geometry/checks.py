@@ -8,6 +8,8 @@ code                     meaning
 =======================  ===============================================================
 ``empty``                no vertices, no faces, or only zero-area faces
 ``non_finite``           a vertex coordinate is NaN or infinite
+``out_of_range``         a coordinate beyond +-COORDINATE_LIMIT (1e60): the second moments
+                         (size**5) would overflow float64
 ``bad_index``            a face index is negative or >= the number of vertices
 ``degenerate_faces``     zero (or ~zero) area faces, or faces repeating a vertex (a note:
                          they add nothing to the integrals, see below)
@@ -34,8 +36,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._core.tolerances import DEGENERATE_AREA_RTOL
-from .mesh_arrays import topology_kernels, validate_inputs, weld_map
+from .._core.tolerances import COORDINATE_LIMIT, DEGENERATE_AREA_RTOL
+from .mesh_arrays import faces_in_range, topology_kernels, validate_inputs, weld_map
 from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
 
 _MAX_CONTAIN_POINTS = 6  # extreme vertices of a component tested for nesting in another
@@ -127,11 +129,11 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool) -> Mes
     V = len(vertices)
     if kernels is None or V == 0 or len(faces) == 0:
         return None
+    if not faces_in_range(faces, V) or not -COORDINATE_LIMIT <= vertices.min() <= vertices.max() <= COORDINATE_LIMIT:
+        return None   # the full analysis names the bad indices or coordinates (NaN fails the test too)
     if welded:
         fw, n_welded = faces, 0
     else:
-        if faces.min() < 0 or faces.max() >= V:
-            return None
         rep = weld_map(vertices)
         fw = rep[faces]
         n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
@@ -205,16 +207,21 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
 
 
 def _non_finite_pass(vertices, defects) -> np.ndarray:
-    """Vertices with NaN or inf coordinates; returns the finite mask (V,)."""
+    """Vertices with NaN or inf coordinates, or beyond COORDINATE_LIMIT; returns the mask (V,)
+    of usable vertices."""
     finite_v = np.isfinite(vertices).all(axis=1)
-    if not finite_v.all():
-        bad = np.flatnonzero(~finite_v)
-        k = int(bad[0])
-        defects.add("non_finite", len(bad),
-                    f"{plural(len(bad), 'vertex', 'vertices')} with NaN or infinite coordinates, "
-                    f"e.g. vertex {k} at {fmt_point(vertices[k])}",
-                    {"vertex": k, "coords": (tuple(float(x) for x in vertices[k]),)})
-    return finite_v
+    with np.errstate(invalid="ignore"):
+        in_range = (np.abs(vertices) <= COORDINATE_LIMIT).all(axis=1) | ~finite_v
+    for code, mask, what in (("non_finite", ~finite_v, "NaN or infinite coordinates"),
+                             ("out_of_range", ~in_range, f"a coordinate beyond +-{COORDINATE_LIMIT:.0e} (the second "
+                              "moments, ~size**5, would overflow; check the units)")):
+        if mask.any():
+            bad = np.flatnonzero(mask)
+            k = int(bad[0])
+            defects.add(code, len(bad), f"{plural(len(bad), 'vertex', 'vertices')} with {what}, "
+                        f"e.g. vertex {k} at {fmt_point(vertices[k])}",
+                        {"vertex": k, "coords": (tuple(float(x) for x in vertices[k]),)})
+    return finite_v & in_range
 
 
 def _index_pass(faces, V: int, defects) -> np.ndarray:

@@ -50,6 +50,15 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     return v, f.astype(np.int64, copy=False)
 
 
+def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
+    """True when every index of ``faces`` (validated, (F, 3) int64) is in 0..n_vertices-1.
+
+    The compiled kernels index without bounds checks: every call that hands them faces asks
+    this first, on the arrays in their final shape.
+    """
+    return len(faces) == 0 or (int(faces.min()) >= 0 and int(faces.max()) < n_vertices)
+
+
 # ---------------------------------------------------------------------------------- compiled path
 # None: not tried yet; False: numba unavailable; else the module of compiled kernels
 _topology_state = None
@@ -117,11 +126,14 @@ def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     """Merge vertices of exactly equal coordinates and drop unreferenced vertices.
 
     Returns ``(vertices (V', 3) float64, faces (F, 3) int64)``, vertices in order of first
-    use by the original indices.  Faces must index ``vertices`` (no range check here).
+    use by the original indices.  An index outside ``vertices`` is an InputError.
     """
     v, f = validate_inputs(vertices, faces)
     if len(f) == 0:
         return v[:0], f
+    if not faces_in_range(f, len(v)):
+        raise InputError(f"faces index vertices outside 0..{len(v) - 1} "
+                         f"(min {int(f.min())}, max {int(f.max())})", code="bad_index")
     kernels = topology_kernels()
     if kernels is not None:
         return kernels.weld_compact(np.ascontiguousarray(v), np.ascontiguousarray(f))

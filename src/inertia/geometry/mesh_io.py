@@ -18,12 +18,14 @@ from __future__ import annotations
 import os
 import stat
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from .._core.errors import InputError, MeshFileError
 from .._core.optional import require
+from .mesh_arrays import faces_in_range, validate_inputs
 
 __all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
@@ -62,11 +64,13 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
     and a k-d tree.  Both give the same groups.
     """
-    from .mesh_arrays import compact_vertices, topology_kernels, validate_inputs, weld_vertices
+    from .mesh_arrays import compact_vertices, topology_kernels, weld_vertices
 
     kernels = topology_kernels()
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
         v, f = validate_inputs(vertices, faces)
+        if not faces_in_range(f, len(v)):
+            raise InputError(f"faces index vertices outside 0..{len(v) - 1}", code="bad_index")
         if len(f) == 0:
             return v[:0], f
         v, f, done = kernels.weld_and_merge(np.ascontiguousarray(v), np.ascontiguousarray(f), float(rtol))
@@ -266,15 +270,29 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     else:
         trimesh = _import_trimesh()
         try:
-            loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
-            vertices, faces = _scene_triangles(trimesh, loaded, p)
+            # trimesh's parsers cast and scale without guarding against overflow or NaN; what
+            # they return is checked here (shapes, indices) and by the mesh checks (non-finite
+            # and out-of-range coordinates), so their NumPy warnings are noise to the caller
+            with warnings.catch_warnings(), np.errstate(all="ignore"):
+                warnings.simplefilter("ignore", RuntimeWarning)
+                loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
+                vertices, faces = _scene_triangles(trimesh, loaded, p)
         except MeshFileError:
             raise
         except Exception as exc:  # trimesh raises many types on malformed files
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    for name, arr in (("vertex", vertices), ("face", faces)):
+        if np.ndim(arr) != 2 or np.shape(arr)[1] != 3:
+            raise MeshFileError(f"{p}: malformed {name} data: the reader returned an array of shape "
+                                f"{np.shape(arr)}, not (N, 3)", code="malformed")
+    try:  # the final shapes: every check below, and every kernel after, sees these arrays
+        vertices, faces = validate_inputs(vertices, faces)
+    except InputError as exc:
+        raise MeshFileError(f"{p}: malformed mesh data ({exc})", code="malformed") from None
     if len(faces) == 0 or len(vertices) == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles", code="empty")
-    if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
-        raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1}", code="malformed")
+    if not faces_in_range(faces, len(vertices)):
+        raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1} "
+                            f"(min {int(faces.min())}, max {int(faces.max())})", code="malformed")
     vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
     return vertices * factor, faces

@@ -13,6 +13,7 @@ __all__ = ["SEVERITY", "Defect", "MeshReport", "fmt_point", "plural"]
 SEVERITY = {
     "empty": "error",
     "non_finite": "error",
+    "out_of_range": "error",
     "bad_index": "error",
     "degenerate_faces": "note",
     "duplicate_faces": "error",

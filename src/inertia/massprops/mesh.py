@@ -33,7 +33,7 @@ __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT
 ON_DEFECT = ("raise", "warn")
 
 # Nothing can be computed with these, whatever the options.
-_FATAL = ("empty", "non_finite", "bad_index")
+_FATAL = ("empty", "non_finite", "out_of_range", "bad_index")
 # Defects of the closed-surface topology: they matter for a solid only.
 _SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted"})
 _ORIENTATION = frozenset({"inconsistent_winding", "inverted"})
@@ -54,6 +54,8 @@ def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
             fixes.append("give a mesh with at least one triangle")
         if "non_finite" in codes:
             fixes.append("remove or repair the NaN/inf vertices")
+        if "out_of_range" in codes:
+            fixes.append("give coordinates within +-1e60 (check the units)")
         if "bad_index" in codes:
             fixes.append("make every face index a valid vertex index (0 <= i < V; negative indices are "
                          "not wrapped)")
