@@ -35,6 +35,30 @@ def write_bytes_atomic(path, data: bytes) -> None:
         raise
 
 
+def remove_stale_temps(path) -> int:
+    """Remove the temporary files an interrupted atomic write of ``path`` left behind.
+
+    Only a killed process (``kill -9``, power loss) leaves them: every other exit removes its
+    own.  Call it before writing ``path`` again; returns how many were removed.
+    """
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    prefix = "." + os.path.basename(path) + "."
+    removed = 0
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return 0
+    for name in names:
+        if name.startswith(prefix) and name.endswith(".tmp") and len(name) == len(prefix) + 8 + 4:
+            try:
+                os.unlink(os.path.join(folder, name))
+                removed += 1
+            except OSError:
+                pass
+    return removed
+
+
 def write_text_atomic(path, text: str, encoding: str = "utf-8") -> None:
     """Write ``text`` to ``path`` atomically (see :func:`write_bytes_atomic`)."""
     write_bytes_atomic(path, text.encode(encoding))

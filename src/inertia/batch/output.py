@@ -52,7 +52,7 @@ def _typed(frame):
     return frame
 
 
-def _arrow_schema():
+def arrow_schema():
     import pyarrow as pa
 
     types = {c: pa.string() for c in COLUMNS}
@@ -83,7 +83,7 @@ def rows_to_table(rows):
     """
     import pyarrow as pa
 
-    schema = _arrow_schema()
+    schema = arrow_schema()
     arrays = []
     for field in schema:
         values = [row.get(field.name) for row in rows]
@@ -191,13 +191,17 @@ def read_table(path, fmt: str | None = None):
     """Read a table of batch rows (any of the three formats) as an Arrow table of the output schema."""
     fmt = format_of(path, fmt)
     if fmt == "parquet":
+        import pyarrow as pa
         import pyarrow.parquet as pq
 
-        table = pq.read_table(path, columns=list(COLUMNS))
+        table = pq.read_table(path)
+        # a table of an older version lacks the columns added since: they are null
+        table = pa.Table.from_arrays([table.column(c) if c in table.column_names else pa.nulls(len(table))
+                                      for c in COLUMNS], names=list(COLUMNS))
     else:
         table = rows_to_table(read_frame(path, fmt).to_dict("records"))
     # one schema without metadata (pandas writes its own), so that tables concatenate
-    return table.cast(_arrow_schema()).replace_schema_metadata(None)
+    return table.cast(arrow_schema()).replace_schema_metadata(None)
 
 
 def read_frame(path, fmt: str | None = None):

@@ -19,7 +19,7 @@ DEFAULT_DENSITY = 1000.0
 #: the columns of the table, in order
 COLUMNS = ("path", "size_bytes", "mtime_ns", "status", "reason", "message", "warnings", "units", "density",
            "mass", "volume", "com", "inertia_com", "principal_moments", "principal_axes", "n_vertices",
-           "n_faces", "watertight", "winding_consistent", "elapsed_s")
+           "n_faces", "watertight", "winding_consistent", "elapsed_s", "options")
 
 #: what each column holds (docs and --help)
 COLUMN_DOCS = {
@@ -47,7 +47,24 @@ COLUMN_DOCS = {
     "watertight": "every edge used by exactly two faces",
     "winding_consistent": "shared edges traversed in opposite directions",
     "elapsed_s": "seconds to read and process the file",
+    "options": "every option that shapes the row (units, density or mass as given, shell, fix_orientation, "
+               "on_defect, inertia version); with path, size_bytes and mtime_ns: the resume key",
 }
+
+
+def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> str:
+    """The ``options`` column: ``name=value`` pairs of everything that changes a row.
+
+    A resumed run keeps an earlier row only when this key is the same (a run in other
+    units, density, ... must not keep stale rows).
+    """
+    from .._core.version import __version__
+
+    def num(x):
+        return "" if x is None else repr(float(x))
+
+    return (f"units={job.units} density={num(job.density)} mass={num(job.mass)} shell={int(bool(shell))} "
+            f"fix_orientation={int(bool(fix_orientation))} on_defect={on_defect} version={__version__}")
 
 
 def _empty_row(job: Job) -> dict:
@@ -91,6 +108,7 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
 
     t0 = time.perf_counter()
     row = _empty_row(job)
+    row["options"] = options_key(job, shell=shell, fix_orientation=fix_orientation, on_defect=on_defect)
     density, mass = job.density, job.mass
     if density is None and mass is None:
         density = DEFAULT_DENSITY
@@ -128,9 +146,10 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
     return row
 
 
-def crashed_row(job: Job, error=None) -> dict:
+def crashed_row(job: Job, error=None, options: dict | None = None) -> dict:
     """The row of a file whose processing was lost with its worker process (``reason="crashed"``)."""
     row = _empty_row(job)
+    row["options"] = options_key(job, **(options or {}))
     what = f" ({type(error).__name__}: {error})" if error is not None else ""
     row.update(status="error", reason="crashed",
                message=f"{job.path}: processing this file ended its worker process{what}; "

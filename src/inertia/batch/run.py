@@ -32,6 +32,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._core.atomic import remove_stale_temps
 from .._core.errors import InputError
 from .._core.optional import require
 from .._core.progress import Progress
@@ -44,7 +45,7 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .record import crashed_row, process_chunk, process_packed
+from .record import crashed_row, options_key, process_chunk, process_packed
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -161,7 +162,8 @@ def _part_files(parts_dir: Path) -> list[Path]:
 def _previous_tables(output: Path, fmt: str, parts_dir: Path) -> list:
     """Arrow tables of an earlier run: the final table (if any), then the parts (newer)."""
     tables = [read_table(output, fmt)] if output.exists() else []
-    return tables + [read_table(part, "parquet") for part in _part_files(parts_dir)]
+    tables += [read_table(part, "parquet") for part in _part_files(parts_dir)]
+    return tables
 
 
 #: glibc allocator settings for batch workers (see :func:`local_cluster`): never give freed
@@ -285,7 +287,7 @@ class _Executor:
                     seq.add(new)
                 continue
             else:
-                rows = [crashed_row(jobs[0], result)]
+                rows = [crashed_row(jobs[0], result, options)]
             if sub is None:
                 yield i, rows
                 continue
@@ -360,14 +362,15 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
                              "overwrite=True (--force) to start again")
         if parts_dir.exists():
             _remove_parts_dir(parts_dir)
+    remove_stale_temps(output)  # left by a killed run (kill -9 gives no chance to clean up)
+    if parts_dir.is_dir():
+        for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
+            tmp.unlink(missing_ok=True)
+    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     previous = _previous_tables(output, fmt, parts_dir) if resume else []
-    done = set()
-    for table in previous:
-        done.update(zip(*(table.column(c).to_pylist() for c in ("path", "size_bytes", "mtime_ns"))))
-    todo = [j for j in jobs if _job_key(j) not in done] if done else list(jobs)
+    todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
     parts_dir.mkdir(parents=True, exist_ok=True)
     first_part = len(_part_files(parts_dir))
-    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     bar = Progress(len(todo), enabled=progress)
     written = [first_part]
     # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
@@ -409,10 +412,52 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         write_frame(table_to_frame(final), output, fmt)
     _remove_parts_dir(parts_dir)
 
-    processed = sum(counts.values())
-    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=processed,
+    # the counts describe the whole table written (after a resume: earlier rows too)
+    statuses = final.column("status").to_pylist()
+    counts = Counter(statuses)
+    reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
+    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
                         ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
                         errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output))
+
+
+def _jobs_to_do(jobs, previous, options: dict, output: Path, *, recompute_stale: bool) -> list:
+    """The jobs without a row in ``previous`` of the same file (path, size, mtime) and options.
+
+    A row of the same file made with other options (units, density, ... or another version)
+    is stale: refused with the differences named, or done again with ``recompute_stale``.
+    """
+    if not previous:
+        return list(jobs)
+    done: dict = {}
+    for table in previous:
+        keys = table.column("options").to_pylist() if "options" in table.column_names else [None] * len(table)
+        files = zip(*(table.column(c).to_pylist() for c in ("path", "size_bytes", "mtime_ns")))
+        done.update(zip(files, keys))
+    todo, stale = [], []
+    for job in jobs:
+        key = _job_key(job)
+        if key in done:
+            if done[key] == options_key(job, **options):
+                continue
+            stale.append((job, done[key]))
+        todo.append(job)
+    if stale and not recompute_stale:
+        job, old = stale[0]
+        raise InputError(f"{output}: {len(stale)} of the rows to resume were computed with other options "
+                         f"({_options_change(old, options_key(job, **options))}; e.g. {job.path}); "
+                         "resume with the same options, add --force (force=True) to recompute those rows, "
+                         "or write to another output")
+    return todo
+
+
+def _options_change(old, new: str) -> str:
+    """``units m -> mm, density 1000.0 -> 2700.0``: the fields that differ between two keys."""
+    if not old:
+        return "the earlier rows record no options (an older version)"
+    a = dict(kv.split("=", 1) for kv in old.split())
+    b = dict(kv.split("=", 1) for kv in new.split())
+    return ", ".join(f"{k} {a.get(k) or '(none)'} -> {b.get(k) or '(none)'}" for k in b if a.get(k) != b.get(k))
 
 
 def _remove_parts_dir(parts_dir: Path) -> None:

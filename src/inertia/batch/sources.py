@@ -41,24 +41,38 @@ def _is_glob(text: str) -> bool:
 
 
 def _mesh_files_under(folder) -> list[tuple[str, int | None]]:
-    """(path, size) of every mesh file under ``folder``, sorted, recursively (one scandir per folder)."""
+    """(path, size) of every mesh file under ``folder``, sorted, recursively (one scandir per folder).
+
+    Every path found with a mesh extension is a job, also when it cannot be read (a dangling
+    or looping symlink, no permission): its row then names the error.  A subfolder that
+    cannot be listed is an error here, naming it (its files would silently be missing).
+    """
     out = []
     stack = [os.fspath(folder)]
     while stack:
         top = stack.pop()
         try:
             entries = sorted(os.scandir(top), key=lambda e: e.name)
-        except OSError:
-            continue
+        except OSError as exc:
+            raise InputError(f"{top}: cannot list this folder ({exc.strerror or exc}); "
+                             "its mesh files would be missing from the table") from None
         subdirs = []
         for entry in entries:
             try:
                 if entry.is_dir(follow_symlinks=False):  # as os.walk: do not follow linked folders
                     subdirs.append(entry.path)
-                elif os.path.splitext(entry.name)[1].lower() in SUPPORTED_EXTENSIONS and entry.is_file():
-                    out.append((entry.path, entry.stat().st_size))
+                    continue
             except OSError:
+                pass
+            if os.path.splitext(entry.name)[1].lower() not in SUPPORTED_EXTENSIONS:
                 continue
+            try:
+                if entry.is_dir():  # a linked folder named like a mesh: not a file
+                    continue
+                size = entry.stat().st_size
+            except OSError:  # looping or dangling link: a row that says so
+                size = None
+            out.append((entry.path, size))
         stack.extend(reversed(subdirs))
     return out
 

@@ -22,7 +22,8 @@ watertight, winding_consistent, elapsed_s.  SI units.  Without --density/--mass 
 manifest value) the density of water, 1000 kg/m^3, is used and recorded in the density column.
 
 Finished chunks are saved atomically in OUTPUT.parts/ as the run goes; the output file is
-assembled at the end.  --resume skips files already done (same path, size and mtime).
+assembled at the end.  --resume skips files already done (same path, size, mtime and options);
+a resume with other options is refused unless --force recomputes those rows.
 
 exit status: 0 the run completed (file errors are rows, counted in the summary), 1 bad input or
 the run could not start, 130 interrupted (resumable)."""
@@ -57,7 +58,9 @@ def register(sub) -> None:
     p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: all cores)")
     p.add_argument("--chunk-files", type=int, metavar="N", help="files per task (default: automatic)")
     p.add_argument("--resume", action="store_true", help="continue an earlier run into the same output")
-    p.add_argument("--force", action="store_true", help="overwrite an existing output and start again")
+    p.add_argument("--force", action="store_true",
+                   help="overwrite an existing output and start again; with --resume, recompute the rows made "
+                        "with other options")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
