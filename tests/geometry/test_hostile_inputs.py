@@ -63,3 +63,42 @@ def test_largest_representable_scale_still_gives_exact_numbers():
     p = inertia.mesh_properties(TET_V * s, TET_F, density=1.0)
     assert p.mass == pytest.approx(s**3 / 6, rel=1e-12)
     assert np.all(np.isfinite(p.inertia_com))
+
+
+def test_running_out_of_memory_while_reading_is_named(tmp_path, monkeypatch):
+    # a binary STL whose consistent header announces 4e7 triangles (a sparse 2 GB file in the
+    # original report); memory is made to run out where the records are decoded
+    from inertia.geometry import mesh_io
+
+    f = tmp_path / "big.stl"
+    with open(f, "wb") as fh:
+        fh.write(b"x" * 80 + (1000).to_bytes(4, "little"))
+        fh.truncate(84 + 50 * 1000)
+
+    def no_memory(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(mesh_io, "_read_binary_stl_merged", no_memory)
+    with pytest.raises(MeshFileError) as ei:
+        inertia.load_mesh(f)
+    assert ei.value.code == "too_large" and "big.stl" in str(ei.value) and "memory" in str(ei.value)
+
+
+@pytest.mark.parametrize("command", [["lagrangian", "-o", "{out}"], ["batch", "{mesh}", "-o", "{out}"]])
+@pytest.mark.parametrize("where", ["under_a_file", "a_folder"])
+def test_an_output_that_cannot_be_written_is_named_before_any_work(tmp_path, capsys, command, where):
+    if command[0] == "lagrangian":
+        pytest.importorskip("sympy")
+    else:
+        pytest.importorskip("pandas")
+    from inertia.cli.main import main
+
+    (tmp_path / "plain").write_text("a file")
+    (tmp_path / "folder").mkdir()
+    mesh = tmp_path / "t.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    out = tmp_path / ("plain/sub/x.csv" if where == "under_a_file" else "folder")
+    code = main([a.format(out=out, mesh=mesh) for a in command])
+    err = capsys.readouterr().err
+    assert code == 1 and "internal error" not in err and str(out) in err
+    assert ("is a file, not a folder" if where == "under_a_file" else "is a folder") in err

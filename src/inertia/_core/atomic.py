@@ -9,12 +9,45 @@ from __future__ import annotations
 import os
 import tempfile
 
+from .errors import InputError
+
+
+def output_folder(path) -> str:
+    """The folder of the output ``path``, created if missing; InputError (code ``unwritable``)
+    naming the path when it cannot be (a regular file in the way, no permission)."""
+    path = os.fspath(path)
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a folder; give the output a file name", code="unwritable")
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        block = folder
+        while block and not os.path.exists(block) and os.path.dirname(block) != block:
+            block = os.path.dirname(block)
+        why = (f"{block} is a file, not a folder" if os.path.exists(block) and not os.path.isdir(block)
+               else f"cannot make the folder {folder} ({exc.strerror or exc})")
+        raise InputError(f"{path}: cannot write the output there: {why}", code="unwritable") from None
+    return folder
+
+
+def temp_beside(path) -> str:
+    """A new, empty temporary file in the folder of ``path`` (closed; the caller writes it)."""
+    folder = output_folder(path)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(os.fspath(path)) + ".", suffix=".tmp", dir=folder)
+    except OSError as exc:
+        raise InputError(f"{os.fspath(path)}: cannot write the output there ({exc.strerror or exc})",
+                         code="unwritable") from None
+    os.close(fd)
+    return tmp
+
 
 def write_bytes_atomic(path, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically (same-folder temp file + ``os.replace``)."""
     path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=folder)
+    tmp = temp_beside(path)
+    fd = os.open(tmp, os.O_WRONLY)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)

@@ -13,14 +13,14 @@ class's own code, or a more specific one given where it is raised (a mesh file t
 class                      codes
 =========================  ==========================================================
 InertiaError               ``inertia_error`` (base; not raised itself)
-InputError                 ``invalid_input``
+InputError                 ``invalid_input``, ``unwritable`` (an output path that cannot be written)
 InvalidInertiaError        ``invalid_inertia``
 NoEquivalentModelError     ``no_equivalent_model``
 MeshError                  ``invalid_mesh``, ``non_positive_volume``, ``zero_area``,
                            ``not_orientable``, or the code of the mesh's first defect
                            (``open_edges``, ``inverted``, ... see ``MeshReport``)
 MeshFileError              ``unreadable``, ``not_found``, ``empty``, ``malformed``,
-                           ``unsupported_format``
+                           ``unsupported_format``, ``too_large``
 MissingDependencyError     ``missing_dependency``
 IntegrationError           ``integration_failed``
 RobotFileError             ``robot_file``

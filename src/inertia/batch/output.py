@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from pathlib import Path
 
+from .._core.atomic import temp_beside
 from .._core.errors import InputError
 from .record import COLUMNS
 
@@ -124,12 +124,7 @@ def write_rows_parquet(rows, path):
 
 
 def _atomic_target(path):
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=folder)
-    os.close(fd)
-    return path, tmp
+    return os.fspath(path), temp_beside(path)
 
 
 def write_frame(frame, path, fmt: str) -> None:

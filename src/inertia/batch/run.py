@@ -32,7 +32,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .._core.atomic import remove_stale_temps
+from .._core.atomic import output_folder, remove_stale_temps
 from .._core.errors import InputError
 from .._core.optional import require
 from .._core.progress import Progress
@@ -350,6 +350,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     for module in ("pandas", "pyarrow"):
         require(module, "a batch run")
     output = Path(output)
+    output_folder(output)  # a clear error now, not after the work, when it cannot be written
     fmt = format_of(output, fmt)
     if on_defect not in ("raise", "warn"):
         raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
@@ -369,7 +370,11 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect}
     previous = _previous_tables(output, fmt, parts_dir) if resume else []
     todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
-    parts_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        parts_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{output}: cannot write the output there: cannot make {parts_dir} "
+                         f"({exc.strerror or exc})", code="unwritable") from None
     first_part = len(_part_files(parts_dir))
     bar = Progress(len(todo), enabled=progress)
     written = [first_part]

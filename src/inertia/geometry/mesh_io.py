@@ -241,6 +241,23 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     """
     factor = _unit_factor(units)
     p = Path(path)
+    try:
+        return _load_mesh(p, factor, merge_rtol)
+    except MemoryError:
+        size = _file_size(p)
+        raise MeshFileError(f"{p}: too large to read in the memory available ({size / 2**30:.2g} GiB file; "
+                            "reading needs a few times its size)", code="too_large") from None
+
+
+def _file_size(p: Path) -> float:
+    try:
+        return float(p.stat().st_size)
+    except OSError:
+        return float("nan")
+
+
+def _load_mesh(p: Path, factor: float, merge_rtol: float):
+    """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
         raise MeshFileError(f"{p}: unsupported mesh file extension {ext!r}; supported: "
@@ -254,12 +271,12 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     if not stat.S_ISREG(st.st_mode):
         raise MeshFileError(f"{p}: not a file")
     n_binary, data = -1, None
-    if ext == ".stl":  # read once: the header decides, the records follow
+    if ext == ".stl":  # mapped, not read: the header decides, the records are paged in as used
         try:
-            data = p.read_bytes()
-        except OSError as exc:
+            data = np.memmap(p, dtype=np.uint8, mode="r") if st.st_size else b""
+        except (OSError, ValueError) as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-        n_binary = _stl_kind_of(data[:1024], len(data), p)
+        n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
         merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
         if merged is not None:
