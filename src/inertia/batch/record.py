@@ -11,10 +11,8 @@ import os
 import time
 import warnings
 
+from .._core.units import DEFAULT_DENSITY  # noqa: F401 - exported (inertia.batch.DEFAULT_DENSITY): water
 from .sources import Job
-
-#: density used when a job gives neither density nor mass: water, kg/m^3 (as the CLI)
-DEFAULT_DENSITY = 1000.0
 
 #: the columns of the table, in order
 COLUMNS = ("path", "size_bytes", "mtime_ns", "status", "reason", "message", "warnings", "units", "density",

@@ -17,11 +17,7 @@ from __future__ import annotations
 import math
 import os
 
-#: density used when neither --mass nor --density is given: water, kg/m^3
-DEFAULT_DENSITY = 1000.0
-
-#: length units accepted by --units -> metres per unit
-LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+from .._core.units import DEFAULT_DENSITY, LENGTH_UNITS  # noqa: F401 - DEFAULT_DENSITY: used by commands
 
 
 class PrimitiveSpec:
@@ -123,6 +119,8 @@ class SourceInfo:
         self.primitive = primitive
         self.dimensions_m = tuple(dimensions_m)
         self.dimensions_text = ""
+        self.mesh = None    # mesh files: {"n_vertices", "n_faces", "bbox_min", "bbox_max", "extents"} (m)
+        self.notes = []     # unit-slip warnings (an implausible size or density)
 
     @property
     def density_unit(self) -> str:
@@ -148,6 +146,8 @@ class SourceInfo:
         if self.kind == "primitive":
             out["primitive"] = self.primitive
             out["dimensions_m"] = list(self.dimensions_m)
+        if self.mesh is not None:
+            out["mesh"] = dict(self.mesh)
         return out
 
 
@@ -272,11 +272,12 @@ def load_source(args, *, source: str | None = None):
         raise _input_error(f"{text!r} is already a thin shell (no inner radius given): drop --shell")
     density, mass, dsrc = _resolve_mass_options(
         args, shell=shell or thin_sphere, thin=f"the thin shell {text!r}" if thin_sphere else "--shell")
+    command = f"inertia {getattr(args, 'command', None) or ''}".rstrip()
     if kind[0] == "mesh":
-        props = _load_mesh(kind[1], density=density, mass=mass, units=units, shell=shell,
-                           fix_orientation=fix, accept_defects=accept,
-                           command=f"inertia {getattr(args, 'command', None) or ''}".rstrip())
+        props, stats = _load_mesh(kind[1], density=density, mass=mass, units=units, shell=shell,
+                                  fix_orientation=fix, accept_defects=accept, command=command)
         info = SourceInfo(source=text, kind="mesh", units=units, density=0.0, density_source=dsrc, shell=shell)
+        info.mesh = stats
     else:
         for flag, on in (("--fix-orientation", fix), ("--accept-defects", accept)):
             if on:
@@ -289,7 +290,20 @@ def load_source(args, *, source: str | None = None):
         info.dimensions_text = (", ".join(f"{p} = {num(v)}" for p, v in zip(spec.params, dims))
                                 + f" m ({spec.meaning})")
     info.density = _effective_density(props, density, mass, info.shell)
+    _unit_slip_notes(info, command)
     return props, info
+
+
+def _unit_slip_notes(info, command: str) -> None:
+    """Warn (stderr and ``info.notes``) when the size or density implies a unit slip."""
+    import sys
+
+    from .._core.units import density_warnings, size_warnings
+
+    extent = info.mesh["extents"] if info.mesh is not None else info.dimensions_m
+    info.notes = size_warnings(extent, info.units) + density_warnings(info.density, shell=info.shell)
+    for note in info.notes:
+        print(f"{command}: warning: {note}", file=sys.stderr)
 
 
 def _effective_density(props, density, mass, shell) -> float:
@@ -318,14 +332,17 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
     import warnings
 
     from .._core.errors import InertiaError
-    from ..massprops.mesh import mesh_file_properties
+    from ..geometry.mesh_io import load_mesh
+    from ..massprops.mesh import compute_mesh_properties
 
     try:
+        vertices, faces = load_mesh(path, units=units)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            props = mesh_file_properties(path, density=density, mass=mass, units=units, shell=shell,
-                                         fix_orientation=fix_orientation,
-                                         on_defect="warn" if accept_defects else "raise")
+            props = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
+                                            fix_orientation=fix_orientation,
+                                            on_defect="warn" if accept_defects else "raise",
+                                            frame="body", name=str(path), stacklevel=2, welded=True)
     except InertiaError as exc:
         msg = cli_text(str(exc).rstrip())
         if os.path.basename(path) not in msg:
@@ -335,7 +352,10 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
     # where a reader of piped JSON still sees them, as one line each and without source lines
     for w in caught:
         print(f"{command}: warning: {cli_text(str(w.message))}", file=sys.stderr)
-    return props
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    stats = {"n_vertices": int(len(vertices)), "n_faces": int(len(faces)), "bbox_min": lo.tolist(),
+             "bbox_max": hi.tolist(), "extents": (hi - lo).tolist()}
+    return props, stats
 
 
 def _build_primitive(text, spec: PrimitiveSpec, dims, *, density, mass, shell):

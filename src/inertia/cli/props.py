@@ -104,7 +104,7 @@ def props_dict(props, info) -> dict:
         "radii_of_gyration": props.radii_of_gyration,
         "validity": [{"code": v.code, "message": v.message} for v in violations],
         "physical": not violations,
-        "warnings": list(props.warnings),
+        "warnings": list(getattr(info, "notes", [])) + list(props.warnings),
         "conventions": CONVENTIONS,
     })
     return out
@@ -121,7 +121,7 @@ def props_lines(props, info, *, title: str | None = None) -> list[str]:
     lines += fmt.heading("Validity")
     lines += validity_lines(props.check())
     lines += fmt.heading("Warnings")
-    lines += warnings_lines(props.warnings)
+    lines += warnings_lines(list(getattr(info, "notes", [])) + list(props.warnings))
     return lines
 
 
@@ -134,6 +134,11 @@ def summary_lines(props, info, *, title: str) -> list[str]:
         src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, results in SI units)")]
     if info.kind in ("primitive", "assembly"):
         src.append(("dimensions", info.dimensions_text))
+    if info.mesh is not None:
+        m = info.mesh
+        src.append(("mesh", f"{m['n_vertices']} vertices, {m['n_faces']} faces (after merging duplicates)"))
+        src.append(("extents", fmt.vector(m["extents"]) + " m (bounding box " + fmt.vector(m["bbox_min"]) + " .. "
+                    + fmt.vector(m["bbox_max"]) + " m)"))
     volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
     lines += fmt.key_values(src + [
         ("mass", f"{fmt.num(props.mass)} kg"),

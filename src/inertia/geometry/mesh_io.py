@@ -25,12 +25,13 @@ import numpy as np
 
 from .._core.errors import InputError, MeshFileError
 from .._core.optional import require
+from .._core.units import LENGTH_UNITS
 from .mesh_arrays import faces_in_range, validate_inputs
 
 __all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
 #: Length units accepted by ``units=``: metres per unit.
-UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+UNITS = LENGTH_UNITS  # name -> metres (one table: inertia._core.units)
 
 #: File extensions read by :func:`load_mesh` -> trimesh file type.
 SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "off",
