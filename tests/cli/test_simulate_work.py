@@ -48,9 +48,11 @@ def test_max_steps_must_be_positive(capsys):
     ("1e100,2e100,3e100", "0,1e100,0", "angular momentum I w of this spin is about 1e200"),
 ])
 def test_spins_beyond_double_precision_are_refused_by_name(moments, omega, what, capsys):
-    assert main(["simulate", "--moments", moments, "--omega", omega, "--times", "0,1"]) == 1
-    err = capsys.readouterr().err
-    assert what in err and "express the body in other units" in err
+    for argv in (["simulate", "--moments", moments, "--omega", omega, "--times", "0,1"],
+                 ["flip", "--moments", moments, "--omega", omega]):   # flip: overflow warnings, NaN before
+        assert main(argv) == 1
+        err = capsys.readouterr().err
+        assert what in err and "express the body in other units" in err and "Warning" not in err
 
 
 def test_a_small_body_inside_the_range_is_simulated_like_a_scaled_one(capsys):

@@ -50,8 +50,11 @@ def size_warnings(extent_m, units: str) -> list[str]:
     return [text + "; check --units"]
 
 
-def density_warnings(density: float, *, shell: bool = False) -> list[str]:
-    """Warnings when a solid's density [kg/m^3] is lighter than air or denser than osmium."""
+def density_warnings(density: float, *, shell: bool = False, from_mass: bool = False) -> list[str]:
+    """Warnings when a solid's density [kg/m^3] is lighter than foam or denser than osmium.
+
+    ``from_mass``: the density is the mean one of a given mass (then the mass or the units
+    are suspect, not a density unit)."""
     if shell or density is None or not math.isfinite(density) or density <= 0:
         return []
     lo, hi = DENSITY_RANGE
@@ -59,6 +62,9 @@ def density_warnings(density: float, *, shell: bool = False) -> list[str]:
         return []
     what = ("lighter than the lightest foams (10 kg/m^3)" if density < lo
             else "denser than osmium (22,590 kg/m^3)")
+    if from_mass:
+        return [f"the mean density {density:.4g} kg/m^3 (the mass over the volume) is {what}; check the mass "
+                "and the length units"]
     hint = (f"; densities are in kg/m^3 (if you meant {density:g} g/cm^3, that is {density * 1000:g} kg/m^3)"
             if density < lo else "; densities are in kg/m^3 (aluminium 2700, steel 7850)")
     return [f"the density {density:.4g} kg/m^3 is {what}{hint}"]

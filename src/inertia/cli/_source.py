@@ -301,7 +301,8 @@ def _unit_slip_notes(info, command: str) -> None:
     from .._core.units import density_warnings, size_warnings
 
     extent = info.mesh["extents"] if info.mesh is not None else info.dimensions_m
-    info.notes = size_warnings(extent, info.units) + density_warnings(info.density, shell=info.shell)
+    info.notes = size_warnings(extent, info.units) + density_warnings(
+        info.density, shell=info.shell, from_mass=info.density_source == "from --mass")
     for note in info.notes:
         print(f"{command}: warning: {note}", file=sys.stderr)
 

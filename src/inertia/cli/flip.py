@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from . import _format as fmt
-from .simulate import add_body_arguments, initial_state, resolve_body
+from .simulate import add_body_arguments, check_spin_scale, initial_state, resolve_body
 
 EPILOG = """\
 examples:
@@ -102,6 +102,7 @@ def analyse(body, w_P) -> dict:
 def run(args) -> int:
     body = resolve_body(args)
     w_P, _ = initial_state(args, body)
+    check_spin_scale(body.moments, w_P)
     report = analyse(body, w_P)
     if args.format == "json":
         out = dict(report)
