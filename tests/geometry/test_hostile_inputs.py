@@ -102,3 +102,23 @@ def test_an_output_that_cannot_be_written_is_named_before_any_work(tmp_path, cap
     err = capsys.readouterr().err
     assert code == 1 and "internal error" not in err and str(out) in err
     assert ("is a file, not a folder" if where == "under_a_file" else "is a folder") in err
+
+
+@pytest.mark.parametrize("face, line", [("f 0 4 3", 7), ("f 1/0/1 4/1/1 3/1/1", 7), ("f  00 4 3", 7)])
+def test_obj_index_zero_is_refused_with_its_line(tmp_path, face, line):
+    # truth: OBJ indices count from 1 (trimesh reads 0 as the first vertex)
+    pytest.importorskip("trimesh")
+    f = tmp_path / "z.obj"
+    f.write_text(f"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n{face}\nf 2 3 4\n")
+    with pytest.raises(MeshFileError) as ei:
+        inertia.load_mesh(f)
+    assert ei.value.code == "malformed" and f"line {line}" in str(ei.value) and face.strip() in str(ei.value)
+
+
+def test_obj_indices_with_zeros_inside_them_are_read(tmp_path):
+    # 10, 100, -10: not index 0; truth: the unit tetrahedron's volume 1/6 whatever the index spelling
+    pytest.importorskip("trimesh")
+    f = tmp_path / "t.obj"
+    pad = "".join("v 5 5 5\n" for _ in range(10))
+    f.write_text(pad + "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 11 13 12\nf 11 12 14\nf -4 -1 -2\nf 12 13 14\n")
+    assert inertia.mesh_file_properties(f, density=1.0).mass == pytest.approx(1 / 6, rel=1e-12)

@@ -16,6 +16,7 @@ are then scaled to metres.
 from __future__ import annotations
 
 import os
+import re
 import stat
 import sys
 import warnings
@@ -109,6 +110,25 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     np.minimum.at(rep_of_label, label, np.arange(n))
     fm = rep_of_label[label][f]
     return compact_vertices(v, fm)
+
+
+#: an OBJ face line with an index 0 (OBJ counts from 1; trimesh reads 0 as a valid vertex)
+_OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+\-])[+-]?0+(?=[/ \t\r\n]|$)", re.M)
+
+
+def _check_obj_indices(p: Path) -> None:
+    """Refuse an OBJ face that uses index 0, naming the line (OBJ indices start at 1)."""
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+    m = _OBJ_ZERO_INDEX.search(data)
+    if m is not None:
+        line = data.count(b"\n", 0, m.start()) + 1
+        end = data.find(b"\n", m.start())
+        text = data[m.start():end if end >= 0 else len(data)].strip().decode("utf-8", "replace")[:80]
+        raise MeshFileError(f"{p}, line {line}: face index 0 in {text!r}: OBJ vertex indices start at 1 "
+                            "(negative indices count back from the last vertex)", code="malformed")
 
 
 def _scene_triangles(trimesh, loaded, path: Path):
@@ -286,6 +306,8 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     else:
+        if ext == ".obj":
+            _check_obj_indices(p)
         trimesh = _import_trimesh()
         try:
             # trimesh's parsers cast and scale without guarding against overflow or NaN; what
