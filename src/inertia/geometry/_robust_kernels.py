@@ -1,0 +1,396 @@
+"""Scalar kernels of :mod:`inertia.geometry.robust`, written once in plain Python.
+
+The functions here use only scalar arithmetic, ``math`` and NumPy array indexing, so the
+same source runs as plain Python (the slow but correct fallback) and compiled by numba
+(:mod:`._robust_numba` wraps each with ``numba.njit``).  Nothing here imports numba.
+
+Conventions: triangles are (3, 3) corner arrays or index triples into ``V`` (N, 3);
+``eps`` is a length (the geometric tolerance, a tiny multiple of the mesh size).  Every
+intersection test is *conservative*: it answers ``True`` ("may cut") whenever the
+configuration is within ``eps`` of touching, so that ``False`` is safe to rely on.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+FOUR_PI = 4.0 * math.pi
+
+
+def winding_rest(pts, owner, V, F, mult, out):
+    """Generalised winding number at ``pts`` (P, 3), leaving out face ``owner[i]`` for point i.
+
+    ``w(p) = sum_f mult_f Omega_f(p) / 4 pi`` with the Van Oosterom-Strackee solid angle
+    ``tan(Omega / 2) = a . (b x c) / (|a||b||c| + (a.b)|c| + (b.c)|a| + (c.a)|b|)``,
+    a, b, c the corners relative to p (positive seen from behind an outward face).
+    """
+    nf = F.shape[0]
+    for i in range(pts.shape[0]):
+        px = pts[i, 0]
+        py = pts[i, 1]
+        pz = pts[i, 2]
+        o = owner[i]
+        s = 0.0
+        for f in range(nf):
+            if f == o:
+                continue
+            ia = F[f, 0]
+            ib = F[f, 1]
+            ic = F[f, 2]
+            ax = V[ia, 0] - px
+            ay = V[ia, 1] - py
+            az = V[ia, 2] - pz
+            bx = V[ib, 0] - px
+            by = V[ib, 1] - py
+            bz = V[ib, 2] - pz
+            cx = V[ic, 0] - px
+            cy = V[ic, 1] - py
+            cz = V[ic, 2] - pz
+            la = math.sqrt(ax * ax + ay * ay + az * az)
+            lb = math.sqrt(bx * bx + by * by + bz * bz)
+            lc = math.sqrt(cx * cx + cy * cy + cz * cz)
+            det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
+            den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc
+                   + (bx * cx + by * cy + bz * cz) * la + (cx * ax + cy * ay + cz * az) * lb)
+            s += mult[f] * 2.0 * math.atan2(det, den)
+        out[i] = s / FOUR_PI
+
+
+def _plane_dist(A, B, out):
+    """Signed distances (times |n_A|) of B's corners to A's plane into ``out`` (3,); return |n_A|."""
+    ux = A[1, 0] - A[0, 0]
+    uy = A[1, 1] - A[0, 1]
+    uz = A[1, 2] - A[0, 2]
+    vx = A[2, 0] - A[0, 0]
+    vy = A[2, 1] - A[0, 1]
+    vz = A[2, 2] - A[0, 2]
+    nx = uy * vz - uz * vy
+    ny = uz * vx - ux * vz
+    nz = ux * vy - uy * vx
+    for k in range(3):
+        out[k] = nx * (B[k, 0] - A[0, 0]) + ny * (B[k, 1] - A[0, 1]) + nz * (B[k, 2] - A[0, 2])
+    return math.sqrt(nx * nx + ny * ny + nz * nz)
+
+
+def _one_side(d, tol):
+    """True when all three distances are strictly (beyond ``tol``) on one side."""
+    return (d[0] > tol and d[1] > tol and d[2] > tol) or (d[0] < -tol and d[1] < -tol and d[2] < -tol)
+
+
+def _coplanar_overlap(A, B, eps):
+    """2-D separating-axis test of two coplanar triangles (axes: in-plane edge normals)."""
+    nx = (A[1, 1] - A[0, 1]) * (A[2, 2] - A[0, 2]) - (A[1, 2] - A[0, 2]) * (A[2, 1] - A[0, 1])
+    ny = (A[1, 2] - A[0, 2]) * (A[2, 0] - A[0, 0]) - (A[1, 0] - A[0, 0]) * (A[2, 2] - A[0, 2])
+    nz = (A[1, 0] - A[0, 0]) * (A[2, 1] - A[0, 1]) - (A[1, 1] - A[0, 1]) * (A[2, 0] - A[0, 0])
+    for t in range(2):
+        T = A if t == 0 else B
+        for e in range(3):
+            ex = T[(e + 1) % 3, 0] - T[e, 0]
+            ey = T[(e + 1) % 3, 1] - T[e, 1]
+            ez = T[(e + 1) % 3, 2] - T[e, 2]
+            ax = ny * ez - nz * ey
+            ay = nz * ex - nx * ez
+            az = nx * ey - ny * ex
+            la = math.sqrt(ax * ax + ay * ay + az * az)
+            if la == 0.0:
+                continue
+            lo1 = hi1 = A[0, 0] * ax + A[0, 1] * ay + A[0, 2] * az
+            lo2 = hi2 = B[0, 0] * ax + B[0, 1] * ay + B[0, 2] * az
+            for k in range(1, 3):
+                q1 = A[k, 0] * ax + A[k, 1] * ay + A[k, 2] * az
+                q2 = B[k, 0] * ax + B[k, 1] * ay + B[k, 2] * az
+                lo1 = min(lo1, q1)
+                hi1 = max(hi1, q1)
+                lo2 = min(lo2, q2)
+                hi2 = max(hi2, q2)
+            tol = eps * la
+            if lo1 > hi2 + tol or lo2 > hi1 + tol:
+                return False
+    return True
+
+
+def _line_interval(T, d, tol, Dx, Dy, Dz, out):
+    """Interval of ``T`` (meeting the other plane) along the direction D; into ``out`` (2,)."""
+    lo = math.inf
+    hi = -math.inf
+    for k in range(3):
+        if abs(d[k]) <= tol:
+            q = T[k, 0] * Dx + T[k, 1] * Dy + T[k, 2] * Dz
+            lo = min(lo, q)
+            hi = max(hi, q)
+        j = (k + 1) % 3
+        if (d[k] > tol and d[j] < -tol) or (d[k] < -tol and d[j] > tol):
+            s = d[k] / (d[k] - d[j])
+            x = T[k, 0] + s * (T[j, 0] - T[k, 0])
+            y = T[k, 1] + s * (T[j, 1] - T[k, 1])
+            z = T[k, 2] + s * (T[j, 2] - T[k, 2])
+            q = x * Dx + y * Dy + z * Dz
+            lo = min(lo, q)
+            hi = max(hi, q)
+    out[0] = lo
+    out[1] = hi
+
+
+def tris_cut(A, B, eps, scratch):
+    """Conservative test: may triangles A and B (3, 3) share a point (closed sets, within eps)?
+
+    Separating planes first (Moeller 1997): B strictly on one side of A's plane, or A of
+    B's, means no contact; coplanar pairs use the 2-D separating-axis test; otherwise
+    both triangles cut the line of the two planes in an interval, and they meet iff the
+    intervals overlap.  ``scratch`` is a (8,) work array.
+    """
+    dB = scratch[0:3]
+    dA = scratch[3:6]
+    iv = scratch[6:8]
+    nA = _plane_dist(A, B, dB)
+    tolA = eps * nA
+    if _one_side(dB, tolA):
+        return False
+    nB = _plane_dist(B, A, dA)
+    tolB = eps * nB
+    if _one_side(dA, tolB):
+        return False
+    if nA == 0.0 or nB == 0.0:
+        return True      # degenerate triangle touching the other's plane: assume contact
+    if abs(dB[0]) <= tolA and abs(dB[1]) <= tolA and abs(dB[2]) <= tolA:
+        return _coplanar_overlap(A, B, eps)
+    # direction of the planes' line, D = nA x nB (unnormalised; intervals scale alike)
+    ux = A[1, 0] - A[0, 0]
+    uy = A[1, 1] - A[0, 1]
+    uz = A[1, 2] - A[0, 2]
+    vx = A[2, 0] - A[0, 0]
+    vy = A[2, 1] - A[0, 1]
+    vz = A[2, 2] - A[0, 2]
+    ax = uy * vz - uz * vy
+    ay = uz * vx - ux * vz
+    az = ux * vy - uy * vx
+    ux = B[1, 0] - B[0, 0]
+    uy = B[1, 1] - B[0, 1]
+    uz = B[1, 2] - B[0, 2]
+    vx = B[2, 0] - B[0, 0]
+    vy = B[2, 1] - B[0, 1]
+    vz = B[2, 2] - B[0, 2]
+    bx = uy * vz - uz * vy
+    by = uz * vx - ux * vz
+    bz = ux * vy - uy * vx
+    Dx = ay * bz - az * by
+    Dy = az * bx - ax * bz
+    Dz = ax * by - ay * bx
+    lD = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+    if lD == 0.0:
+        return True
+    _line_interval(A, dA, tolB, Dx, Dy, Dz, iv)
+    a0 = iv[0]
+    a1 = iv[1]
+    _line_interval(B, dB, tolA, Dx, Dy, Dz, iv)
+    tol = 2.0 * eps * lD
+    return a0 <= iv[1] + tol and iv[0] <= a1 + tol
+
+
+def _load(V, F, f, T):
+    for k in range(3):
+        for c in range(3):
+            T[k, c] = V[F[f, k], c]
+
+
+def faces_cut(V, F, f, g, eps, A, B, scratch):
+    """Does face g cut the interior of face f (or vice versa)?  Shared corners handled.
+
+    * 3 shared corners (a duplicate): ``True``;
+    * a shared edge: only a fold (coplanar, both opposite corners on the same side);
+    * a shared corner v: the planes' line through v meets both triangles in segments
+      starting at v; they cut iff those segments point the same way (conservatively:
+      unless one triangle lies strictly on one side of the other's plane);
+    * no shared corner: :func:`tris_cut`.
+    """
+    _load(V, F, f, A)
+    _load(V, F, g, B)
+    ns = 0
+    sa = -1
+    sb = -1
+    for i in range(3):
+        for j in range(3):
+            if F[f, i] == F[g, j]:
+                ns += 1
+                sa = i
+                sb = j
+    if ns == 0:
+        return tris_cut(A, B, eps, scratch)
+    if ns == 3:
+        return True
+    dB = scratch[0:3]
+    dA = scratch[3:6]
+    nA = _plane_dist(A, B, dB)
+    nB = _plane_dist(B, A, dA)
+    if nA == 0.0 or nB == 0.0:
+        return True
+    tolA = eps * nA
+    tolB = eps * nB
+    if ns == 2:
+        # corners not on the shared edge
+        oa = 3 - sum_shared(F, f, g)
+        ob = 3 - sum_shared(F, g, f)
+        if abs(dB[ob]) > tolA:
+            return False        # not coplanar: they meet along the edge only
+        # coplanar: a fold when the opposite corners are on the same side of the edge
+        i0 = (oa + 1) % 3
+        i1 = (oa + 2) % 3
+        ex = A[i1, 0] - A[i0, 0]
+        ey = A[i1, 1] - A[i0, 1]
+        ez = A[i1, 2] - A[i0, 2]
+        s1 = _side(A, i0, ex, ey, ez, A[oa, 0], A[oa, 1], A[oa, 2])
+        s2 = _side(A, i0, ex, ey, ez, B[ob, 0], B[ob, 1], B[ob, 2])
+        return s1 * s2 >= 0.0
+    # one shared corner: sa in A, sb in B
+    dB[sb] = 0.0
+    dA[sa] = 0.0
+    b1 = (sb + 1) % 3
+    b2 = (sb + 2) % 3
+    a1 = (sa + 1) % 3
+    a2 = (sa + 2) % 3
+    if (dB[b1] > tolA and dB[b2] > tolA) or (dB[b1] < -tolA and dB[b2] < -tolA):
+        return False
+    if (dA[a1] > tolB and dA[a2] > tolB) or (dA[a1] < -tolB and dA[a2] < -tolB):
+        return False
+    if abs(dB[b1]) <= tolA and abs(dB[b2]) <= tolA:
+        return _sectors_overlap(A, sa, B, sb, eps)
+    if abs(dB[b1]) <= tolA or abs(dB[b2]) <= tolA or abs(dA[a1]) <= tolB or abs(dA[a2]) <= tolB:
+        return True
+    # each triangle straddles the other's plane: segment from v to its opposite edge
+    s = dB[b1] / (dB[b1] - dB[b2])
+    ubx = B[b1, 0] + s * (B[b2, 0] - B[b1, 0]) - B[sb, 0]
+    uby = B[b1, 1] + s * (B[b2, 1] - B[b1, 1]) - B[sb, 1]
+    ubz = B[b1, 2] + s * (B[b2, 2] - B[b1, 2]) - B[sb, 2]
+    s = dA[a1] / (dA[a1] - dA[a2])
+    uax = A[a1, 0] + s * (A[a2, 0] - A[a1, 0]) - A[sa, 0]
+    uay = A[a1, 1] + s * (A[a2, 1] - A[a1, 1]) - A[sa, 1]
+    uaz = A[a1, 2] + s * (A[a2, 2] - A[a1, 2]) - A[sa, 2]
+    dot = uax * ubx + uay * uby + uaz * ubz
+    la = math.sqrt(uax * uax + uay * uay + uaz * uaz)
+    lb = math.sqrt(ubx * ubx + uby * uby + ubz * ubz)
+    return dot > -1e-9 * la * lb
+
+
+def sum_shared(F, f, g):
+    """Sum of the corner positions (0, 1, 2) of face f that are also corners of face g."""
+    s = 0
+    for i in range(3):
+        for j in range(3):
+            if F[f, i] == F[g, j]:
+                s += i
+    return s
+
+
+def _side(A, i0, ex, ey, ez, px, py, pz):
+    """In-plane side of point p relative to the edge from A[i0] along e (sign of a dot with A's normal)."""
+    nx = (A[1, 1] - A[0, 1]) * (A[2, 2] - A[0, 2]) - (A[1, 2] - A[0, 2]) * (A[2, 1] - A[0, 1])
+    ny = (A[1, 2] - A[0, 2]) * (A[2, 0] - A[0, 0]) - (A[1, 0] - A[0, 0]) * (A[2, 2] - A[0, 2])
+    nz = (A[1, 0] - A[0, 0]) * (A[2, 1] - A[0, 1]) - (A[1, 1] - A[0, 1]) * (A[2, 0] - A[0, 0])
+    qx = px - A[i0, 0]
+    qy = py - A[i0, 1]
+    qz = pz - A[i0, 2]
+    cx = ey * qz - ez * qy
+    cy = ez * qx - ex * qz
+    cz = ex * qy - ey * qx
+    return cx * nx + cy * ny + cz * nz
+
+
+def _sectors_overlap(A, sa, B, sb, eps):
+    """Coplanar triangles sharing corner v: do their angular sectors at v overlap (beyond ~1e-9 rad)?
+
+    Sector of (v, p, q) is the cone of directions alpha (p - v) + beta (q - v), alpha, beta >= 0.
+    The convex sectors overlap with positive angle iff an edge direction of one lies
+    strictly inside the other, or both have the same bisector direction inside each other.
+    """
+    nx = (A[1, 1] - A[0, 1]) * (A[2, 2] - A[0, 2]) - (A[1, 2] - A[0, 2]) * (A[2, 1] - A[0, 1])
+    ny = (A[1, 2] - A[0, 2]) * (A[2, 0] - A[0, 0]) - (A[1, 0] - A[0, 0]) * (A[2, 2] - A[0, 2])
+    nz = (A[1, 0] - A[0, 0]) * (A[2, 1] - A[0, 1]) - (A[1, 1] - A[0, 1]) * (A[2, 0] - A[0, 0])
+    for t in range(2):
+        T = A if t == 0 else B
+        s = sa if t == 0 else sb
+        U = B if t == 0 else A
+        su = sb if t == 0 else sa
+        # directions to test: U's two edges from v and U's bisector (centroid direction)
+        for k in range(3):
+            if k < 2:
+                j = (su + 1 + k) % 3
+                dx = U[j, 0] - U[su, 0]
+                dy = U[j, 1] - U[su, 1]
+                dz = U[j, 2] - U[su, 2]
+            else:
+                dx = 0.5 * (U[(su + 1) % 3, 0] + U[(su + 2) % 3, 0]) - U[su, 0]
+                dy = 0.5 * (U[(su + 1) % 3, 1] + U[(su + 2) % 3, 1]) - U[su, 1]
+                dz = 0.5 * (U[(su + 1) % 3, 2] + U[(su + 2) % 3, 2]) - U[su, 2]
+            if _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
+                return True
+    return False
+
+
+def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
+    """Direction d strictly (beyond ~1e-9 rad) inside T's sector at corner s (normal n of the common plane)."""
+    p = (s + 1) % 3
+    q = (s + 2) % 3
+    e1x = T[p, 0] - T[s, 0]
+    e1y = T[p, 1] - T[s, 1]
+    e1z = T[p, 2] - T[s, 2]
+    e2x = T[q, 0] - T[s, 0]
+    e2y = T[q, 1] - T[s, 1]
+    e2z = T[q, 2] - T[s, 2]
+    # orientation of the sector relative to n
+    o = (e1y * e2z - e1z * e2y) * nx + (e1z * e2x - e1x * e2z) * ny + (e1x * e2y - e1y * e2x) * nz
+    c1 = (e1y * dz - e1z * dy) * nx + (e1z * dx - e1x * dz) * ny + (e1x * dy - e1y * dx) * nz
+    c2 = (dy * e2z - dz * e2y) * nx + (dz * e2x - dx * e2z) * ny + (dx * e2y - dy * e2x) * nz
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    ld = math.sqrt(dx * dx + dy * dy + dz * dz)
+    l1 = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+    l2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    if o < 0.0:
+        c1 = -c1
+        c2 = -c2
+    return c1 > 1e-9 * ln * ld * l1 and c2 > 1e-9 * ln * ld * l2
+
+
+def candidate_pairs(V, F, order, lo, hi, eps, A, B, scratch, out):
+    """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other.
+
+    Sweep and prune along x (``order`` sorts faces by ``lo[:, 0]``), then the box test in
+    y and z, then :func:`faces_cut`.  Writes up to ``len(out)`` pairs into ``out``
+    (K, 2) and returns how many there are in all (call again with more room if larger).
+    """
+    n = order.shape[0]
+    cnt = 0
+    for ii in range(n):
+        f = order[ii]
+        xf = hi[f, 0] + eps
+        for jj in range(ii + 1, n):
+            g = order[jj]
+            if lo[g, 0] > xf:
+                break
+            if lo[g, 1] > hi[f, 1] + eps or lo[f, 1] > hi[g, 1] + eps:
+                continue
+            if lo[g, 2] > hi[f, 2] + eps or lo[f, 2] > hi[g, 2] + eps:
+                continue
+            if faces_cut(V, F, f, g, eps, A, B, scratch):
+                if cnt < out.shape[0]:
+                    out[cnt, 0] = min(f, g)
+                    out[cnt, 1] = max(f, g)
+                cnt += 1
+    return cnt
+
+
+def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
+    """``clean[i]``: piece P[i] (3, 3) of face ``owner[i]`` meets none of that face's cutters.
+
+    The cutters of face f are ``cut_idx[cut_ptr[f]:cut_ptr[f + 1]]`` (CSR).
+    """
+    for i in range(P.shape[0]):
+        f = owner[i]
+        ok = True
+        for k in range(cut_ptr[f], cut_ptr[f + 1]):
+            _load(V, F, cut_idx[k], B)
+            if tris_cut(P[i], B, eps, scratch):
+                ok = False
+                break
+        clean[i] = ok
