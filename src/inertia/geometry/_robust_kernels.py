@@ -17,6 +17,8 @@ import math
 import numpy as np
 
 FOUR_PI = 4.0 * math.pi
+#: Contacts at angles below this (radians) from a triangle's edge count as along the edge.
+ANGLE_TOL = 1e-12
 
 
 def winding_rest(pts, owner, V, F, mult, out):
@@ -256,21 +258,60 @@ def faces_cut(V, F, f, g, eps, A, B, scratch):
         return False
     if abs(dB[b1]) <= tolA and abs(dB[b2]) <= tolA:
         return _sectors_overlap(A, sa, B, sb, eps)
-    if abs(dB[b1]) <= tolA or abs(dB[b2]) <= tolA or abs(dA[a1]) <= tolB or abs(dA[a2]) <= tolB:
+    # the planes' line L through v meets each triangle in a segment from v along +-D
+    # (or only in v): they cut iff some direction lies in both closed sectors at v and
+    # strictly inside at least one (contact along an edge line does not cut an interior)
+    ux = A[a1, 0] - A[sa, 0]
+    uy = A[a1, 1] - A[sa, 1]
+    uz = A[a1, 2] - A[sa, 2]
+    vx = A[a2, 0] - A[sa, 0]
+    vy = A[a2, 1] - A[sa, 1]
+    vz = A[a2, 2] - A[sa, 2]
+    nax = uy * vz - uz * vy
+    nay = uz * vx - ux * vz
+    naz = ux * vy - uy * vx
+    ux = B[b1, 0] - B[sb, 0]
+    uy = B[b1, 1] - B[sb, 1]
+    uz = B[b1, 2] - B[sb, 2]
+    vx = B[b2, 0] - B[sb, 0]
+    vy = B[b2, 1] - B[sb, 1]
+    vz = B[b2, 2] - B[sb, 2]
+    nbx = uy * vz - uz * vy
+    nby = uz * vx - ux * vz
+    nbz = ux * vy - uy * vx
+    Dx = nay * nbz - naz * nby
+    Dy = naz * nbx - nax * nbz
+    Dz = nax * nby - nay * nbx
+    if Dx == 0.0 and Dy == 0.0 and Dz == 0.0:
         return True
-    # each triangle straddles the other's plane: segment from v to its opposite edge
-    s = dB[b1] / (dB[b1] - dB[b2])
-    ubx = B[b1, 0] + s * (B[b2, 0] - B[b1, 0]) - B[sb, 0]
-    uby = B[b1, 1] + s * (B[b2, 1] - B[b1, 1]) - B[sb, 1]
-    ubz = B[b1, 2] + s * (B[b2, 2] - B[b1, 2]) - B[sb, 2]
-    s = dA[a1] / (dA[a1] - dA[a2])
-    uax = A[a1, 0] + s * (A[a2, 0] - A[a1, 0]) - A[sa, 0]
-    uay = A[a1, 1] + s * (A[a2, 1] - A[a1, 1]) - A[sa, 1]
-    uaz = A[a1, 2] + s * (A[a2, 2] - A[a1, 2]) - A[sa, 2]
-    dot = uax * ubx + uay * uby + uaz * ubz
-    la = math.sqrt(uax * uax + uay * uay + uaz * uaz)
-    lb = math.sqrt(ubx * ubx + uby * uby + ubz * ubz)
-    return dot > -1e-9 * la * lb
+    for sgn in (-1.0, 1.0):
+        ca, sa_ = _sector_flags(A, sa, sgn * Dx, sgn * Dy, sgn * Dz, nax, nay, naz)
+        cb, sb_ = _sector_flags(B, sb, sgn * Dx, sgn * Dy, sgn * Dz, nbx, nby, nbz)
+        if ca and cb and (sa_ or sb_):
+            return True
+    return False
+
+
+def _sector_flags(T, s, dx, dy, dz, nx, ny, nz):
+    """Direction d in T's sector at corner s (T's normal n): ``(in the closed sector, strictly inside)``.
+
+    Angles below ANGLE_TOL rad count as on the sector's edge (closed: inside; strict: not).
+    """
+    p = (s + 1) % 3
+    q = (s + 2) % 3
+    e1x = T[p, 0] - T[s, 0]
+    e1y = T[p, 1] - T[s, 1]
+    e1z = T[p, 2] - T[s, 2]
+    e2x = T[q, 0] - T[s, 0]
+    e2y = T[q, 1] - T[s, 1]
+    e2z = T[q, 2] - T[s, 2]
+    c1 = (e1y * dz - e1z * dy) * nx + (e1z * dx - e1x * dz) * ny + (e1x * dy - e1y * dx) * nz
+    c2 = (dy * e2z - dz * e2y) * nx + (dz * e2x - dx * e2z) * ny + (dx * e2y - dy * e2x) * nz
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    ld = math.sqrt(dx * dx + dy * dy + dz * dz)
+    t1 = ANGLE_TOL * ln * ld * math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+    t2 = ANGLE_TOL * ln * ld * math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    return (c1 >= -t1 and c2 >= -t2), (c1 > t1 and c2 > t2)
 
 
 def sum_shared(F, f, g):
@@ -298,7 +339,7 @@ def _side(A, i0, ex, ey, ez, px, py, pz):
 
 
 def _sectors_overlap(A, sa, B, sb, eps):
-    """Coplanar triangles sharing corner v: do their angular sectors at v overlap (beyond ~1e-9 rad)?
+    """Coplanar triangles sharing corner v: do their angular sectors at v overlap (beyond ANGLE_TOL rad)?
 
     Sector of (v, p, q) is the cone of directions alpha (p - v) + beta (q - v), alpha, beta >= 0.
     The convex sectors overlap with positive angle iff an edge direction of one lies
@@ -329,7 +370,7 @@ def _sectors_overlap(A, sa, B, sb, eps):
 
 
 def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
-    """Direction d strictly (beyond ~1e-9 rad) inside T's sector at corner s (normal n of the common plane)."""
+    """Direction d strictly (beyond ANGLE_TOL rad) inside T's sector at corner s (normal n of the common plane)."""
     p = (s + 1) % 3
     q = (s + 2) % 3
     e1x = T[p, 0] - T[s, 0]
@@ -349,7 +390,7 @@ def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
     if o < 0.0:
         c1 = -c1
         c2 = -c2
-    return c1 > 1e-9 * ln * ld * l1 and c2 > 1e-9 * ln * ld * l2
+    return c1 > ANGLE_TOL * ln * ld * l1 and c2 > ANGLE_TOL * ln * ld * l2
 
 
 def candidate_pairs(V, F, order, lo, hi, eps, A, B, scratch, out):

@@ -49,6 +49,12 @@ class Pieces:
         self.p, self.kern, self.eps = p, kern, eps
         self.cut = np.zeros(len(F), bool)
         self.n_cut_pairs = self.n_cut_faces = self.n_patches = 0
+        self.w_min, self.w_max = 0.0, 1.0      # extreme windings seen on either side of a face
+
+    def _seen(self, front, m):
+        if len(front):
+            self.w_min = min(self.w_min, float(front.min()))
+            self.w_max = max(self.w_max, float((front + m).max()))
 
     # ------------------------------------------------------------------ cuts
     def find_cuts(self, n_mesh):
@@ -105,10 +111,10 @@ class Pieces:
         area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
         cand = np.flatnonzero(uncut)
         cand = cand[np.lexsort((-area[cand], lab[cand]))]
-        first = np.r_[True, lab[cand][1:] != lab[cand][:-1]]
-        reps = cand[first]
+        reps = cand[np.r_[True, lab[cand][1:] != lab[cand][:-1]]] if len(cand) else cand
         self.n_patches = len(reps)
         k, good = self._winding_front(tri[reps].mean(1), reps)
+        self._seen(k[good], self.M[reps[good]])
         wf_lab = np.full(self.n_patches_all, np.nan)
         wf_lab[lab[reps]] = np.where(good, k, np.nan)
         wf = np.where(uncut, wf_lab[lab], np.nan)
@@ -144,20 +150,21 @@ class Pieces:
             clean_n += len(done)
             if len(done):
                 kd, md = k[good], self.M[owner[done]]
+                self._seen(kd, md)
                 w = (kd + md >= 1).astype(float) - (kd >= 1).astype(float)
                 for i, x in enumerate(tetra_sums(P[done], p, w)):
                     val[i] = val[i] + x
             rest = np.ones(len(P), bool)
             rest[done] = False
             P, owner = P[rest], owner[rest]
+            # unresolved if we stop now: weight in [0, 1] (m >= 1), taken as 1/2 +- 1/2
             half = np.full(len(P), 0.5)
             bnd = tetra_abs(P, p, half)
+            guess = tetra_sums(P, p, half)
             out_of_budget = (depth >= max_depth or used + 4 * len(P) > max_pieces
                              or (deadline is not None and time.perf_counter() > deadline))
-            if len(P) == 0 or out_of_budget or good_enough(val, bnd):
-                # unresolved: weight in [0, 1] (m >= 1), taken as 1/2 +- 1/2
-                for i, x in enumerate(tetra_sums(P, p, half)):
-                    val[i] = val[i] + x
+            if len(P) == 0 or out_of_budget or good_enough([a + b for a, b in zip(val, guess)], bnd):
+                val = [a + b for a, b in zip(val, guess)]
                 break
             depth += 1
             P, owner = _split4(P), np.repeat(owner, 4)

@@ -58,8 +58,8 @@ import numpy as np
 from .._core.errors import InputError
 from ._robust_caps import Caps, cap_region_bound, dedupe_faces
 from .checks import validate_inputs
-from .integrals import reference_point, solid_integrals
-from ._robust_pieces import Pieces
+from .integrals import reference_point
+from ._robust_pieces import Pieces, tetra_sums
 
 __all__ = ["RobustResult", "robust_integrals", "AMBIGUOUS_LOW", "AMBIGUOUS_HIGH"]
 
@@ -102,6 +102,7 @@ class RobustResult:
     tol: float
     defects: tuple = ()
     stats: dict = field(default_factory=dict)
+    derived: dict = field(default_factory=dict, repr=False)
 
     @property
     def ambiguous_fraction(self) -> float:
@@ -113,50 +114,62 @@ class RobustResult:
         """Center of mass (3,) of the uniform solid."""
         return self.reference + self.first / self.volume
 
-    @property
-    def bound_com(self) -> float:
-        """Bound of ``|com error|`` (Euclidean), from the volume and first-moment bounds."""
-        V, dV = abs(self.volume), self.bound_volume
-        if dV >= V:
-            return math.inf
-        c = np.linalg.norm(self.first) / V
-        return float((np.linalg.norm(self.bound_first) + c * dV) / (V - dV))
-
     def central_second(self) -> np.ndarray:
         """``C = int (x - com)(x - com)^T dV`` (3, 3); inertia = density (tr C 1 - C)."""
-        F = self.first
-        return 0.5 * (self.second + self.second.T) - np.multiply.outer(F, F) / self.volume
+        return self.derived["central_second"].copy()
+
+    @property
+    def bound_com(self) -> float:
+        """Bound of ``|com error|`` (Euclidean)."""
+        return self.derived["bound_com"]
 
     @property
     def bound_central_second(self) -> float:
-        """Frobenius bound of the error of :meth:`central_second` (rigorous, first and second order)."""
-        V, dV = abs(self.volume), self.bound_volume
-        if dV >= V:
-            return math.inf
-        dF = np.linalg.norm(self.bound_first)
-        F = np.linalg.norm(self.first)
-        return float(np.linalg.norm(self.bound_second) + (2 * F * dF + dF * dF) / (V - dV)
-                     + F * F * dV / (V * (V - dV)))
+        """Frobenius bound of the error of :meth:`central_second`."""
+        return self.derived["bound_central_second"]
 
     @property
     def bound_inertia_relative(self) -> float:
         """Bound of ``|I error|_F / |I|_F`` for the central inertia ``tr(C) 1 - C`` (any density)."""
-        C = self.central_second()
-        inertia = np.trace(C) * np.eye(3) - C
-        n = np.linalg.norm(inertia)
-        return 4.0 * self.bound_central_second / n if n > 0 else math.inf
+        return self.derived["relative"]["inertia"]
 
     @property
     def relative_bounds(self) -> dict:
-        """Bounds relative to the natural scales: volume / |V|, COM / radius of gyration, inertia / |I|_F."""
-        V = abs(self.volume)
-        if V == 0.0:
-            return {"volume": math.inf, "com": math.inf, "inertia": math.inf}
-        C = self.central_second()
-        k = math.sqrt(max(np.trace(C), 0.0) / V)
-        return {"volume": self.bound_volume / V,
-                "com": self.bound_com / k if k > 0 else math.inf,
-                "inertia": self.bound_inertia_relative}
+        """Bounds relative to natural scales: volume / |V|, COM / radius of gyration, inertia / |I|_F."""
+        return dict(self.derived["relative"])
+
+
+def derived_bounds(vol, first, second, bv, bf, bs) -> dict:
+    """COM, central second moment and their bounds from integrals about a point p near the body.
+
+    With C = S - F F^T / V (about p), for perturbations dV, dF, dS bounded by bv, bf, bs:
+    ``|dcom| <= (|bf| + |c| bv) / (|V| - bv)`` and
+    ``|dC|_F <= |bs|_F + (2 |F| |bf| + |bf|^2) / (|V| - bv) + |F|^2 bv / (|V| (|V| - bv))``
+    (from ``F'F'^T / V' - F F^T / V = (F'F'^T - F F^T) / V' + F F^T (1/V' - 1/V)``);
+    the inertia ``tr(C) 1 - C`` errs by at most ``(sqrt(3) sqrt(3) + 1) |dC|_F = 4 |dC|_F``.
+    Taken about p (the box center) rather than a far reference, where |F| would inflate them.
+    """
+    V = abs(vol)
+    out = {"central_second": np.full((3, 3), np.nan), "bound_com": math.inf,
+           "bound_central_second": math.inf,
+           "relative": {"volume": math.inf, "com": math.inf, "inertia": math.inf}}
+    if V == 0.0 or not np.isfinite(V):
+        return out
+    C = 0.5 * (second + second.T) - np.multiply.outer(first, first) / vol
+    out["central_second"] = C
+    k = math.sqrt(max(float(np.trace(C)), 0.0) / V)
+    rel = {"volume": bv / V, "com": math.inf, "inertia": math.inf}
+    if bv < V:
+        nF, dF = float(np.linalg.norm(first)), float(np.linalg.norm(bf))
+        bcom = (dF + nF / V * bv) / (V - bv)
+        bC = float(np.linalg.norm(bs)) + (2 * nF * dF + dF * dF) / (V - bv) + nF * nF * bv / (V * (V - bv))
+        out["bound_com"], out["bound_central_second"] = bcom, bC
+        inertia = np.trace(C) * np.eye(3) - C
+        nI = float(np.linalg.norm(inertia))
+        rel["com"] = bcom / k if k > 0 else math.inf
+        rel["inertia"] = 4.0 * bC / nI if nI > 0 else math.inf
+    out["relative"] = rel
+    return out
 
 
 def _winding_backend(backend):
@@ -205,8 +218,18 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         raise InputError(f"a face holds a vertex index outside [0, {len(v)})")
     if not np.isfinite(v[np.unique(f)]).all():
         raise InputError("a vertex used by a face is not finite")
-    p = reference_point(v[np.unique(f)]) if reference is None else np.asarray(reference, float).reshape(3)
+    if reference is not None:
+        r = np.asarray(reference, dtype=np.float64)
+        if r.shape != (3,) or not np.isfinite(r).all():
+            raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
+    # every integral is taken about the box center p (one apex for all the pieces: the
+    # weighted chain is closed only as a whole), then moved to the reference exactly
+    p = reference_point(v[np.unique(f)])
     defects = []
+    # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
+    # repeated copies of faces are recognised as one face with a multiplicity
+    v, inv = np.unique(v[np.unique(f)], axis=0, return_inverse=True)
+    f = inv.ravel()[np.searchsorted(np.unique(f), f)]
     f, mult = dedupe_faces(f)
     n_dup = int((mult > 1).sum())
     if n_dup:
@@ -235,11 +258,10 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     for sgn in (1, -1):
         sel = np.flatnonzero(weights == sgn)
         if len(sel):
-            dv, df, ds, _ = solid_integrals(V2, F2[sel], reference=p)
+            dv, df, ds = _face_sums(V2, F2[sel], p)
             vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
-    _flag_windings(wf, M2, pieces.uncut, defects)
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
     amb = 0.0
     if len(caps.apex):
@@ -252,21 +274,48 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     deadline = None if time_budget is None else t0 + time_budget
 
     def good_enough(val, extra):
-        return _relative_ok(vol + val[0], first + val[1], second + val[2], p,
+        return _relative_ok(vol + val[0], first + val[1], second + val[2],
                             bv + extra[0], bf + extra[1], bs + extra[2], tol)
 
     rv, rf, rs, ev, ef, es, info = pieces.refine(good_enough, max_pieces, max_depth, deadline)
     vol, first, second = vol + rv, first + rf, second + rs
     bv, bf, bs = bv + ev, bf + ef, bs + es
     stats.update(info)
-    stats["seconds"] = time.perf_counter() - t0
-    res = RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), False, tol,
-                       tuple(defects), stats)
-    ok = all(x <= tol for x in res.relative_bounds.values())
+    if pieces.w_max >= 2:
+        defects.append("regions of winding number >= 2: overlapping shells or repeated faces (counted once: union)")
+    if pieces.w_min <= -1:
+        defects.append("regions of negative winding number: inside-out shells outside the solid (counted as empty)")
+    der = derived_bounds(vol, first, second, bv, bf, bs)
+    ok = all(x <= tol for x in der["relative"].values())
     if not ok:
-        defects.append(f"the error bound did not reach tol={tol:g} within the budget: {res.relative_bounds}")
+        defects.append(f"the error bound did not reach tol={tol:g} within the budget: "
+                       + ", ".join(f"{k} {x:.3g}" for k, x in der["relative"].items()))
+    if reference is not None:
+        vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
+        p = r
+    stats["seconds"] = time.perf_counter() - t0
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
-                        tuple(defects), stats)
+                        tuple(defects), stats, der)
+
+
+def _face_sums(V, F, p, chunk=65536):
+    """Signed-tetrahedron integrals (apex p) summed over faces, in chunks (bounded memory)."""
+    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
+    ones = np.ones(min(chunk, len(F)))
+    for s in range(0, len(F), chunk):
+        fc = F[s:s + chunk]
+        dv, df, ds = tetra_sums(V[fc], p, ones[:len(fc)])
+        vol, first, second = vol + dv, first + df, second + ds
+    return vol, first, second
+
+
+def _moved(vol, first, second, bv, bf, bs, d):
+    """Integrals and bounds about p moved to r = p - d: ``x - r = (x - p) + d`` (exact identities)."""
+    Fd = np.multiply.outer(first, d)
+    ad = np.abs(d)
+    bFd = np.multiply.outer(bf, ad)
+    return (vol, first + vol * d, second + Fd + Fd.T + vol * np.multiply.outer(d, d),
+            bv, bf + bv * ad, bs + bFd + bFd.T + bv * np.multiply.outer(ad, ad))
 
 
 def _all_winding(kern):
@@ -276,16 +325,5 @@ def _all_winding(kern):
     return winding
 
 
-def _relative_ok(vol, first, second, p, bv, bf, bs, tol):
-    r = RobustResult(float(vol), first, second, p, float(bv), bf, bs, 0.0, False, tol)
-    return all(x <= tol for x in r.relative_bounds.values())
-
-
-def _flag_windings(wf, mult, uncut, defects):
-    """Note regions of winding number > 1 (overlaps) or < 0 (inside-out shells) seen from patches."""
-    front = wf[uncut]
-    back = front + mult[uncut]
-    if (np.maximum(front, back) > 1.5).any():
-        defects.append("regions of winding number >= 2: overlapping shells (counted once: union)")
-    if (np.minimum(front, back) < -0.5).any():
-        defects.append("regions of negative winding number: inside-out shells (counted as empty)")
+def _relative_ok(vol, first, second, bv, bf, bs, tol):
+    return all(x <= tol for x in derived_bounds(vol, first, second, bv, bf, bs)["relative"].values())
