@@ -20,6 +20,20 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 
+def unique_rows(a: np.ndarray):
+    """``np.unique(a, axis=0, return_inverse=True)`` for small non-negative int rows, via 1-D keys (faster)."""
+    a = np.asarray(a, dtype=np.int64)
+    n = int(a.max()) + 1 if a.size else 1
+    if n ** a.shape[1] >= 2**62:
+        key, inv = np.unique(a, axis=0, return_inverse=True)
+        return key, inv.ravel()
+    k = np.zeros(len(a), np.int64)
+    for c in range(a.shape[1]):
+        k = k * n + a[:, c]
+    uk, first, inv = np.unique(k, return_index=True, return_inverse=True)
+    return a[first], inv.ravel()
+
+
 def dedupe_faces(faces: np.ndarray):
     """Merge faces with the same corner set: ``(faces (G, 3), mult (G,) float >= 1)``.
 
@@ -35,8 +49,8 @@ def dedupe_faces(faces: np.ndarray):
     # sorted triple is even, anything else odd
     even = ((f[:, 0] == s[:, 0]) & (f[:, 1] == s[:, 1])) | ((f[:, 1] == s[:, 0]) & (f[:, 2] == s[:, 1])) \
         | ((f[:, 2] == s[:, 0]) & (f[:, 0] == s[:, 1]))
-    key, inv = np.unique(s, axis=0, return_inverse=True)
-    net = np.bincount(inv.ravel(), weights=np.where(even, 1.0, -1.0), minlength=len(key))
+    key, inv = unique_rows(s)
+    net = np.bincount(inv, weights=np.where(even, 1.0, -1.0), minlength=len(key))
     keep = net != 0
     key, net = key[keep], net[keep]
     out = key.copy()
@@ -52,8 +66,8 @@ def open_boundary(faces: np.ndarray, mult: np.ndarray):
     lo = np.minimum(e[:, 0], e[:, 1])
     hi = np.maximum(e[:, 0], e[:, 1])
     sign = np.where(e[:, 0] == lo, 1.0, -1.0)
-    key, inv = np.unique(np.stack([lo, hi], 1), axis=0, return_inverse=True)
-    net = np.bincount(inv.ravel(), weights=sign * w, minlength=len(key))
+    key, inv = unique_rows(np.stack([lo, hi], 1))
+    net = np.bincount(inv, weights=sign * w, minlength=len(key))
     nz = np.abs(net) > 0.5
     key, net = key[nz], net[nz]
     edges = np.where((net > 0)[:, None], key, key[:, ::-1])
@@ -128,7 +142,8 @@ class Caps:
         return out
 
 
-def cap_region_bound(caps: Caps, vertices, threshold, winding, p, *, max_level=7, max_cells=200_000):
+def cap_region_bound(caps: Caps, vertices, threshold, winding, p, *, max_level=7, max_cells=200_000,
+                     enough=0.0):
     """Upper bounds of ``int |1|, |y_i|, |y_i y_j|`` (y = x - p) over {x : |w_cap(x)| >= threshold}.
 
     Adaptive octree over the box around the caps outside which ``|w_cap| < threshold``
@@ -136,7 +151,8 @@ def cap_region_bound(caps: Caps, vertices, threshold, winding, p, *, max_level=7
     free when ``|w_cap(center)| + rho |grad w_cap|max < threshold``, the gradient bounded
     by the Biot-Savart form of the cap boundary (the mesh boundary edges):
     ``|grad w_cap| <= sum_e m_e len_e / (4 pi d_e^2)``.  Cells left at the last level
-    count whole.  ``winding(points, cap_vertices, cap_faces, cap_mult)`` evaluates w_cap.
+    count whole; refinement also stops once their volume is at most ``enough``.
+    ``winding(points, cap_vertices, cap_faces, cap_mult, out)`` evaluates w_cap.
 
     Returns ``(volume bound, first (3,), second (3, 3), n_cells_left)``.
     """
@@ -176,7 +192,7 @@ def cap_region_bound(caps: Caps, vertices, threshold, winding, p, *, max_level=7
         busy = centers[~free]
         if len(busy) == 0:
             break
-        if level == max_level or 8 * len(busy) > max_cells:
+        if level == max_level or 8 * len(busy) > max_cells or len(busy) * (2 * half) ** 3 <= enough:
             cv_vol, cf1, cs2 = _box_bounds(busy, half, p)
             vol += cv_vol
             first += cf1

@@ -435,3 +435,90 @@ def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
                 ok = False
                 break
         clean[i] = ok
+
+
+def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
+    """Same as :func:`candidate_pairs`, with a uniform grid of cubes of side ``cell`` as broad phase.
+
+    Each face is registered in every cell its (eps-grown) box overlaps, unless that is more
+    than ``max_span`` cells: such big faces are tested against every face by boxes.  A
+    pair sharing several cells is examined only in the cell holding the low corner of the
+    intersection of their boxes, so each pair is reported once.
+    """
+    nf = F.shape[0]
+    cnt_e = 0
+    big = np.zeros(nf, np.bool_)
+    ilo = np.empty((nf, 3), np.int64)
+    ihi = np.empty((nf, 3), np.int64)
+    for f in range(nf):
+        span = 1
+        for c in range(3):
+            ilo[f, c] = int(math.floor((lo[f, c] - eps - origin[c]) / cell))
+            ihi[f, c] = int(math.floor((hi[f, c] + eps - origin[c]) / cell))
+            span *= ihi[f, c] - ilo[f, c] + 1
+        if span > max_span:
+            big[f] = True
+        else:
+            cnt_e += span
+    key = np.empty(cnt_e, np.int64)
+    who = np.empty(cnt_e, np.int64)
+    cx = np.empty((cnt_e, 3), np.int64)
+    e = 0
+    for f in range(nf):
+        if big[f]:
+            continue
+        for i in range(ilo[f, 0], ihi[f, 0] + 1):
+            for j in range(ilo[f, 1], ihi[f, 1] + 1):
+                for k in range(ilo[f, 2], ihi[f, 2] + 1):
+                    key[e] = ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & 0x3FFFFFFFFFFF
+                    who[e] = f
+                    cx[e, 0] = i
+                    cx[e, 1] = j
+                    cx[e, 2] = k
+                    e += 1
+    order = np.argsort(key)
+    cnt = 0
+    s = 0
+    while s < cnt_e:
+        t = s + 1
+        while t < cnt_e and key[order[t]] == key[order[s]]:
+            t += 1
+        for a in range(s, t):
+            ea = order[a]
+            f = who[ea]
+            for b in range(a + 1, t):
+                eb = order[b]
+                g = who[eb]
+                if g == f or cx[ea, 0] != cx[eb, 0] or cx[ea, 1] != cx[eb, 1] or cx[ea, 2] != cx[eb, 2]:
+                    continue
+                # report in the cell of the low corner of the boxes' intersection only
+                if (max(ilo[f, 0], ilo[g, 0]) != cx[ea, 0] or max(ilo[f, 1], ilo[g, 1]) != cx[ea, 1]
+                        or max(ilo[f, 2], ilo[g, 2]) != cx[ea, 2]):
+                    continue
+                if _boxes_apart(lo, hi, f, g, eps):
+                    continue
+                if faces_cut(V, F, f, g, eps, A, B, scratch):
+                    if cnt < out.shape[0]:
+                        out[cnt, 0] = min(f, g)
+                        out[cnt, 1] = max(f, g)
+                    cnt += 1
+        s = t
+    for f in range(nf):
+        if not big[f]:
+            continue
+        for g in range(nf):
+            if g == f or (big[g] and g < f) or _boxes_apart(lo, hi, f, g, eps):
+                continue
+            if faces_cut(V, F, f, g, eps, A, B, scratch):
+                if cnt < out.shape[0]:
+                    out[cnt, 0] = min(f, g)
+                    out[cnt, 1] = max(f, g)
+                cnt += 1
+    return cnt
+
+
+def _boxes_apart(lo, hi, f, g, eps):
+    for c in range(3):
+        if lo[g, c] > hi[f, c] + eps or lo[f, c] > hi[g, c] + eps:
+            return True
+    return False

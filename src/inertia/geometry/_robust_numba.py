@@ -34,4 +34,5 @@ def _compiled_namespace():
 _NS = _compiled_namespace()
 winding_rest = _NS["winding_rest"]
 candidate_pairs = _NS["candidate_pairs"]
+grid_pairs = _NS["grid_pairs"]
 pieces_clean = _NS["pieces_clean"]

@@ -63,13 +63,22 @@ class Pieces:
         tri = self.V[self.F]
         lo = np.ascontiguousarray(tri.min(1))
         hi = np.ascontiguousarray(tri.max(1))
-        order = np.argsort(lo[:, 0], kind="stable").astype(np.int64)
         A, B, scratch = np.empty((3, 3)), np.empty((3, 3)), np.empty(8)
+        # grid cell: twice the median box extent of a face (most faces then sit in 1-8 cells)
+        ext = (hi - lo).max(1)
+        cell = 2.0 * float(np.median(ext)) if len(ext) else 1.0
+        if not cell > 0:
+            cell = float(ext.max()) or 1.0
+        origin = lo.min(0) if len(lo) else np.zeros(3)
         out = np.empty((4 * len(self.F) + 16, 2), np.int64)
-        n = self.kern.candidate_pairs(self.V, self.F, order, lo, hi, self.eps, A, B, scratch, out)
+
+        def run(out):
+            return self.kern.grid_pairs(self.V, self.F, lo, hi, origin, cell, 64, self.eps, A, B, scratch, out)
+
+        n = run(out)
         if n > len(out):
             out = np.empty((n, 2), np.int64)
-            self.kern.candidate_pairs(self.V, self.F, order, lo, hi, self.eps, A, B, scratch, out)
+            run(out)
         pairs = out[:n]
         both = np.concatenate([pairs, pairs[:, ::-1]])
         both = both[np.lexsort((both[:, 1], both[:, 0]))]

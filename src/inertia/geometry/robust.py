@@ -265,9 +265,11 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
     amb = 0.0
     if len(caps.apex):
-        amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p)[0]
+        # an indicator, not an error: a coarse octree is enough
+        amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p, max_level=4, max_cells=20_000)[0]
         if not (len(caps.apex) == 1 and caps.planar_simple[0]):
-            cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p)
+            cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p,
+                                                  enough=0.25 * tol * abs(vol))
             bv, bf, bs = bv + cv, bf + cf1, bs + cs2
             stats["cap_cells_left"] = left
     # 3. cut faces and uncertain patches: refine
