@@ -16,14 +16,14 @@ import numba as nb
 
 from . import _robust_kernels as _k
 
-_JIT = dict(cache=False, nogil=True, boundscheck=False)
+_JIT = dict(cache=True, nogil=True, boundscheck=False)
 
 
 def _compiled_namespace():
     path = _k.__file__
     with open(path, encoding="utf-8") as fh:
         code = compile(fh.read(), path, "exec")
-    ns = {"__name__": __name__ + "._kernels", "__file__": path}
+    ns = {"__name__": __name__, "__file__": path}
     exec(code, ns)
     for name, obj in list(ns.items()):
         if isinstance(obj, types.FunctionType) and obj.__module__ == ns["__name__"]:
