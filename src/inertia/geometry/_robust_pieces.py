@@ -113,7 +113,7 @@ class Pieces:
         cnt = np.diff(np.r_[start, len(ks)])
         s2 = start[cnt == 2]
         f1, f2 = fs[s2], fs[s2 + 1]
-        ok = (fwd[s2] != fwd[s2 + 1]) & uncut[f1] & uncut[f2] & (self.M[f1] == 1) & (self.M[f2] == 1)
+        ok = (fwd[s2] != fwd[s2 + 1]) & uncut[f1] & uncut[f2] & (self.M[f1] == self.M[f2])
         g = coo_matrix((np.ones(int(ok.sum())), (f1[ok], f2[ok])), shape=(nf, nf))
         self.n_patches_all, lab = connected_components(g, directed=False)
         tri = self.V[F]
@@ -135,6 +135,44 @@ class Pieces:
         return weights, wf, int(uncertain.sum())
 
     # ------------------------------------------------------------------ refinement
+    def _piece_windings(self, cen, own):
+        """Front windings at piece centroids: by crossings from a reference point on the same
+        face (:func:`._robust_kernels.crossing_windings`), the full sum where that is uncertain."""
+        k = np.zeros(len(cen))
+        good = np.zeros(len(cen), bool)
+        if not hasattr(self, "ref_w"):
+            self.ref_pt = np.zeros((len(self.F), 3))
+            self.ref_w = np.zeros(len(self.F))
+            self.has_ref = np.zeros(len(self.F), bool)
+        # one full evaluation for each face without a reference point yet
+        need = np.flatnonzero(~self.has_ref[own])
+        if len(need):
+            _, first = np.unique(own[need], return_index=True)
+            sel = need[first]
+            ks, gs = self._winding_front(cen[sel], own[sel])
+            k[sel], good[sel] = ks, gs
+            ok = sel[gs]
+            self.ref_pt[own[ok]] = cen[ok]
+            self.ref_w[own[ok]] = ks[gs]
+            self.has_ref[own[ok]] = True
+            done = np.zeros(len(cen), bool)
+            done[sel] = True
+        else:
+            done = np.zeros(len(cen), bool)
+        rest = np.flatnonzero(~done & self.has_ref[own])
+        if len(rest):
+            w = np.empty(len(rest))
+            okc = np.empty(len(rest), np.bool_)
+            self.kern.crossing_windings(np.ascontiguousarray(cen[rest]), np.ascontiguousarray(own[rest]),
+                                        self.ref_pt, self.ref_w, self.cut_ptr, self.cut_idx, self.V, self.F,
+                                        self.M, 1e-9, w, okc)
+            k[rest[okc]], good[rest[okc]] = w[okc], True
+            done[rest[okc]] = True
+        left = np.flatnonzero(~done)
+        if len(left):
+            k[left], good[left] = self._winding_front(cen[left], own[left])
+        return k, good
+
     def refine(self, good_enough, max_pieces, max_depth, deadline):
         """Split the faces to refine 1 -> 4 until ``good_enough(bounds)`` or a budget ends.
 
@@ -154,7 +192,7 @@ class Pieces:
             self.kern.pieces_clean(np.ascontiguousarray(P), owner, self.cut_ptr, self.cut_idx, self.V, self.F,
                                    self.eps, B, scratch, clean)
             idx = np.flatnonzero(clean)
-            k, good = self._winding_front(P[idx].mean(1), owner[idx])
+            k, good = self._piece_windings(P[idx].mean(1), owner[idx])
             done = idx[good]
             clean_n += len(done)
             if len(done):

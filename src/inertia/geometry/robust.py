@@ -24,7 +24,7 @@ Method (exact where the mesh is clean, bounded where it is not)
    exact signed-tetrahedron integrals (:mod:`.integrals`) of the faces with these
    weights gives the integrals over Omega' exactly.
 3. *Where the weight is constant.*  On a face that no other face cuts, w_f is constant;
-   it is the same on neighbours across a manifold, consistently wound edge, so it is
+   it is the same on neighbours across a manifold, consistently wound edge (equal multiplicities), so it is
    evaluated once per connected patch: ``w_f = W_rest(centroid) - m/2``, W_rest the
    winding number of every other face (Van Oosterom-Strackee solid angles), which must
    then be within 1e-3 of an integer (else the patch is treated as cut).
