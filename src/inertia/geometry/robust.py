@@ -222,14 +222,15 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         r = np.asarray(reference, dtype=np.float64)
         if r.shape != (3,) or not np.isfinite(r).all():
             raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
-    # every integral is taken about the box center p (one apex for all the pieces: the
-    # weighted chain is closed only as a whole), then moved to the reference exactly
-    p = reference_point(v[np.unique(f)])
     defects = []
     # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
     # repeated copies of faces are recognised as one face with a multiplicity
-    v, inv = np.unique(v[np.unique(f)], axis=0, return_inverse=True)
-    f = inv.ravel()[np.searchsorted(np.unique(f), f)]
+    used = np.unique(f)
+    v, inv = _weld_exact(v[used])
+    f = inv[np.searchsorted(used, f)]
+    # every integral is taken about the box center p (one apex for all the pieces: the
+    # weighted chain is closed only as a whole), then moved to the reference exactly
+    p = reference_point(v)
     f, mult = dedupe_faces(f)
     n_dup = int((mult > 1).sum())
     if n_dup:
@@ -298,6 +299,16 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     stats["seconds"] = time.perf_counter() - t0
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
                         tuple(defects), stats, der)
+
+
+def _weld_exact(v):
+    """``np.unique(v, axis=0, return_inverse=True)`` for float rows, by one lexsort (faster)."""
+    o = np.lexsort((v[:, 2], v[:, 1], v[:, 0]))
+    s = v[o]
+    new = np.r_[True, np.any(s[1:] != s[:-1], axis=1)]
+    inv = np.empty(len(v), np.int64)
+    inv[o] = np.cumsum(new) - 1
+    return s[new], inv
 
 
 def _face_sums(V, F, p, chunk=65536):
