@@ -9,7 +9,6 @@ overlapping and crossing shells, all under random rigid motions.
 from __future__ import annotations
 
 import itertools
-import math
 import time
 
 import numpy as np

@@ -393,34 +393,6 @@ def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
     return c1 > ANGLE_TOL * ln * ld * l1 and c2 > ANGLE_TOL * ln * ld * l2
 
 
-def candidate_pairs(V, F, order, lo, hi, eps, A, B, scratch, out):
-    """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other.
-
-    Sweep and prune along x (``order`` sorts faces by ``lo[:, 0]``), then the box test in
-    y and z, then :func:`faces_cut`.  Writes up to ``len(out)`` pairs into ``out``
-    (K, 2) and returns how many there are in all (call again with more room if larger).
-    """
-    n = order.shape[0]
-    cnt = 0
-    for ii in range(n):
-        f = order[ii]
-        xf = hi[f, 0] + eps
-        for jj in range(ii + 1, n):
-            g = order[jj]
-            if lo[g, 0] > xf:
-                break
-            if lo[g, 1] > hi[f, 1] + eps or lo[f, 1] > hi[g, 1] + eps:
-                continue
-            if lo[g, 2] > hi[f, 2] + eps or lo[f, 2] > hi[g, 2] + eps:
-                continue
-            if faces_cut(V, F, f, g, eps, A, B, scratch):
-                if cnt < out.shape[0]:
-                    out[cnt, 0] = min(f, g)
-                    out[cnt, 1] = max(f, g)
-                cnt += 1
-    return cnt
-
-
 def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
     """``clean[i]``: piece P[i] (3, 3) of face ``owner[i]`` meets none of that face's cutters.
 
@@ -438,7 +410,10 @@ def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
 
 
 def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
-    """Same as :func:`candidate_pairs`, with a uniform grid of cubes of side ``cell`` as broad phase.
+    """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other (:func:`faces_cut`).
+
+    Broad phase: a uniform grid of cubes of side ``cell``.  Writes up to ``len(out)`` pairs into
+    ``out`` (K, 2) and returns how many there are in all (call again with more room if larger).
 
     Each face is registered in every cell its (eps-grown) box overlaps, unless that is more
     than ``max_span`` cells: such big faces are tested against every face by boxes.  A

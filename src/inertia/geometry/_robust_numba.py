@@ -33,7 +33,6 @@ def _compiled_namespace():
 
 _NS = _compiled_namespace()
 winding_rest = _NS["winding_rest"]
-candidate_pairs = _NS["candidate_pairs"]
 grid_pairs = _NS["grid_pairs"]
 crossing_windings = _NS["crossing_windings"]
 pieces_clean = _NS["pieces_clean"]

@@ -28,12 +28,14 @@ Method (exact where the mesh is clean, bounded where it is not)
    evaluated once per connected patch: ``w_f = W_rest(centroid) - m/2``, W_rest the
    winding number of every other face (Van Oosterom-Strackee solid angles), which must
    then be within 1e-3 of an integer (else the patch is treated as cut).
-4. *Cut faces* (found by a sweep-and-prune and conservative triangle-triangle tests,
+4. *Cut faces* (found by a uniform-grid broad phase and conservative triangle-triangle tests,
    shared corners and edges handled exactly) are split 1 -> 4 recursively.  A piece no
    cutter touches gets its own weight as in 3; a piece still touched at the last level
    is *unresolved*: its weight lies in [0, 1] (or [-1, 0]), it enters with 1/2 (-1/2) and
    its bound is half its absolute tetrahedron integrals
    (``|int y_i| <= |V_tet| max |y_i|`` and so on, y = x - p).
+   The winding of a piece is counted from a reference point on the same face by the
+   signed crossings of its cutters (the full sum only where a crossing is borderline).
    Refinement stops when the bound meets ``tol`` or the piece budget is spent.
 
 Error bound: the unresolved pieces (first order in the piece size, but only along the
@@ -211,68 +213,39 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     kern = _winding_backend(backend)
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
-    v, f = validate_inputs(vertices, faces)
-    if len(f) == 0:
-        raise InputError("faces is empty: a mesh needs at least one triangle")
-    if f.min() < 0 or f.max() >= len(v):
-        raise InputError(f"a face holds a vertex index outside [0, {len(v)})")
-    if not np.isfinite(v[np.unique(f)]).all():
-        raise InputError("a vertex used by a face is not finite")
-    if reference is not None:
-        r = np.asarray(reference, dtype=np.float64)
-        if r.shape != (3,) or not np.isfinite(r).all():
-            raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
+    v, f, mult, r = _prepared(vertices, faces, reference)
     defects = []
-    # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
-    # repeated copies of faces are recognised as one face with a multiplicity
-    used = np.unique(f)
-    v, inv = _weld_exact(v[used])
-    f = inv[np.searchsorted(used, f)]
+    if (mult > 1).any():
+        defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
+                       "(counted with multiplicity)")
     # every integral is taken about the box center p (one apex for all the pieces: the
     # weighted chain is closed only as a whole), then moved to the reference exactly
     p = reference_point(v)
-    f, mult = dedupe_faces(f)
-    n_dup = int((mult > 1).sum())
-    if n_dup:
-        defects.append(f"{n_dup} faces listed more than once with the same orientation (counted with multiplicity)")
-    diag = float(np.linalg.norm(v.max(0) - v.min(0)))
-    eps = EPS_REL * max(diag, 1e-300)
+    eps = EPS_REL * max(float(np.linalg.norm(v.max(0) - v.min(0))), 1e-300)
     caps = Caps(v, f, mult, eps)
-    V2 = np.concatenate([v, caps.apex])
-    F2 = np.concatenate([f, caps.faces])
-    M2 = np.concatenate([mult, caps.mult])
-    n_mesh = len(f)
     stats = {"faces": int(len(faces)), "boundary_edges": int(len(caps.edges)), "caps": int(len(caps.apex))}
     if len(caps.edges):
         defects.append(f"open or inconsistently wound boundary: {len(caps.edges)} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
-    pieces = Pieces(V2, F2, M2, p, kern, eps)
-    stats.update(pieces.find_cuts(n_mesh))
+    pieces = Pieces(np.concatenate([v, caps.apex]), np.concatenate([f, caps.faces]),
+                    np.concatenate([mult, caps.mult]), p, kern, eps)
+    stats.update(pieces.find_cuts(len(f)))
     if pieces.n_cut_faces:
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
                        f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping shells")
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    bv, bf, bs = 0.0, np.zeros(3), np.zeros((3, 3))
     # 1. uncut faces: one winding evaluation per patch, then exact sums
-    weights, wf, n_uncertain = pieces.patch_weights()
+    weights, _, n_uncertain = pieces.patch_weights()
     stats["patches"] = pieces.n_patches
+    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
     for sgn in (1, -1):
         sel = np.flatnonzero(weights == sgn)
         if len(sel):
-            dv, df, ds = _face_sums(V2, F2[sel], p)
+            dv, df, ds = _face_sums(pieces.V, pieces.F[sel], p)
             vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
-    amb = 0.0
-    if len(caps.apex):
-        # an indicator, not an error: a coarse octree is enough
-        amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p, max_level=4, max_cells=20_000)[0]
-        if not (len(caps.apex) == 1 and caps.planar_simple[0]):
-            cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p,
-                                                  enough=0.25 * tol * abs(vol))
-            bv, bf, bs = bv + cv, bf + cf1, bs + cs2
-            stats["cap_cells_left"] = left
+    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, 0.25 * tol * abs(vol), stats)
     # 3. cut faces and uncertain patches: refine
     deadline = None if time_budget is None else t0 + time_budget
 
@@ -293,12 +266,50 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     if not ok:
         defects.append(f"the error bound did not reach tol={tol:g} within the budget: "
                        + ", ".join(f"{k} {x:.3g}" for k, x in der["relative"].items()))
-    if reference is not None:
+    if r is not None:
         vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
         p = r
     stats["seconds"] = time.perf_counter() - t0
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
                         tuple(defects), stats, der)
+
+
+def _prepared(vertices, faces, reference):
+    """Validated ``(vertices, faces, multiplicities, reference or None)``, exact duplicates merged."""
+    v, f = validate_inputs(vertices, faces)
+    if len(f) == 0:
+        raise InputError("faces is empty: a mesh needs at least one triangle")
+    if f.min() < 0 or f.max() >= len(v):
+        raise InputError(f"a face holds a vertex index outside [0, {len(v)})")
+    used = np.unique(f)
+    if not np.isfinite(v[used]).all():
+        raise InputError("a vertex used by a face is not finite")
+    r = None
+    if reference is not None:
+        r = np.asarray(reference, dtype=np.float64)
+        if r.shape != (3,) or not np.isfinite(r).all():
+            raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
+    # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
+    # repeated copies of faces are recognised as one face with a multiplicity
+    v, inv = _weld_exact(v[used])
+    f, mult = dedupe_faces(inv[np.searchsorted(used, f)])
+    if len(f) == 0:
+        raise InputError("every face is degenerate or cancelled by an opposite copy: nothing to integrate")
+    return v, f, mult, r
+
+
+def _cap_terms(caps, v, kern, p, enough, stats):
+    """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region."""
+    zero = (0.0, np.zeros(3), np.zeros((3, 3)))
+    if not len(caps.apex):
+        return 0.0, zero
+    # an indicator, not an error: a coarse octree is enough
+    amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p, max_level=4, max_cells=20_000)[0]
+    if len(caps.apex) == 1 and caps.planar_simple[0]:
+        return amb, zero
+    cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p, enough=enough)
+    stats["cap_cells_left"] = left
+    return amb, (cv, cf1, cs2)
 
 
 def _weld_exact(v):
