@@ -30,7 +30,7 @@ def unique_rows(a: np.ndarray):
     k = np.zeros(len(a), np.int64)
     for c in range(a.shape[1]):
         k = k * n + a[:, c]
-    uk, first, inv = np.unique(k, return_index=True, return_inverse=True)
+    _, first, inv = np.unique(k, return_index=True, return_inverse=True)
     return a[first], inv.ravel()
 
 

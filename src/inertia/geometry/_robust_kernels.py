@@ -428,8 +428,8 @@ def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
     for f in range(nf):
         span = 1
         for c in range(3):
-            ilo[f, c] = int(math.floor((lo[f, c] - eps - origin[c]) / cell))
-            ihi[f, c] = int(math.floor((hi[f, c] + eps - origin[c]) / cell))
+            ilo[f, c] = math.floor((lo[f, c] - eps - origin[c]) / cell)
+            ihi[f, c] = math.floor((hi[f, c] + eps - origin[c]) / cell)
             span *= ihi[f, c] - ilo[f, c] + 1
         if span > max_span:
             big[f] = True

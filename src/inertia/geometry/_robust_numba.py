@@ -16,7 +16,7 @@ import numba as nb
 
 from . import _robust_kernels as _k
 
-_JIT = dict(cache=True, nogil=True, boundscheck=False)
+_JIT = {"cache": True, "nogil": True, "boundscheck": False}
 
 
 def _compiled_namespace():
@@ -24,7 +24,7 @@ def _compiled_namespace():
     with open(path, encoding="utf-8") as fh:
         code = compile(fh.read(), path, "exec")
     ns = {"__name__": __name__, "__file__": path}
-    exec(code, ns)
+    exec(code, ns)  # noqa: S102 (our own kernel file, see the module docstring)
     for name, obj in list(ns.items()):
         if isinstance(obj, types.FunctionType) and obj.__module__ == ns["__name__"]:
             ns[name] = nb.njit(**_JIT)(obj)

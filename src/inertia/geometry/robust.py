@@ -59,11 +59,11 @@ import numpy as np
 
 from .._core.errors import InputError
 from ._robust_caps import Caps, cap_region_bound, dedupe_faces
+from ._robust_pieces import Pieces, tetra_sums
 from .checks import validate_inputs
 from .integrals import reference_point
-from ._robust_pieces import Pieces, tetra_sums
 
-__all__ = ["RobustResult", "robust_integrals", "AMBIGUOUS_LOW", "AMBIGUOUS_HIGH"]
+__all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", "robust_integrals"]
 
 #: Winding numbers strictly between these count as ambiguous.
 AMBIGUOUS_LOW, AMBIGUOUS_HIGH = 0.1, 0.9
@@ -223,7 +223,7 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     p = reference_point(v)
     eps = EPS_REL * max(float(np.linalg.norm(v.max(0) - v.min(0))), 1e-300)
     caps = Caps(v, f, mult, eps)
-    stats = {"faces": int(len(faces)), "boundary_edges": int(len(caps.edges)), "caps": int(len(caps.apex))}
+    stats = {"faces": len(faces), "boundary_edges": len(caps.edges), "caps": len(caps.apex)}
     if len(caps.edges):
         defects.append(f"open or inconsistently wound boundary: {len(caps.edges)} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
