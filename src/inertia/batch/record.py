@@ -46,11 +46,12 @@ COLUMN_DOCS = {
     "winding_consistent": "shared edges traversed in opposite directions",
     "elapsed_s": "seconds to read and process the file",
     "options": "every option that shapes the row (units, density or mass as given, shell, fix_orientation, "
-               "on_defect, inertia version); with path, size_bytes and mtime_ns: the resume key",
+               "on_defect, robust, inertia version); with path, size_bytes and mtime_ns: the resume key",
 }
 
 
-def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> str:
+def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
+                robust: bool = False) -> str:
     """The ``options`` column: ``name=value`` pairs of everything that changes a row.
 
     A resumed run keeps an earlier row only when this key is the same (a run in other
@@ -62,7 +63,8 @@ def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False,
         return "" if x is None else repr(float(x))
 
     return (f"units={job.units} density={num(job.density)} mass={num(job.mass)} shell={int(bool(shell))} "
-            f"fix_orientation={int(bool(fix_orientation))} on_defect={on_defect} version={__version__}")
+            f"fix_orientation={int(bool(fix_orientation))} on_defect={on_defect} robust={int(bool(robust))} "
+            f"version={__version__}")
 
 
 def _empty_row(job: Job) -> dict:
@@ -98,7 +100,8 @@ def _reraise_interrupt(exc: BaseException) -> None:
         cur = cur.__cause__ or cur.__context__
 
 
-def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise") -> dict:
+def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
+                 robust: bool = False) -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
     from .._core.errors import InertiaError
     from ..geometry.mesh_io import load_mesh
@@ -106,7 +109,8 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
 
     t0 = time.perf_counter()
     row = _empty_row(job)
-    row["options"] = options_key(job, shell=shell, fix_orientation=fix_orientation, on_defect=on_defect)
+    row["options"] = options_key(job, shell=shell, fix_orientation=fix_orientation, on_defect=on_defect,
+                                 robust=robust)
     density, mass = job.density, job.mass
     if density is None and mass is None:
         density = DEFAULT_DENSITY
@@ -116,7 +120,7 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # accepted defects are recorded in props.warnings
             props, report = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                                             fix_orientation=fix_orientation, on_defect=on_defect,
+                                             fix_orientation=fix_orientation, on_defect=on_defect, robust=robust,
                                              frame="body", name=job.path, stacklevel=2, with_report=True,
                                              welded=True)
         moments, axes = props.principal()

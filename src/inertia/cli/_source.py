@@ -91,6 +91,11 @@ def add_source_arguments(parser, *, source_required: bool = True) -> None:
     m.add_argument("--accept-defects", action="store_true",
                    help="mesh files: compute even when the mesh is open/defective; the result carries "
                         "warnings (the numbers may be meaningless)")
+    m.add_argument("--robust", action="store_true",
+                   help="mesh files: for an open, overlapping or self-intersecting solid, integrate the points "
+                        "of generalised winding number >= 1/2, with an error bound (docs/robust.md)")
+    m.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
+                   help="with --robust: the relative error bound to reach (default 1e-3)")
 
 
 class SourceInfo:
@@ -265,6 +270,8 @@ def load_source(args, *, source: str | None = None):
     shell = bool(getattr(args, "shell", False))
     fix = bool(getattr(args, "fix_orientation", False))
     accept = bool(getattr(args, "accept_defects", False))
+    robust = bool(getattr(args, "robust", False))
+    robust_tol = float(getattr(args, "robust_tol", 1e-3) or 1e-3)
     kind = classify_source(text)
     # a spherical_shell without inner radius is a thin shell: its density is per area
     thin_sphere = kind[0] == "primitive" and kind[1].name == "spherical_shell" and len(kind[2]) == 1
@@ -275,11 +282,12 @@ def load_source(args, *, source: str | None = None):
     command = f"inertia {getattr(args, 'command', None) or ''}".rstrip()
     if kind[0] == "mesh":
         props, stats = _load_mesh(kind[1], density=density, mass=mass, units=units, shell=shell,
-                                  fix_orientation=fix, accept_defects=accept, command=command)
+                                  fix_orientation=fix, accept_defects=accept, command=command,
+                                  robust=robust, robust_tol=robust_tol)
         info = SourceInfo(source=text, kind="mesh", units=units, density=0.0, density_source=dsrc, shell=shell)
         info.mesh = stats
     else:
-        for flag, on in (("--fix-orientation", fix), ("--accept-defects", accept)):
+        for flag, on in (("--fix-orientation", fix), ("--accept-defects", accept), ("--robust", robust)):
             if on:
                 raise _input_error(f"{flag} applies to mesh files only, not to the primitive {text!r}")
         spec, numbers = kind[1], kind[2]
@@ -318,7 +326,7 @@ def _effective_density(props, density, mass, shell) -> float:
 
 #: library keyword -> command-line option, to turn the library's advice into CLI advice
 _API_TO_CLI = (("fix_orientation=True", "--fix-orientation"), ("on_defect='warn'", "--accept-defects"),
-               ('on_defect="warn"', "--accept-defects"), ("shell=True", "--shell"))
+               ('on_defect="warn"', "--accept-defects"), ("shell=True", "--shell"), ("robust=True", "--robust"))
 
 
 def cli_text(message: str) -> str:
@@ -328,7 +336,8 @@ def cli_text(message: str) -> str:
     return message
 
 
-def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_defects, command="inertia"):
+def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_defects, command="inertia",
+               robust=False, robust_tol=1e-3):
     import sys
     import warnings
 
@@ -343,7 +352,8 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
             props = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                                             fix_orientation=fix_orientation,
                                             on_defect="warn" if accept_defects else "raise",
-                                            frame="body", name=str(path), stacklevel=2, welded=True)
+                                            frame="body", name=str(path), stacklevel=2, welded=True,
+                                            robust=robust, robust_tol=robust_tol)
     except InertiaError as exc:
         msg = cli_text(str(exc).rstrip())
         if os.path.basename(path) not in msg:

@@ -52,6 +52,9 @@ def register(sub) -> None:
     p.add_argument("--fix-orientation", action="store_true", help="repair inward or inconsistent winding")
     p.add_argument("--accept-defects", action="store_true",
                    help="accept defective meshes with warnings instead of error rows")
+    p.add_argument("--robust", action="store_true",
+                   help="open, overlapping or self-intersecting solids: the robust solid with an error bound "
+                        "(a warning row)")
     p.add_argument("--scheduler", metavar="ADDR",
                    help="tcp://HOST:PORT of a Dask scheduler, or 'synchronous' (default: a local cluster)")
     p.add_argument("--dask-config", metavar="FILE", help="YAML Dask config (its scheduler-address is used)")
@@ -84,7 +87,8 @@ def run(args) -> int:
         scheduler = scheduler or _scheduler_from_config(args.dask_config)
     summary = run_batch(args.sources, args.output, fmt=args.format, density=args.density, mass=args.mass,
                         units=args.units, shell=args.shell, fix_orientation=args.fix_orientation,
-                        on_defect="warn" if args.accept_defects else "raise", scheduler=scheduler,
+                        on_defect="warn" if args.accept_defects else "raise", robust=args.robust,
+                        scheduler=scheduler,
                         n_workers=args.workers, chunk_files=args.chunk_files, resume=args.resume,
                         overwrite=args.force, progress=not args.no_progress)
     sys.stderr.write("\n".join(summary.lines()) + "\n")

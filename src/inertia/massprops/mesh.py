@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import warnings
 
+import numpy as np
+
 from .._core.errors import InputError, MeshDefectWarning, MeshError
 from .._core.validation import resolve_mass
 from ..geometry.checks import analyse_mesh
@@ -65,6 +67,9 @@ def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
         opts.append("fix_orientation=True to re-orient the faces consistently and outward")
     if codes & {"open_edges", "non_manifold_edges"} and not shell:
         opts.append("shell=True to treat the surface as a thin shell (density in kg/m^2; open surfaces allowed)")
+    if not shell:
+        opts.append("robust=True for the solid the surface most nearly bounds (generalised winding number), "
+                    "with an error bound")
     opts.append("on_defect='warn' to accept the result with the defects recorded as warnings")
     how = []
     if "open_edges" in codes:
@@ -94,7 +99,8 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
 
 
 def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
-                     stacklevel, with_report: bool = False, welded: bool = False):
+                     stacklevel, with_report: bool = False, welded: bool = False, robust: bool = False,
+                     robust_tol: float = 1e-3):
     """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
 
     ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
@@ -124,6 +130,10 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
         notes.append(f"{what}: fix_orientation flipped {n_flipped} of {len(f)} faces")
 
     errors = [d for d in report.errors if not (shell and d.code in _SOLID_ONLY)]
+    if errors and robust and not shell:
+        props = _robust_properties(v, f, errors, density=density, mass=mass, frame=frame, what=what,
+                                   tol=robust_tol, notes=notes, stacklevel=stacklevel + 1)
+        return (props, report) if with_report else props
     if errors and on_defect == "raise":
         raise _defect_error(what, errors, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
     for d in errors:  # on_defect == "warn": accepted on request, loudly
@@ -165,8 +175,37 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     return (props, report) if with_report else props
 
 
+def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, stacklevel):
+    """The solid {w >= 1/2} of an imperfect mesh (:func:`inertia.geometry.robust.robust_integrals`),
+    with its error bound and its defects recorded in the warnings."""
+    from ..geometry.robust import robust_integrals
+    from .properties import MassProperties
+
+    if not (tol > 0):
+        raise InputError(f"robust_tol must be positive, got {tol!r}")
+    res = robust_integrals(v, f, tol=tol)
+    volume = float(res.volume)
+    if not volume > 0:
+        raise MeshError(f"{what}: the robust solid (generalised winding number >= 1/2) is empty: the surface "
+                        f"encloses no volume ({'; '.join(res.defects) or 'no defect named'}).",
+                        code="non_positive_volume")
+    m, rho = resolve_mass(volume, density, mass, what=what)
+    com, inertia = central_inertia(volume, np.asarray(res.first, float), np.asarray(res.second, float),
+                                   np.asarray(res.reference, float), rho)
+    rel = {k: float(x) for k, x in res.relative_bounds.items()}
+    bounds = ", ".join(f"{k} {x:.2g}" for k, x in rel.items())
+    codes = ", ".join(sorted({d.code for d in errors}))
+    text = (f"{what}: robust solid for a mesh with {codes} (the points of generalised winding number >= 1/2"
+            f"{'; ' + '; '.join(res.defects) if res.defects else ''}); relative error bounds: {bounds}")
+    if not res.converged:
+        text += f"; NOT within robust_tol {tol:g} (the refinement budget ran out)"
+    warnings.warn(text, MeshDefectWarning, stacklevel=stacklevel)
+    return MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes) + (text,))
+
+
 def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fix_orientation=False,
-                    on_defect="raise", frame: str = "body", name: str | None = None):
+                    on_defect="raise", frame: str = "body", name: str | None = None, robust: bool = False,
+                    robust_tol: float = 1e-3):
     """Mass properties of a triangle mesh, checked for defects first.
 
     Parameters
@@ -191,6 +230,14 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
         either way.
     frame : str, name of the frame of ``vertices`` (bookkeeping).
     name : str, optional, how messages name the mesh (e.g. its file path).
+    robust : bool
+        Opt-in answer for an imperfect solid (open, non-manifold, inconsistently wound,
+        overlapping or self-intersecting): the solid is the set of points whose generalised
+        winding number is at least 1/2 (:func:`inertia.geometry.robust.robust_integrals`),
+        integrated with an error bound refined below ``robust_tol`` (relative, for the volume,
+        the COM and the inertia).  A warning names the defects and the bounds, which are also
+        in ``warnings``.  A closed, consistently wound mesh takes the exact path either way.
+    robust_tol : float, the relative bound to reach (default 1e-3).
 
     Returns
     -------
@@ -223,12 +270,12 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
     """
     return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
-                            stacklevel=3)
+                            stacklevel=3, robust=robust, robust_tol=robust_tol)
 
 
 def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
                          fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
-                         merge_rtol: float = MERGE_RTOL):
+                         merge_rtol: float = MERGE_RTOL, robust: bool = False, robust_tol: float = 1e-3):
     """Mass properties of the triangle mesh in a file (see :func:`inertia.geometry.mesh_io.load_mesh` and
     :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
 
@@ -246,4 +293,5 @@ def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", she
     # stacklevel 3: warnings point at the caller of mesh_file_properties
     return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
-                            name=str(path), stacklevel=3, welded=merge_rtol > 0)
+                            name=str(path), stacklevel=3, welded=merge_rtol > 0, robust=robust,
+                            robust_tol=robust_tol)

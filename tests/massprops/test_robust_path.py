@@ -1,0 +1,86 @@
+"""The opt-in robust path of the public calls (``robust=True``, ``--robust``): an imperfect
+solid gets a number with an error bound instead of a refusal.
+
+Truth: closed forms (the unit cube) and the exact kernel on the closed mesh before holes
+were punched into it; the bound must cover the true error.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+import inertia
+from inertia.errors import MeshDefectWarning, MeshError
+
+CUBE_V = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+CUBE_F = np.array([(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+                   (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+
+
+def test_an_open_cube_is_refused_by_default_and_the_refusal_offers_robust():
+    with pytest.raises(MeshError) as ei:
+        inertia.mesh_properties(CUBE_V, CUBE_F[:-2], density=1000.0)
+    assert ei.value.code == "open_edges" and "robust=True" in str(ei.value)
+
+
+def test_an_open_cube_gets_the_closed_cube_with_a_bound_and_a_warning():
+    with pytest.warns(MeshDefectWarning, match="robust solid for a mesh with open_edges"):
+        p = inertia.mesh_properties(CUBE_V, CUBE_F[:-2], density=1000.0, robust=True)
+    # closed form: m = rho a^3, COM at the centre, I = m a^2 / 6 on the diagonal
+    assert p.mass == pytest.approx(1000.0, rel=1e-12)
+    assert np.allclose(p.com, 0.5, atol=1e-12)
+    assert np.allclose(p.inertia_com, np.eye(3) * 1000.0 / 6, atol=1e-9)
+    assert any("relative error bounds" in w for w in p.warnings)
+
+
+def test_a_closed_mesh_takes_the_exact_path_bit_for_bit():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        a = inertia.mesh_properties(CUBE_V, CUBE_F, density=7.0, robust=True)
+    b = inertia.mesh_properties(CUBE_V, CUBE_F, density=7.0)
+    assert a.mass == b.mass and np.array_equal(a.inertia_com, b.inertia_com) and a.warnings == b.warnings == ()
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_holes_punched_in_a_sphere_stay_within_the_stated_bound(seed):
+    trimesh = pytest.importorskip("trimesh")
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
+    v, f = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+    truth = inertia.mesh_properties(v, f, density=1000.0)           # the closed polyhedron
+    rng = np.random.default_rng(seed)
+    holes = rng.choice(len(f), size=1 + seed, replace=False)
+    keep = np.setdiff1d(np.arange(len(f)), holes)
+    with pytest.warns(MeshDefectWarning) as rec:
+        p = inertia.mesh_properties(v, f[keep], density=1000.0, robust=True, robust_tol=1e-4)
+    (text,) = [str(w.message) for w in rec]
+    bounds = dict(re.findall(r"(volume|com|inertia) ([0-9.e+-]+)", text.split("relative error bounds: ")[1]))
+    assert abs(p.mass / truth.mass - 1) <= max(float(bounds["volume"]), 1e-12)
+    assert np.linalg.norm(p.inertia_com - truth.inertia_com) / np.linalg.norm(truth.inertia_com) <= max(
+        float(bounds["inertia"]), 1e-12)
+
+
+def test_cli_robust_turns_the_refusal_into_a_number_with_its_bound(tmp_path, capsys):
+    from inertia.cli.main import main
+
+    f = tmp_path / "open.obj"
+    f.write_text("".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in CUBE_V)
+                 + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in CUBE_F[:-2]))
+    assert main(["props", str(f)]) == 1
+    assert "--robust" in capsys.readouterr().err
+    assert main(["props", str(f), "--robust", "--format", "json"]) == 0
+    out, err = capsys.readouterr()
+    d = json.loads(out)
+    assert d["mass"] == pytest.approx(1000.0, rel=1e-12) and "relative error bounds" in err
+    assert any("robust solid" in w for w in d["warnings"])
+
+
+def test_robust_is_refused_for_primitives(capsys):
+    from inertia.cli.main import main
+
+    assert main(["props", "box:1,1,1", "--robust"]) == 1
+    assert "--robust applies to mesh files only" in capsys.readouterr().err
