@@ -43,6 +43,20 @@ def temp_beside(path) -> str:
     return tmp
 
 
+def replace_with_temp(tmp, path) -> None:
+    """Move the finished temporary ``tmp`` over ``path``, with the permissions a plainly
+    written file would have (those of the file it replaces, else 0666 less the umask; the
+    temporary's own are 0600)."""
+    path = os.fspath(path)
+    if os.path.exists(path):  # keep the permissions of a file being replaced
+        os.chmod(tmp, os.stat(path).st_mode & 0o7777)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+    os.replace(tmp, path)
+
+
 def write_bytes_atomic(path, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically (same-folder temp file + ``os.replace``)."""
     path = os.fspath(path)
@@ -53,13 +67,7 @@ def write_bytes_atomic(path, data: bytes) -> None:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
-        if os.path.exists(path):  # keep the permissions of a file being replaced
-            os.chmod(tmp, os.stat(path).st_mode & 0o7777)
-        else:
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
+        replace_with_temp(tmp, path)
     except BaseException:
         try:
             os.unlink(tmp)

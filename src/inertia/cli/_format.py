@@ -69,7 +69,13 @@ def fixed_formatter(values, digits: int = DIGITS):
     big = max(flat + [0.0])
     decimals = digits - 1 - (math.floor(math.log10(big)) if big > 0 else 0)
     decimals = min(max(decimals, 0), 12)
-    return lambda x: "n/a" if x is None or not math.isfinite(float(x)) else f"{float(x):.{decimals}f}"
+    def text(x):
+        if x is None or not math.isfinite(float(x)):
+            return "n/a"
+        s = f"{float(x):.{decimals}f}"
+        return s[1:] if s.startswith("-") and not s.strip("-0.") else s   # no "-0.000000"
+
+    return text
 
 
 def _flatten(v):

@@ -12,6 +12,8 @@ as for ``inertia props``; default there: metres and 1000 kg/m^3).
 
 from __future__ import annotations
 
+import math
+
 from . import _format as fmt
 
 #: where the report goes by default (relative to the working folder)
@@ -171,7 +173,8 @@ def _flip_dict(study) -> dict:
             "flip_interval": float(study.flip_interval), "flip_times": study.flip_times.tolist(),
             "flips_detected": study.detected_flips.tolist(),
             "integrators": {k: {"h": v["h"], "max_energy_error": float(v["energy_error"].max()),
-                                "max_momentum_error": float(v["momentum_error"].max())}
+                                "max_momentum_error": float(v["momentum_error"].max()),
+                                "max_attitude_error_rad": float(v["attitude_error"].max())}
                             for k, v in study.integrators.items()}}
 
 
@@ -183,9 +186,16 @@ def flip_lines(study) -> list[str]:
               f"  predicted       a flip every 2K(m)/lambda = {fmt.num(study.flip_interval)} s",
               f"  exact solution  flips at {', '.join(f'{x:.4f}' for x in study.detected_flips)} s "
               f"(predicted {', '.join(f'{x:.4f}' for x in study.flip_times[:len(study.detected_flips)])} s)"]
-    rows = [[name, fmt.num(v["h"]), f"{v['energy_error'].max():.2e}", f"{v['momentum_error'].max():.2e}"]
+    rows = [[name, fmt.num(v["h"]), f"{v['energy_error'].max():.2e}", f"{v['momentum_error'].max():.2e}",
+             f"{v['attitude_error'].max():.2e}"]
             for name, v in study.integrators.items()]
-    lines += fmt.table(["integrator", "h [s]", "max |dE/E|", "max |d|L|/|L||"], rows)
+    lines += fmt.table(["integrator", "h [s]", "max |dE/E|", "max |d|L|/|L||", "max attitude error [rad]"], rows)
+    from ..dynamics.flip_study import ANGLE_PER_STEP, MAX_STEPS
+
+    turn = max(v["h"] for v in study.integrators.values()) * math.hypot(*(float(x) for x in w))
+    if turn > ANGLE_PER_STEP * (1 + 1e-9):
+        lines.append(f"  note: {MAX_STEPS:,} steps cannot reach {ANGLE_PER_STEP} rad per step over this slow flip: "
+                     f"each step turns the body {turn:.2g} rad, and the attitude error shows what that costs")
     return lines
 
 

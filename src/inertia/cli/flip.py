@@ -138,7 +138,7 @@ def table_lines(r: dict, body) -> list:
         ("first flip at", _seconds(r["first_flip_time"])),
         ("polhode period", _seconds(r["period"])),
         ("m, 1 - m", f"{fmt.num(r['parameter_m'], 12)}, {fmt.num(r['one_minus_m'], 6)}"),
-        ("lambda", f"{fmt.num(r['rate_lambda'], 10)} 1/s"),
+        ("lambda", fmt.num(r["rate_lambda"], 10) + (" 1/s" if r["rate_lambda"] == r["rate_lambda"] else "")),
     ], indent=0)
     lines += fmt.heading(f"Steady spin about each principal axis at |omega| = {fmt.num(r['spin_rate'])} rad/s")
     rows = []
@@ -146,6 +146,6 @@ def table_lines(r: dict, body) -> list:
         lam = eig[1]
         text = (f"+-{fmt.num(abs(lam[0]))}" if lam[0] != 0 else
                 (f"+-{fmt.num(abs(lam[1]))} i" if lam[1] != 0 else "0"))
-        rows.append([str(j), fmt.num(r["moments"][j]), text, kind])
+        rows.append([str(j + 1), fmt.num(r["moments"][j]), text, kind])   # axes 1, 2, 3 as everywhere
     lines += fmt.table(["axis", "moment [kg m^2]", "eigenvalues [1/s] (and 0)", "stability"], rows, indent=0)
     return lines

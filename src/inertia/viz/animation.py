@@ -70,20 +70,21 @@ def write_animation(frames, path, *, fps: float = 12.0) -> dict:
         return {"file": path.name, "frames": len(frames), "duration_s": len(frames) * duration_ms / 1000}
     if path.suffix.lower() == ".mp4":
         import os
-        import tempfile
 
         import imageio_ffmpeg
 
+        from .._core.atomic import replace_with_temp, temp_beside
+
         h, w = frames.shape[1:3]
-        fd, tmp = tempfile.mkstemp(suffix=".mp4", dir=path.parent)
-        os.close(fd)
+        tmp = temp_beside(path)   # ffmpeg picks the container from the name: .tmp then -f mp4
         try:
-            writer = imageio_ffmpeg.write_frames(tmp, (w, h), fps=fps, macro_block_size=8, quality=7)
+            writer = imageio_ffmpeg.write_frames(tmp, (w, h), fps=fps, macro_block_size=8, quality=7,
+                                                 output_params=["-f", "mp4"])
             writer.send(None)
             for f in frames:
                 writer.send(np.ascontiguousarray(f))
             writer.close()
-            os.replace(tmp, path)
+            replace_with_temp(tmp, path)
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
