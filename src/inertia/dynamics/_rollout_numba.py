@@ -140,10 +140,19 @@ def _rotor(q0, qj, qk, ql, mj, mk, ml, Ij, dt):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _rot_splitting(qw, qx, qy, qz, w0, w1, w2, I0, I1, I2, t0, t1, t2, h):
+    rw, rx, ry, rz, m0, m1, m2 = _rot_splitting_m(qw, qx, qy, qz, I0 * w0, I1 * w1, I2 * w2, I0, I1, I2,
+                                                  t0, t1, t2, h)
+    return rw, rx, ry, rz, m0 / I0, m1 / I1, m2 / I2
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _rot_splitting_m(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h):
+    # the splitting step on the body momentum m = I w (the state of the NumPy kernel: |m| is
+    # kept to rounding, which a w state divided and re-multiplied each step would not be)
     # kick, R1(h/2) R2(h/2) R3(h) R2(h/2) R1(h/2), kick
-    m0 = I0 * w0 + (0.5 * h) * t0
-    m1 = I1 * w1 + (0.5 * h) * t1
-    m2 = I2 * w2 + (0.5 * h) * t2
+    m0 = m0 + (0.5 * h) * t0
+    m1 = m1 + (0.5 * h) * t1
+    m2 = m2 + (0.5 * h) * t2
     dt = 0.5 * h
     # axis 0: (j, k, l) = (0, 1, 2); q components (w, x | y, z)
     qw, qx, qy, qz, m1, m2 = _rotor(qw, qx, qy, qz, m0, m1, m2, I0, dt)
@@ -157,7 +166,7 @@ def _rot_splitting(qw, qx, qy, qz, w0, w1, w2, I0, I1, I2, t0, t1, t2, h):
     m1 = m1 + (0.5 * h) * t1
     m2 = m2 + (0.5 * h) * t2
     rw, rx, ry, rz = _normalize(qw, qx, qy, qz)
-    return rw, rx, ry, rz, m0 / I0, m1 / I1, m2 / I2
+    return rw, rx, ry, rz, m0, m1, m2
 
 
 @njit(cache=True, error_model="numpy")
@@ -447,3 +456,42 @@ def rollout_kernel_serial(x0, u, moments, mass, frame, gravity, h, n_steps, save
     g0, g1, g2 = gravity[0], gravity[1], gravity[2]
     for bi in range(x0.shape[0]):
         _run_single(bi, x0, u, moments, mass, frame, g0, g1, g2, h, n_steps, save_every, method, body_force, out)
+
+
+# ============================================================================ integrate
+@njit(cache=True, nogil=True, error_model="numpy")
+def integrate_kernel(method, q, w, moments, torque, h, recorded, qs, ws):
+    """The compiled path of :func:`inertia.dynamics.integrators.integrate` (rotation only).
+
+    q (B, 4), w (B, 3), moments (B, 3), torque (B, 3) (zeros for none), all in the principal
+    frame; ``recorded`` (R,) ascending step numbers, starting at 0; the states at those
+    steps go to qs (R, B, 4) and ws (R, B, 3).  Returns -1, or the first step at which a
+    body's angular velocity stopped being finite (the caller raises).
+    """
+    n = recorded[recorded.shape[0] - 1]
+    for b in range(q.shape[0]):
+        qw, qx, qy, qz = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+        w0, w1, w2 = w[b, 0], w[b, 1], w[b, 2]
+        I0, I1, I2 = moments[b, 0], moments[b, 1], moments[b, 2]
+        t0, t1, t2 = torque[b, 0], torque[b, 1], torque[b, 2]
+        qs[0, b, 0], qs[0, b, 1], qs[0, b, 2], qs[0, b, 3] = qw, qx, qy, qz
+        ws[0, b, 0], ws[0, b, 1], ws[0, b, 2] = w0, w1, w2
+        r = 1
+        if method == SPLITTING:  # momentum state, as the NumPy kernel
+            w0, w1, w2 = I0 * w0, I1 * w1, I2 * w2
+        for i in range(1, n + 1):
+            if method == SPLITTING:
+                qw, qx, qy, qz, w0, w1, w2 = _rot_splitting_m(qw, qx, qy, qz, w0, w1, w2, I0, I1, I2,
+                                                              t0, t1, t2, h)
+            else:
+                qw, qx, qy, qz, w0, w1, w2 = _rot(method, qw, qx, qy, qz, w0, w1, w2, I0, I1, I2, t0, t1, t2, h)
+            if not (math.isfinite(w0) and math.isfinite(w1) and math.isfinite(w2)):
+                return i
+            if r < recorded.shape[0] and recorded[r] == i:
+                qs[r, b, 0], qs[r, b, 1], qs[r, b, 2], qs[r, b, 3] = qw, qx, qy, qz
+                if method == SPLITTING:
+                    ws[r, b, 0], ws[r, b, 1], ws[r, b, 2] = w0 / I0, w1 / I1, w2 / I2
+                else:
+                    ws[r, b, 0], ws[r, b, 1], ws[r, b, 2] = w0, w1, w2
+                r += 1
+    return -1
