@@ -163,3 +163,13 @@ def emit(lines_or_text) -> None:
     """Print lines (a list) or a text to stdout."""
     text = lines_or_text if isinstance(lines_or_text, str) else "\n".join(lines_or_text)
     sys.stdout.write(text.rstrip("\n") + "\n")
+
+
+def add_command(sub, name: str, help: str, description: str, epilog: str):
+    """A subcommand parser: one-line ``help``, ``description`` wrapped to the terminal's
+    usual width, ``epilog`` (examples) kept as written."""
+    import argparse
+    import textwrap
+
+    return sub.add_parser(name, help=help, description=textwrap.fill(description), epilog=epilog,
+                          formatter_class=argparse.RawDescriptionHelpFormatter)

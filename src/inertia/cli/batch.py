@@ -8,6 +8,12 @@ the run goes on.  Only the standard library is imported at module level.
 
 from __future__ import annotations
 
+from . import _format as fmt
+
+HELP = "mass properties of many mesh files (local Dask cluster or a remote one)"
+DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manifests, in parallel on Dask, "
+               "one row per file, saved as it goes and resumable.")
+
 EPILOG = """\
 examples:
   inertia batch meshes/ -o results.parquet                 (local Dask cluster, all cores)
@@ -18,8 +24,9 @@ examples:
 columns: path, size_bytes, mtime_ns, status (ok|warning|error), reason, message, warnings,
 units, density, mass, volume, com, inertia_com (9, row-major, negated products), principal_moments
 (ascending), principal_axes (9, row-major, columns are the axes), n_vertices, n_faces,
-watertight, winding_consistent, elapsed_s.  SI units.  Without --density/--mass (and no
-manifest value) the density of water, 1000 kg/m^3, is used and recorded in the density column.
+watertight, winding_consistent, elapsed_s, options (the resume key's options).  SI units.
+Without --density/--mass (and no manifest value) the density of water, 1000 kg/m^3, is used
+and recorded in the density column.
 
 Finished chunks are saved atomically in OUTPUT.parts/ as the run goes; the output file is
 assembled at the end.  --resume skips files already done (same path, size, mtime and options);
@@ -30,17 +37,9 @@ the run could not start, 130 interrupted (resumable)."""
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
     from ._source import LENGTH_UNITS
 
-    p = sub.add_parser(
-        "batch", help="mass properties of many mesh files (local Dask cluster or a remote one)",
-        description=textwrap.fill(
-            "Mass properties of every mesh in folders, globs, files or manifests, in parallel on Dask, "
-            "one row per file, saved as it goes and resumable."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "batch", HELP, DESCRIPTION, EPILOG)
     p.add_argument("sources", nargs="+", metavar="SOURCE", help="mesh file, folder, glob or manifest (.csv/.parquet)")
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="results table (.parquet, .csv or .jsonl)")
     p.add_argument("--format", choices=("parquet", "csv", "jsonl"), help="output format (default: from -o's extension)")

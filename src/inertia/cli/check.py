@@ -6,6 +6,13 @@ Only the standard library is imported at module level.
 
 from __future__ import annotations
 
+from . import _format as fmt
+
+HELP = "check the inertials of a URDF, SDF or MJCF file"
+DESCRIPTION = ("For each link: non-positive mass, non-symmetric or non-positive-definite tensor, "
+               "triangle-inequality violation (with the margin), center of mass outside the link's "
+               "geometry, and the declared inertial against the one computed from the link's own geometry.")
+
 EPILOG = """\
 examples:
   inertia check robot.urdf
@@ -40,16 +47,7 @@ def add_robot_arguments(p) -> None:
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
-    p = sub.add_parser(
-        "check", help="check the inertials of a URDF, SDF or MJCF file",
-        description=textwrap.fill(
-            "For each link: non-positive mass, non-symmetric or non-positive-definite tensor, "
-            "triangle-inequality violation (with the margin), center of mass outside the link's "
-            "geometry, and the declared inertial against the one computed from the link's own geometry."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     p.set_defaults(func=run)
@@ -69,7 +67,6 @@ def run(args) -> int:
     import sys
 
     from ..robots.xmlsafe import RobotFileError
-    from . import _format as fmt
 
     try:
         from ..robots.check import check_model

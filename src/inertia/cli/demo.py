@@ -19,6 +19,10 @@ from . import _format as fmt
 #: where the report goes by default (relative to the working folder)
 DEFAULT_OUT = "inertia-report"
 
+HELP = "tour of the package on a steel T-handle (or on --mesh FILE)"
+DESCRIPTION = ("Mass properties, canonical form, validity, six-point and four-point particle "
+               "models and the equivalent box of a real body, in readable tables.")
+
 EPILOG = """\
 default body: a steel T-handle built from two solid cylinders (cross-bar 80 mm long and 12 mm
 thick, stem 50 mm long and 10 mm thick), 7850 kg/m^3, exact mass properties.
@@ -31,17 +35,10 @@ examples:
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
     from ._source import LENGTH_UNITS
     from .props import add_format_argument
 
-    p = sub.add_parser(
-        "demo", help="tour of the package on a steel T-handle (or on --mesh FILE)",
-        description=textwrap.fill("Mass properties, canonical form, validity, six-point and four-point particle "
-                    "models and the equivalent box of a real body, in readable tables."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "demo", HELP, DESCRIPTION, EPILOG)
     p.add_argument("--mesh", metavar="FILE",
                    help="your own closed triangle mesh (STL, OBJ, PLY, OFF, ...) instead of the T-handle")
     g = p.add_argument_group("mass (give at most one)")

@@ -5,6 +5,12 @@ Only the standard library is imported at module level.
 
 from __future__ import annotations
 
+from . import _format as fmt
+
+HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
+DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
+               "tensors by the nearest physically valid one; write the result atomically.")
+
 EPILOG = """\
 examples:
   inertia fix model.sdf -o fixed.sdf                        (invalid tensors -> nearest physical)
@@ -21,17 +27,9 @@ exit status: 0 written, 1 bad input, 2 the file could not be read."""
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
     from .check import add_robot_arguments
 
-    p = sub.add_parser(
-        "fix", help="write a corrected copy of a URDF, SDF or MJCF file's inertials",
-        description=textwrap.fill(
-            "Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
-            "tensors by the nearest physically valid one; write the result atomically."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "fix", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
     p.add_argument("-o", "--output", metavar="OUT", help="corrected copy (required unless --in-place)")
     p.add_argument("--in-place", action="store_true", help="replace FILE itself")

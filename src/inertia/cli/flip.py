@@ -16,6 +16,11 @@ import math
 from . import _format as fmt
 from .simulate import add_body_arguments, check_spin_scale, initial_state, resolve_body
 
+HELP = "intermediate-axis flip interval and the stability of each principal axis"
+DESCRIPTION = ("Dzhanibekov (intermediate-axis) flip: predicted time between flips, polhode period, "
+               "regime, and the linear stability (eigenvalues) of steady spin about each principal axis "
+               "at the spin rate |omega|.")
+
 EPILOG = """\
 examples:
   inertia flip --moments 1,2,3 --omega 0.01,1,0
@@ -42,16 +47,7 @@ CONVENTIONS = ("SI units; moments in kg m^2 (for --moments in the given order, f
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
-    p = sub.add_parser(
-        "flip", help="intermediate-axis flip interval and the stability of each principal axis",
-        description=textwrap.fill(
-            "Dzhanibekov (intermediate-axis) flip: predicted time between flips, polhode period, "
-            "regime, and the linear stability (eigenvalues) of steady spin about each principal axis "
-            "at the spin rate |omega|."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "flip", HELP, DESCRIPTION, EPILOG)
     add_body_arguments(p)
     p.add_argument("--format", choices=("table", "json"), default="table",
                    help="table: aligned text for people (default); json: machine-readable")

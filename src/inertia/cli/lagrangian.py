@@ -8,6 +8,12 @@ only when the command runs.
 
 from __future__ import annotations
 
+from . import _format as fmt
+
+HELP = "Euler-angle equations of motion (LaTeX, Python, C, JSON), derived symbolically"
+DESCRIPTION = ("Lagrange equations of a rigid body in Euler angles, solved for the accelerations without "
+               "simplify or solve, common subexpressions eliminated, in under a second.")
+
 EPILOG = """\
 examples:
   inertia lagrangian                                  (Z-Y-X, rotation only, LaTeX)
@@ -26,15 +32,7 @@ exit status: 0 on success, 1 on bad input, 2 on bad usage."""
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
-    p = sub.add_parser(
-        "lagrangian", help="Euler-angle equations of motion (LaTeX, Python, C, JSON), derived symbolically",
-        description=textwrap.fill(
-            "Lagrange equations of a rigid body in Euler angles, solved for the accelerations without "
-            "simplify or solve, common subexpressions eliminated, in under a second."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "lagrangian", HELP, DESCRIPTION, EPILOG)
     p.add_argument("--sequence", default="ZYX", metavar="SEQ",
                    help="intrinsic Euler sequence: XYZ XZY YXZ YZX ZXY ZYX XYX XZX YXY YZY ZXZ ZYZ (default ZYX)")
     p.add_argument("--translation", action="store_true",
@@ -59,7 +57,6 @@ def run(args) -> int:
 
         write_text_atomic(args.output, text.rstrip("\n") + "\n")
     else:
-        from . import _format as fmt
 
         fmt.emit(text)
     return 0

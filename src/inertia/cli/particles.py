@@ -9,6 +9,12 @@ from __future__ import annotations
 from . import _format as fmt
 from ._source import add_source_arguments
 
+HELP = "six-point and four-point particle models of a body"
+DESCRIPTION = ("Point-mass models with exactly the mass, center of mass and inertia tensor "
+               "of a mesh file or primitive: six equal-mass-pair points on the principal axes, "
+               "and four points.  Default density: 1000 kg/m^3 (water) when neither --mass "
+               "nor --density is given.")
+
 EPILOG = """\
 examples:
   inertia particles box:0.1,0.2,0.4 --mass 2
@@ -22,18 +28,9 @@ MODELS = (("six_point", "Six-point model", "six_point_model"),
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
     from .props import add_format_argument
 
-    p = sub.add_parser(
-        "particles", help="six-point and four-point particle models of a body",
-        description=textwrap.fill("Point-mass models with exactly the mass, center of mass and inertia tensor "
-                    "of a mesh file or primitive: six equal-mass-pair points on the principal axes, "
-                    "and four points.  Default density: 1000 kg/m^3 (water) when neither --mass "
-                    "nor --density is given."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "particles", HELP, DESCRIPTION, EPILOG)
     add_source_arguments(p)
     add_format_argument(p)
     p.set_defaults(func=run)

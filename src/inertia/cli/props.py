@@ -15,6 +15,12 @@ CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass i
                "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
                "are the columns of R_body_principal (det +1)")
 
+HELP = "mass properties of a mesh file or primitive"
+DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
+               "moments and axes, repeated-moment report and physical validity of a mesh file "
+               "or a primitive shape.  Default density: 1000 kg/m^3 (water) when neither "
+               "--mass nor --density is given.")
+
 EPILOG = """\
 examples:
   inertia props box:0.1,0.2,0.4 --mass 2
@@ -25,16 +31,7 @@ exit status: 0 on success, 1 on bad input (the message on stderr names the probl
 
 
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
-    p = sub.add_parser(
-        "props", help="mass properties of a mesh file or primitive",
-        description=textwrap.fill("Mass, volume, center of mass, inertia about the center of mass, principal "
-                    "moments and axes, repeated-moment report and physical validity of a mesh file "
-                    "or a primitive shape.  Default density: 1000 kg/m^3 (water) when neither "
-                    "--mass nor --density is given."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "props", HELP, DESCRIPTION, EPILOG)
     add_source_arguments(p)
     add_format_argument(p, robot=True)
     p.set_defaults(func=run)

@@ -30,6 +30,12 @@ DEFAULT_MAX_STEPS = 1_000_000
 CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "
                "body -> world; energy = 1/2 w.I w in J; angular_momentum_norm = |I w| in kg m^2/s")
 
+HELP = "torque-free rotation: exact solution or a fixed-step integrator"
+DESCRIPTION = ("Torque-free rotation of a rigid body from an initial angular velocity: the exact "
+               "closed-form solution (--method exact, any time at the same cost) or a fixed-step "
+               "integrator.  Prints the angular velocity, attitude quaternion, energy and |L| at "
+               "each sample time.")
+
 EPILOG = """\
 examples:
   inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.5
@@ -187,17 +193,7 @@ def to_output_frame(body, q_WP, w_P):
 
 # ============================================================================ simulate
 def register(sub) -> None:
-    import argparse
-    import textwrap
-
-    p = sub.add_parser(
-        "simulate", help="torque-free rotation: exact solution or a fixed-step integrator",
-        description=textwrap.fill(
-            "Torque-free rotation of a rigid body from an initial angular velocity: the exact "
-            "closed-form solution (--method exact, any time at the same cost) or a fixed-step "
-            "integrator.  Prints the angular velocity, attitude quaternion, energy and |L| at "
-            "each sample time."),
-        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = fmt.add_command(sub, "simulate", HELP, DESCRIPTION, EPILOG)
     add_body_arguments(p)
     p.add_argument("--q0", metavar="W,X,Y,Z",
                    help="initial attitude, unit quaternion body -> world, scalar first (default 1,0,0,0)")
