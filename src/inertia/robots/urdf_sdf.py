@@ -112,10 +112,14 @@ def _urdf_inertial(doc, el) -> Inertial:
 
 def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
     g = el.find("geometry")
-    if g is None or len(g) == 0:
+    if g is None:
         return None
+    shapes = [c for c in g if isinstance(c.tag, str)]
+    if not shapes:  # urdfdom refuses the file too
+        raise RobotFileError(f"{doc.where(g)}: link {link.name!r}: {role} <geometry> holds no shape "
+                             "(box, cylinder, sphere or mesh)")
     R, p = _urdf_origin(doc, el)
-    shape = [c for c in g if isinstance(c.tag, str)][0]
+    shape = shapes[0]
     where = doc.where(shape)
     if shape.tag == "box":
         params = {"size": floats(shape.get("size"), 3, where, "box size")}
