@@ -115,7 +115,7 @@ def test_thousands_of_nested_bodies_are_read_without_recursion(tmp_path, capsys)
     assert total == pytest.approx(expected, rel=1e-12)
     assert check_model(model).n_errors == 0
     out = tmp_path / "fixed.xml"
-    assert main(["fix", str(path), "-o", str(out), "--mode", "nearest"]) == 0
+    assert main(["fix", str(path), "-o", str(out), "--nearest-valid"]) == 0
     assert len(read_robot(out).links) == n
     capsys.readouterr()
 
@@ -228,3 +228,15 @@ def test_cli_reports_each_bad_file_as_an_error_not_a_crash(tmp_path, capsys, com
 
 def test_robot_file_error_is_an_inertia_error():
     assert issubclass(RobotFileError, InertiaError)
+
+
+def test_flat_writer_equals_elementtree():
+    import xml.etree.ElementTree as ET
+
+    from inertia.robots.xmlsafe import parse_xml_bytes, serialize_flat
+
+    text = ('<robot name="a &amp; b">\n  <!-- a comment -->\n  <link name="q&quot;uote" x="1&#10;2\t3">'
+            'text &lt; here<inertial/>tail &gt;<empty></empty><a b="c"><d/></a>\n  </link>\n'
+            '  <!--c2-->tail2\n</robot>\n')
+    root = parse_xml_bytes(text.encode()).root
+    assert serialize_flat(root) == ET.tostring(root, encoding="unicode", short_empty_elements=True)
