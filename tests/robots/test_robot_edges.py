@@ -240,3 +240,10 @@ def test_flat_writer_equals_elementtree():
             '  <!--c2-->tail2\n</robot>\n')
     root = parse_xml_bytes(text.encode()).root
     assert serialize_flat(root) == ET.tostring(root, encoding="unicode", short_empty_elements=True)
+
+
+@pytest.mark.parametrize("encoding", ["utfa", "rot13", "idna", "utf-7", "undefined"])
+def test_unusable_declared_encoding_is_named(tmp_path, encoding):
+    path = tmp_path / "enc.sdf"
+    path.write_text(f'<?xml version="1.0" encoding="{encoding}"?>\n<sdf version="1.7"/>\n')
+    _refused(path, ":1", repr(encoding))

@@ -138,6 +138,13 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
             msg += " (entities are not supported in robot files)"
         raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
+    except RobotFileError:
+        raise
+    except (LookupError, ValueError) as exc:  # an unknown or unusable encoding="..." (expat asks codecs)
+        declared = re.search(rb"""encoding\s*=\s*["']([^"']*)""", data[:1024])
+        name = declared.group(1).decode("ascii", "replace") if declared else "?"
+        raise RobotFileError(f"{path}:{parser.CurrentLineNumber}: the XML declaration's encoding {name!r} "
+                             f"cannot be used to read the file ({exc}); robot files are UTF-8") from None
     root = builder.close()
     doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n")
     if relocated:
