@@ -164,7 +164,7 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
                 continue  # vertex-defined meshes are not supported: reported when used
             name = attrs.get("name") or Path(file).stem
             scale = floats(attrs.get("scale", "1 1 1"), 3, doc.where(m), "mesh scale")
-            meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths), scale)
+            meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths, where=doc.where(m)), scale)
 
     links = []
     world = root.find("worldbody")

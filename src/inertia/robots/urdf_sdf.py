@@ -131,7 +131,7 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
     elif shape.tag == "mesh":
         uri = shape.get("filename") or ""
         scale = floats(shape.get("scale", "1 1 1"), 3, where, "mesh scale")
-        found = resolve_mesh(uri, base, search_paths)
+        found = resolve_mesh(uri, base, search_paths, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
                                f"(relative to {base}; package:// needs --package-path)"))
@@ -214,7 +214,7 @@ def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
     elif shape.tag == "mesh":
         uri = (_text(shape, "uri") or "").strip()
         scale = floats(_text(shape, "scale", "1 1 1"), 3, where, "mesh scale")
-        found = resolve_mesh(uri, base, search)
+        found = resolve_mesh(uri, base, search, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
                                "(model:// is searched next to the model folder and in --package-path)"))
