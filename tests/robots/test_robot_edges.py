@@ -247,3 +247,19 @@ def test_unusable_declared_encoding_is_named(tmp_path, encoding):
     path = tmp_path / "enc.sdf"
     path.write_text(f'<?xml version="1.0" encoding="{encoding}"?>\n<sdf version="1.7"/>\n')
     _refused(path, ":1", repr(encoding))
+
+
+def test_urdf_inertia_without_all_six_attributes_is_refused(tmp_path):
+    path = tmp_path / "five.urdf"
+    path.write_text('<robot name="r">\n  <link name="a">\n    <inertial>\n      <mass value="1"/>\n'
+                    '      <inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0"/>\n    </inertial>\n  </link>\n</robot>\n')
+    _refused(path, ":5", "iyz")
+
+
+def test_sdf_absent_fields_keep_sdf_defaults(tmp_path):
+    path = tmp_path / "defaults.sdf"
+    path.write_text('<sdf version="1.7"><model name="m"><link name="l"><inertial><inertia><ixy>0.5</ixy>'
+                    '</inertia></inertial></link></model></sdf>')
+    inertial = read_robot(path).links[0].inertial
+    assert inertial.mass == 1.0
+    assert inertial.inertia_declared.tolist() == [[1.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]]

@@ -106,7 +106,10 @@ def _urdf_inertial(doc, el) -> Inertial:
         raise RobotFileError(f"{where}: <inertial> without <inertia>")
     vals = {}
     for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"):
-        vals[k] = floats(i_el.get(k, "0"), 1, doc.where(i_el), f"inertia {k}")[0]
+        if i_el.get(k) is None:  # urdfdom refuses it too: no silent zero
+            raise RobotFileError(f"{doc.where(i_el)}: <inertia> has no {k}=...; URDF needs all six of "
+                                 "ixx, iyy, izz, ixy, ixz, iyz")
+        vals[k] = floats(i_el.get(k), 1, doc.where(i_el), f"inertia {k}")[0]
     return Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(el), el)
 
 
@@ -150,6 +153,21 @@ def _text(el, tag, default=None):
     return default if c is None or c.text is None else c.text
 
 
+def _sdf_number(doc, parent, tag: str, default: float, what: str) -> float:
+    """The number in ``parent``'s ``<tag>``; ``default`` (SDF's) only when there is no such element.
+
+    An empty or non-numeric element is a RobotFileError naming it: SDF's default is for an
+    absent element, never for a value that was meant and lost.
+    """
+    el = parent.find(tag)
+    if el is None:
+        return default
+    where = f"{doc.where(el)}: {what}: <{tag}>"
+    if not (el.text or "").strip():
+        raise RobotFileError(f"{where} is empty; write its value (or remove the element for SDF's default)")
+    return floats(el.text, 1, where, "the value")[0]
+
+
 def _sdf_pose(doc, parent):
     pose = parent.find("pose")
     if pose is None:
@@ -177,15 +195,12 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
             if rel not in (None, "", name, "__model__") and rel != name:
                 link.notes.append(("unsupported_pose", f"{doc.where(inertial)}: inertial pose relative_to={rel!r} "
                                    "is read as relative to the link"))
-            where = doc.where(inertial)
-            mass = floats(_text(inertial, "mass", "1"), 1, where, "mass")[0]
+            mass = _sdf_number(doc, inertial, "mass", 1.0, f"link {name!r}")
             i_el = inertial.find("inertia")
             vals = {k: 0.0 for k in ("ixy", "ixz", "iyz")} | {k: 1.0 for k in ("ixx", "iyy", "izz")}  # SDF defaults
             if i_el is not None:
                 for k in vals:
-                    t = _text(i_el, k)
-                    if t is not None:
-                        vals[k] = floats(t, 1, doc.where(i_el.find(k)), f"inertia {k}")[0]
+                    vals[k] = _sdf_number(doc, i_el, k, vals[k], f"link {name!r}")
             link.inertial = Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(inertial), inertial)
         _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link))
         links.append(link)
