@@ -21,14 +21,15 @@ def _mjcf(body_xml: str, head: str = "") -> str:
     return f'<mujoco>\n{head}  <worldbody>\n{body_xml}  </worldbody>\n</mujoco>\n'
 
 
-def _refused(path, *fragments):
-    """Read (and check) ``path``; the RobotFileError it raises, after checking its message."""
+def _refused(path, *fragments, named=None):
+    """Read (and check) ``path``; the RobotFileError it raises, after checking its message
+    (which names ``named``, by default ``path``: the file where the problem is)."""
     with pytest.raises(RobotFileError) as info:
         check_model(read_robot(path))
     err = info.value
     assert err.code == "robot_file"
     msg = str(err)
-    assert str(path) in msg, msg
+    assert str(named or path) in msg, msg
     for f in fragments:
         assert f in msg, f"{f!r} not in {msg!r}"
     return err
@@ -164,14 +165,19 @@ def test_include_of_the_same_file_twice_is_refused(tmp_path):
         inner = (f'  <include file="f{k + 1}.xml"/>\n' * 2) if k + 1 < depth else \
             '  <worldbody><body name="leaf"><inertial mass="1" diaginertia="1 1 1"/></body></worldbody>\n'
         (tmp_path / f"f{k}.xml").write_text(f"<mujoco>\n{inner}</mujoco>\n")
-    err = _refused(tmp_path / "f0.xml", ":3", "f1.xml", "twice")
-    assert str(tmp_path / "f0.xml") in str(err)
+    # expanded depth first, in document order (as MuJoCo does): f22 includes f23 a second time
+    _refused(tmp_path / "f0.xml", f"{tmp_path / 'f22.xml'}:3", f"{tmp_path / 'f23.xml'} was already included at "
+             f"{tmp_path / 'f22.xml'}:2", "only once", named=tmp_path / "f22.xml")
+    (tmp_path / "g.xml").write_text('<mujoco>\n  <include file="f23.xml"/>\n  <worldbody/>\n'
+                                    '  <include file="f23.xml"/>\n</mujoco>\n')
+    _refused(tmp_path / "g.xml", ":4", "f23.xml", ":2")
 
 
 def test_include_cycle_is_refused(tmp_path):
     (tmp_path / "a.xml").write_text('<mujoco>\n  <include file="b.xml"/>\n</mujoco>\n')
     (tmp_path / "b.xml").write_text('<mujoco>\n  <include file="a.xml"/>\n</mujoco>\n')
-    _refused(tmp_path / "a.xml", f"{tmp_path / 'b.xml'}:2", "a.xml")
+    _refused(tmp_path / "a.xml", f"{tmp_path / 'b.xml'}:2", f"{tmp_path / 'a.xml'} is the file being read",
+             named=tmp_path / "b.xml")
 
 
 def test_expanded_model_size_is_bounded(tmp_path, monkeypatch):
@@ -182,7 +188,7 @@ def test_expanded_model_size_is_bounded(tmp_path, monkeypatch):
     (tmp_path / "part2.xml").write_text("<mujoco><worldbody>" + "<body/>" * 40 + "</worldbody></mujoco>")
     path = tmp_path / "main.xml"
     path.write_text('<mujoco>\n  <include file="part.xml"/>\n  <include file="part2.xml"/>\n</mujoco>\n')
-    _refused(path, "part2.xml", "50")
+    _refused(path, ":3", "part2.xml", "more than 50 elements")
 
 
 def test_distinct_nested_includes_still_expand(tmp_path):
@@ -192,7 +198,7 @@ def test_distinct_nested_includes_still_expand(tmp_path):
     path = tmp_path / "a.xml"
     path.write_text('<mujoco><include file="b.xml"/><worldbody><body name="a"/></worldbody></mujoco>')
     model = read_robot(path)
-    assert [lk.name for lk in model.links] == ["c", "b", "a"]
+    assert [lk.name for lk in model.links] == ["c", "b", "a"]  # every <worldbody>, in order
     assert [p.name for p in model.document.included] == ["b.xml", "c.xml"]
 
 
@@ -263,3 +269,13 @@ def test_sdf_absent_fields_keep_sdf_defaults(tmp_path):
     inertial = read_robot(path).links[0].inertial
     assert inertial.mass == 1.0
     assert inertial.inertia_declared.tolist() == [[1.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]]
+
+
+def test_a_second_top_level_default_adds_to_the_first(tmp_path):
+    (tmp_path / "robot.xml").write_text('<mujoco><default><geom type="box" size="0.1 0.2 0.3"/></default>'
+                                        '<worldbody><body name="b"><geom mass="1"/></body></worldbody></mujoco>')
+    path = tmp_path / "scene.xml"
+    path.write_text('<mujoco><include file="robot.xml"/><default><default class="x"><geom rgba="1 0 0 1"/>'
+                    '</default></default></mujoco>')
+    (geom,) = read_robot(path).links[0].geometries
+    assert geom.kind == "box" and geom.params["size"] == pytest.approx([0.2, 0.4, 0.6])

@@ -128,7 +128,10 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
 def _collect_defaults(default_el, parent: dict, out: dict) -> None:
     """Class name -> {tag: attrs}, each class inheriting its parent's attributes.
 
-    Parents before children, in document order, without recursion (classes nest deep)."""
+    Parents before children, in document order, without recursion (classes nest deep).  A
+    second top-level ``<default>`` adds to the first (MuJoCo keeps one "main" class)."""
+    if not parent:
+        parent = out.get(default_el.get("class", "main"), parent)
     stack = [(default_el, parent)]
     while stack:
         el, inherited = stack.pop()
@@ -167,8 +170,8 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
             meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths, where=doc.where(m)), scale)
 
     links = []
-    world = root.find("worldbody")
-    if world is None:
+    worlds = root.findall("worldbody")  # MuJoCo merges them all (includes often add one each)
+    if not worlds:
         return RobotModel(Path(path), "mjcf", links, doc)
 
     def attrs_of(el, tag, childclass):
@@ -215,7 +218,7 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
 
     # depth first, parents before children, without recursion (models nest thousands deep)
     counter = [1]
-    stack = [(body, "main") for body in reversed(world.findall("body"))]
+    stack = [(body, "main") for world in reversed(worlds) for body in reversed(world.findall("body"))]
     while stack:
         body, childclass = stack.pop()
         cc = visit(body, childclass, counter)
@@ -226,33 +229,68 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
 def _expand_includes(doc, base: Path, seen: set) -> None:
     """Replace each ``<include file=.../>`` by the children of that file's ``<mujoco>`` root.
 
-    As in MuJoCo, paths are relative to the main model's folder; included elements keep
-    their own file and line for messages (``doc.included`` lists the files).
+    As in MuJoCo, paths are relative to the main model's folder, and a file may be included
+    only once (which also rules out cycles and an exponential fan-out of includes); ``seen``
+    holds files already taken.  The expanded model holds at most :data:`MAX_ELEMENTS`
+    elements.  Included elements keep their own file and line for messages (``doc.included``
+    lists the files).  Nested includes are expanded without recursion.
     """
     doc.included = getattr(doc, "included", [])
-    for parent in list(doc.root.iter()):
-        for child in list(parent):
-            if child.tag != "include":
-                continue
-            file = child.get("file")
-            if not file:
-                raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
-            target = (base / file).resolve()
-            if target in seen:
-                raise RobotFileError(f"{doc.where(child)}: <include file={file!r}> includes itself (a cycle)")
-            if not target.is_file():
-                raise RobotFileError(f"{doc.where(child)}: included file {file!r} not found (relative to {base})")
-            sub = parse_xml(target)
-            if sub.root.tag != "mujoco":
-                raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
-                                     f"not <{sub.root.tag}>")
-            _expand_includes(sub, base, seen | {target})
-            doc.merge(sub)
-            doc.included += [target] + sub.included
-            at = list(parent).index(child)
-            parent.remove(child)
-            for k, c in enumerate(list(sub.root)):
-                parent.insert(at + k, c)
+    first = {Path(doc.path).resolve(): None} | {s: None for s in seen}  # file -> where it was included
+    count = sum(1 for _ in doc.root.iter())
+    pending = list(reversed(_includes_in(doc.root)))  # a stack: document order
+    while pending:
+        parent, child = pending.pop()
+        target, sub = _included(doc, child, base, first)
+        count += sum(1 for _ in sub.root.iter()) - 2  # its <mujoco> root replaces the <include>
+        if count > MAX_ELEMENTS:
+            raise RobotFileError(f"{doc.where(child)}: <include file={child.get('file')!r}>: the expanded "
+                                 f"model would hold more than {MAX_ELEMENTS} elements; refused")
+        first[target] = doc.where(child)
+        doc.merge(sub)
+        doc.included.append(target)
+        at = list(parent).index(child)
+        parent.remove(child)
+        for k, c in enumerate(list(sub.root)):
+            parent.insert(at + k, c)
+        found = [pair for c in sub.root for pair in _includes_in(c, parent)]
+        pending.extend(reversed(found))
+
+
+#: most elements an MJCF model may hold once its includes are expanded (a guard)
+MAX_ELEMENTS = 1_000_000
+
+
+def _includes_in(el, parent=None) -> list:
+    """``(parent, include)`` for ``el`` and every ``<include>`` inside it, in document order."""
+    parents = {id(c): p for p in el.iter() for c in p}
+    return [(parents.get(id(c), parent), c) for c in el.iter() if c.tag == "include"]
+
+
+def _included(doc, child, base: Path, first: dict):
+    """``(path, Document)`` of the file an ``<include>`` names, refused if already included."""
+    file = child.get("file")
+    where = f"{doc.where(child)}: <include file={file!r}>"
+    if not file:
+        raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
+    try:
+        target = (base / file).resolve()
+        exists = target.is_file()
+    except (OSError, ValueError) as exc:
+        raise RobotFileError(f"{where}: the file name cannot be looked up "
+                             f"({getattr(exc, 'strerror', None) or exc})") from None
+    if target in first:
+        before = ("is the file being read (a cycle)" if first[target] is None
+                  else f"was already included at {first[target]}")
+        raise RobotFileError(f"{where}: {target} {before}; a file may be included only once (MuJoCo refuses "
+                             "it twice too)")
+    if not exists:
+        raise RobotFileError(f"{where}: included file {file!r} not found (relative to {base})")
+    sub = parse_xml(target)
+    if sub.root.tag != "mujoco":
+        raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
+                             f"not <{sub.root.tag}>")
+    return target, sub
 
 
 def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
