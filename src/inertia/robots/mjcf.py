@@ -191,21 +191,8 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         _orientation(body.attrib, comp, f"{doc.where(body)}: body {name!r}: <body>")  # refuse a degenerate frame
         inertial = body.find("inertial")
         if inertial is not None:
-            a = attrs_of(inertial, "inertial", cc)
             where = f"{doc.where(inertial)}: body {name!r}: <inertial>"
-            mass = floats(a.get("mass"), 1, where, "inertial mass")[0] if "mass" in a else None
-            if mass is None:
-                raise RobotFileError(f"{where} needs a mass")
-            pos = np.asarray(floats(a.get("pos", "0 0 0"), 3, where, "inertial pos"))
-            R = _orientation(a, comp, where)
-            if "fullinertia" in a:
-                ixx, iyy, izz, ixy, ixz, iyz = floats(a["fullinertia"], 6, where, "fullinertia")
-                I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-            elif "diaginertia" in a:
-                I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
-            else:
-                raise RobotFileError(f"{where} needs diaginertia or fullinertia")
-            link.inertial = Inertial(mass, pos, R, I, doc.line(inertial), inertial)
+            link.inertial = _inertial(attrs_of(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
         for g in body.findall("geom"):
             geom = _geom(doc, attrs_of(g, "geom", cc), g, comp, meshes, link)
             if geom is not None:
@@ -224,6 +211,23 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         cc = visit(body, childclass, counter)
         stack.extend((child, cc) for child in reversed(body.findall("body")))
     return RobotModel(Path(path), "mjcf", links, doc)
+
+
+def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
+    """The body's declared inertial from its (class-merged) attributes ``a``."""
+    mass = floats(a.get("mass"), 1, where, "inertial mass")[0] if "mass" in a else None
+    if mass is None:
+        raise RobotFileError(f"{where} needs a mass")
+    pos = np.asarray(floats(a.get("pos", "0 0 0"), 3, where, "inertial pos"))
+    R = _orientation(a, comp, where)
+    if "fullinertia" in a:
+        ixx, iyy, izz, ixy, ixz, iyz = floats(a["fullinertia"], 6, where, "fullinertia")
+        I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    elif "diaginertia" in a:
+        I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
+    else:
+        raise RobotFileError(f"{where} needs diaginertia or fullinertia")
+    return Inertial(mass, pos, R, I, line, element)
 
 
 def _expand_includes(doc, base: Path, seen: set) -> None:
