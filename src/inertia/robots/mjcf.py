@@ -49,27 +49,54 @@ def _axis_angle_matrix(axis, angle: float) -> np.ndarray:
     return quat_to_matrix(quat_from_rotvec(np.asarray(axis, float) * angle))
 
 
+#: a direction shorter than this has no orientation (MuJoCo refuses it too, with its mjEPS)
+_MIN_NORM = 1e-12
+
+
+def _choice(el, attr: str, default: str, allowed: tuple, where: str) -> str:
+    """``el``'s ``attr``, refused unless one of ``allowed`` (MuJoCo's keywords)."""
+    value = el.get(attr, default) if el is not None else default
+    if value not in allowed:
+        raise RobotFileError(f"{where}: <compiler {attr}={value!r}>: {attr} must be one of "
+                             f"{', '.join(repr(a) for a in allowed)}")
+    return value
+
+
 class _Compiler:
     def __init__(self, el, where):
-        self.degree = (el.get("angle", "degree") if el is not None else "degree") == "degree"
+        self.degree = _choice(el, "angle", "degree", ("degree", "radian"), where) == "degree"
         seq = el.get("eulerseq", "xyz") if el is not None else "xyz"
         if len(seq) != 3 or any(c.lower() not in _AXES for c in seq):
             raise RobotFileError(f"{where}: compiler eulerseq {seq!r} must be three of x, y, z, X, Y, Z")
         self.eulerseq = seq
         self.meshdir = el.get("meshdir") if el is not None else None
         self.assetdir = el.get("assetdir") if el is not None else None
-        self.inertiafromgeom = el.get("inertiafromgeom", "auto") if el is not None else "auto"
+        self.inertiafromgeom = _choice(el, "inertiafromgeom", "auto", ("false", "true", "auto"), where)
 
     def angle(self, v: float) -> float:
         return math.radians(v) if self.degree else v
 
 
+def _unit(v, where: str, attr: str, text: str, part: str) -> np.ndarray:
+    """``v`` scaled to unit length; RobotFileError naming ``attr`` when it has (nearly) none."""
+    v = np.asarray(v, float)
+    n = float(np.linalg.norm(v))
+    if not n > _MIN_NORM:
+        raise RobotFileError(f"{where} {attr}={text!r}: {part} has zero length, so it gives no "
+                             "orientation (MuJoCo refuses it too)")
+    return v / n
+
+
 def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
+    """Rotation matrix of the element's orientation attributes; ``where`` names the element."""
     if "quat" in attrs:
-        return quat_matrix(floats(attrs["quat"], 4, where, "quat"))
+        q = floats(attrs["quat"], 4, where, "quat")
+        _unit(q, where, "quat", attrs["quat"], "the quaternion")
+        return quat_matrix(q)
     if "axisangle" in attrs:
         v = floats(attrs["axisangle"], 4, where, "axisangle")
-        return _axis_angle_matrix(np.asarray(v[:3]) / np.linalg.norm(v[:3]), comp.angle(v[3]))
+        return _axis_angle_matrix(_unit(v[:3], where, "axisangle", attrs["axisangle"], "the axis"),
+                                  comp.angle(v[3]))
     if "euler" in attrs:
         v = [comp.angle(x) for x in floats(attrs["euler"], 3, where, "euler")]
         R = np.eye(3)
@@ -79,13 +106,15 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
         return R
     if "xyaxes" in attrs:
         v = floats(attrs["xyaxes"], 6, where, "xyaxes")
-        x = np.asarray(v[:3]) / np.linalg.norm(v[:3])
-        y = np.asarray(v[3:]) - x * (x @ v[3:])
-        y /= np.linalg.norm(y)
+        x = _unit(v[:3], where, "xyaxes", attrs["xyaxes"], "the x axis")
+        y_in = np.asarray(v[3:])
+        y = y_in - x * (x @ y_in)
+        if not np.linalg.norm(y) > 1e-10 * np.linalg.norm(y_in):  # parallel to x (rounding aside)
+            y = np.zeros(3)
+        y = _unit(y, where, "xyaxes", attrs["xyaxes"], "the y axis orthogonal to x")
         return np.column_stack([x, y, np.cross(x, y)])
     if "zaxis" in attrs:
-        z = np.asarray(floats(attrs["zaxis"], 3, where, "zaxis"))
-        z = z / np.linalg.norm(z)
+        z = _unit(floats(attrs["zaxis"], 3, where, "zaxis"), where, "zaxis", attrs["zaxis"], "the z axis")
         # MuJoCo: the minimal rotation taking (0, 0, 1) to z
         c = z[2]
         axis = np.cross([0.0, 0.0, 1.0], z)
@@ -97,16 +126,21 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
 
 
 def _collect_defaults(default_el, parent: dict, out: dict) -> None:
-    """Class name -> {tag: attrs}, each class inheriting its parent's attributes."""
-    name = default_el.get("class", "main")
-    mine = {tag: dict(attrs) for tag, attrs in parent.items()}
-    for child in default_el:
-        if not isinstance(child.tag, str) or child.tag == "default":
-            continue
-        mine.setdefault(child.tag, {}).update(child.attrib)
-    out[name] = mine
-    for child in default_el.findall("default"):
-        _collect_defaults(child, mine, out)
+    """Class name -> {tag: attrs}, each class inheriting its parent's attributes.
+
+    Parents before children, in document order, without recursion (classes nest deep).  A
+    second top-level ``<default>`` adds to the first (MuJoCo keeps one "main" class)."""
+    if not parent:
+        parent = out.get(default_el.get("class", "main"), parent)
+    stack = [(default_el, parent)]
+    while stack:
+        el, inherited = stack.pop()
+        mine = {tag: dict(attrs) for tag, attrs in inherited.items()}
+        for child in el:
+            if isinstance(child.tag, str) and child.tag != "default":
+                mine.setdefault(child.tag, {}).update(child.attrib)
+        out[el.get("class", "main")] = mine
+        stack.extend((child, mine) for child in reversed(el.findall("default")))
 
 
 def read_mjcf(path, *, search_paths=()) -> RobotModel:
@@ -133,11 +167,11 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
                 continue  # vertex-defined meshes are not supported: reported when used
             name = attrs.get("name") or Path(file).stem
             scale = floats(attrs.get("scale", "1 1 1"), 3, doc.where(m), "mesh scale")
-            meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths), scale)
+            meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths, where=doc.where(m)), scale)
 
     links = []
-    world = root.find("worldbody")
-    if world is None:
+    worlds = root.findall("worldbody")  # MuJoCo merges them all (includes often add one each)
+    if not worlds:
         return RobotModel(Path(path), "mjcf", links, doc)
 
     def attrs_of(el, tag, childclass):
@@ -149,27 +183,16 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         return merged
 
     def visit(body, childclass, index):
+        """Read one body (not its children); returns the class its children inherit."""
         cc = body.get("childclass", childclass)
         name = body.get("name") or f"body{index[0]}"
         index[0] += 1
         link = Link(name, doc.line(body), None, element=body)
+        _orientation(body.attrib, comp, f"{doc.where(body)}: body {name!r}: <body>")  # refuse a degenerate frame
         inertial = body.find("inertial")
         if inertial is not None:
-            a = attrs_of(inertial, "inertial", cc)
-            where = doc.where(inertial)
-            mass = floats(a.get("mass"), 1, where, "inertial mass")[0] if "mass" in a else None
-            if mass is None:
-                raise RobotFileError(f"{where}: <inertial> needs mass")
-            pos = np.asarray(floats(a.get("pos", "0 0 0"), 3, where, "inertial pos"))
-            R = _orientation(a, comp, where)
-            if "fullinertia" in a:
-                ixx, iyy, izz, ixy, ixz, iyz = floats(a["fullinertia"], 6, where, "fullinertia")
-                I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-            elif "diaginertia" in a:
-                I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
-            else:
-                raise RobotFileError(f"{where}: <inertial> needs diaginertia or fullinertia")
-            link.inertial = Inertial(mass, pos, R, I, doc.line(inertial), inertial)
+            where = f"{doc.where(inertial)}: body {name!r}: <inertial>"
+            link.inertial = _inertial(attrs_of(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
         for g in body.findall("geom"):
             geom = _geom(doc, attrs_of(g, "geom", cc), g, comp, meshes, link)
             if geom is not None:
@@ -178,49 +201,104 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         link.inertia_from_geoms = has_mass_geoms and (
             comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and link.inertial is None))
         links.append(link)
-        for child in body.findall("body"):
-            visit(child, cc, index)
+        return cc
 
+    # depth first, parents before children, without recursion (models nest thousands deep)
     counter = [1]
-    for body in world.findall("body"):
-        visit(body, "main", counter)
+    stack = [(body, "main") for world in reversed(worlds) for body in reversed(world.findall("body"))]
+    while stack:
+        body, childclass = stack.pop()
+        cc = visit(body, childclass, counter)
+        stack.extend((child, cc) for child in reversed(body.findall("body")))
     return RobotModel(Path(path), "mjcf", links, doc)
+
+
+def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
+    """The body's declared inertial from its (class-merged) attributes ``a``."""
+    mass = floats(a.get("mass"), 1, where, "inertial mass")[0] if "mass" in a else None
+    if mass is None:
+        raise RobotFileError(f"{where} needs a mass")
+    pos = np.asarray(floats(a.get("pos", "0 0 0"), 3, where, "inertial pos"))
+    R = _orientation(a, comp, where)
+    if "fullinertia" in a:
+        ixx, iyy, izz, ixy, ixz, iyz = floats(a["fullinertia"], 6, where, "fullinertia")
+        I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    elif "diaginertia" in a:
+        I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
+    else:
+        raise RobotFileError(f"{where} needs diaginertia or fullinertia")
+    return Inertial(mass, pos, R, I, line, element)
 
 
 def _expand_includes(doc, base: Path, seen: set) -> None:
     """Replace each ``<include file=.../>`` by the children of that file's ``<mujoco>`` root.
 
-    As in MuJoCo, paths are relative to the main model's folder; included elements keep
-    their own file and line for messages (``doc.included`` lists the files).
+    As in MuJoCo, paths are relative to the main model's folder, and a file may be included
+    only once (which also rules out cycles and an exponential fan-out of includes); ``seen``
+    holds files already taken.  The expanded model holds at most :data:`MAX_ELEMENTS`
+    elements.  Included elements keep their own file and line for messages (``doc.included``
+    lists the files).  Nested includes are expanded without recursion.
     """
     doc.included = getattr(doc, "included", [])
-    for parent in list(doc.root.iter()):
-        for child in list(parent):
-            if child.tag != "include":
-                continue
-            file = child.get("file")
-            if not file:
-                raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
-            target = (base / file).resolve()
-            if target in seen:
-                raise RobotFileError(f"{doc.where(child)}: <include file={file!r}> includes itself (a cycle)")
-            if not target.is_file():
-                raise RobotFileError(f"{doc.where(child)}: included file {file!r} not found (relative to {base})")
-            sub = parse_xml(target)
-            if sub.root.tag != "mujoco":
-                raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
-                                     f"not <{sub.root.tag}>")
-            _expand_includes(sub, base, seen | {target})
-            doc.merge(sub)
-            doc.included += [target] + sub.included
-            at = list(parent).index(child)
-            parent.remove(child)
-            for k, c in enumerate(list(sub.root)):
-                parent.insert(at + k, c)
+    first = {Path(doc.path).resolve(): None} | {s: None for s in seen}  # file -> where it was included
+    count = sum(1 for _ in doc.root.iter())
+    pending = list(reversed(_includes_in(doc.root)))  # a stack: document order
+    while pending:
+        parent, child = pending.pop()
+        target, sub = _included(doc, child, base, first)
+        count += sum(1 for _ in sub.root.iter()) - 2  # its <mujoco> root replaces the <include>
+        if count > MAX_ELEMENTS:
+            raise RobotFileError(f"{doc.where(child)}: <include file={child.get('file')!r}>: the expanded "
+                                 f"model would hold more than {MAX_ELEMENTS} elements; refused")
+        first[target] = doc.where(child)
+        doc.merge(sub)
+        doc.included.append(target)
+        at = list(parent).index(child)
+        parent.remove(child)
+        for k, c in enumerate(list(sub.root)):
+            parent.insert(at + k, c)
+        found = [pair for c in sub.root for pair in _includes_in(c, parent)]
+        pending.extend(reversed(found))
+
+
+#: most elements an MJCF model may hold once its includes are expanded (a guard)
+MAX_ELEMENTS = 1_000_000
+
+
+def _includes_in(el, parent=None) -> list:
+    """``(parent, include)`` for ``el`` and every ``<include>`` inside it, in document order."""
+    parents = {id(c): p for p in el.iter() for c in p}
+    return [(parents.get(id(c), parent), c) for c in el.iter() if c.tag == "include"]
+
+
+def _included(doc, child, base: Path, first: dict):
+    """``(path, Document)`` of the file an ``<include>`` names, refused if already included."""
+    file = child.get("file")
+    where = f"{doc.where(child)}: <include file={file!r}>"
+    if not file:
+        raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
+    try:
+        target = (base / file).resolve()
+        exists = target.is_file()
+    except (OSError, ValueError) as exc:
+        raise RobotFileError(f"{where}: the file name cannot be looked up "
+                             f"({getattr(exc, 'strerror', None) or exc})") from None
+    if target in first:
+        before = ("is the file being read (a cycle)" if first[target] is None
+                  else f"was already included at {first[target]}")
+        raise RobotFileError(f"{where}: {target} {before}; a file may be included only once (MuJoCo refuses "
+                             "it twice too)")
+    if not exists:
+        raise RobotFileError(f"{where}: included file {file!r} not found (relative to {base})")
+    sub = parse_xml(target)
+    if sub.root.tag != "mujoco":
+        raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
+                             f"not <{sub.root.tag}>")
+    return target, sub
 
 
 def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
-    where = doc.where(el)
+    where = f"{doc.where(el)}: body {link.name!r}: <geom>"
     kind = a.get("type", "sphere")
     if kind in ("plane", "hfield", "sdf"):
         return None
@@ -231,9 +309,12 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
     mass = floats(a["mass"], 1, where, "geom mass")[0] if "mass" in a else None
     if "fromto" in a and kind in ("capsule", "cylinder", "box", "ellipsoid"):
         ft = np.asarray(floats(a["fromto"], 6, where, "fromto"))
+        if not size:
+            raise RobotFileError(f"{where}: a {kind} given by fromto still needs its radius in size")
         a0, a1 = ft[:3], ft[3:]
         p = (a0 + a1) / 2
         axis = a1 - a0
+        _unit(axis, where, "fromto", a["fromto"], "the segment between its end points")
         half = np.linalg.norm(axis) / 2
         R = _orientation({"zaxis": " ".join(repr(float(x)) for x in axis)}, comp, where)
         if kind in ("capsule", "cylinder"):

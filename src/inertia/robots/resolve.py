@@ -16,10 +16,24 @@ from __future__ import annotations
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from .._core.errors import RobotFileError
 
-def resolve_mesh(uri: str, base_dir: Path, search_paths=()) -> Path | None:
-    """The existing file ``uri`` names, or None."""
+
+def resolve_mesh(uri: str, base_dir: Path, search_paths=(), *, where: str = "") -> Path | None:
+    """The existing file ``uri`` names, or None.
+
+    A name the operating system cannot look up at all (too long, a NUL byte) is a
+    :class:`RobotFileError` whose message starts with ``where`` (the element's ``file:line``).
+    """
     uri = uri.strip()
+    try:
+        return _resolve(uri, base_dir, search_paths)
+    except (OSError, ValueError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise RobotFileError(f"{where or base_dir}: mesh file name {uri!r} cannot be looked up ({reason})") from None
+
+
+def _resolve(uri: str, base_dir: Path, search_paths) -> Path | None:
     search = [Path(p) for p in search_paths]
     if uri.startswith(("package://", "model://")):
         scheme, rest = uri.split("://", 1)

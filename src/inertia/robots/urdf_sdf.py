@@ -106,16 +106,23 @@ def _urdf_inertial(doc, el) -> Inertial:
         raise RobotFileError(f"{where}: <inertial> without <inertia>")
     vals = {}
     for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"):
-        vals[k] = floats(i_el.get(k, "0"), 1, doc.where(i_el), f"inertia {k}")[0]
+        if i_el.get(k) is None:  # urdfdom refuses it too: no silent zero
+            raise RobotFileError(f"{doc.where(i_el)}: <inertia> has no {k}=...; URDF needs all six of "
+                                 "ixx, iyy, izz, ixy, ixz, iyz")
+        vals[k] = floats(i_el.get(k), 1, doc.where(i_el), f"inertia {k}")[0]
     return Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(el), el)
 
 
 def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
     g = el.find("geometry")
-    if g is None or len(g) == 0:
+    if g is None:
         return None
+    shapes = [c for c in g if isinstance(c.tag, str)]
+    if not shapes:  # urdfdom refuses the file too
+        raise RobotFileError(f"{doc.where(g)}: link {link.name!r}: {role} <geometry> holds no shape "
+                             "(box, cylinder, sphere or mesh)")
     R, p = _urdf_origin(doc, el)
-    shape = [c for c in g if isinstance(c.tag, str)][0]
+    shape = shapes[0]
     where = doc.where(shape)
     if shape.tag == "box":
         params = {"size": floats(shape.get("size"), 3, where, "box size")}
@@ -127,7 +134,7 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
     elif shape.tag == "mesh":
         uri = shape.get("filename") or ""
         scale = floats(shape.get("scale", "1 1 1"), 3, where, "mesh scale")
-        found = resolve_mesh(uri, base, search_paths)
+        found = resolve_mesh(uri, base, search_paths, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
                                f"(relative to {base}; package:// needs --package-path)"))
@@ -144,6 +151,21 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
 def _text(el, tag, default=None):
     c = el.find(tag)
     return default if c is None or c.text is None else c.text
+
+
+def _sdf_number(doc, parent, tag: str, default: float, what: str) -> float:
+    """The number in ``parent``'s ``<tag>``; ``default`` (SDF's) only when there is no such element.
+
+    An empty or non-numeric element is a RobotFileError naming it: SDF's default is for an
+    absent element, never for a value that was meant and lost.
+    """
+    el = parent.find(tag)
+    if el is None:
+        return default
+    where = f"{doc.where(el)}: {what}: <{tag}>"
+    if not (el.text or "").strip():
+        raise RobotFileError(f"{where} is empty; write its value (or remove the element for SDF's default)")
+    return floats(el.text, 1, where, "the value")[0]
 
 
 def _sdf_pose(doc, parent):
@@ -173,15 +195,12 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
             if rel not in (None, "", name, "__model__") and rel != name:
                 link.notes.append(("unsupported_pose", f"{doc.where(inertial)}: inertial pose relative_to={rel!r} "
                                    "is read as relative to the link"))
-            where = doc.where(inertial)
-            mass = floats(_text(inertial, "mass", "1"), 1, where, "mass")[0]
+            mass = _sdf_number(doc, inertial, "mass", 1.0, f"link {name!r}")
             i_el = inertial.find("inertia")
             vals = {k: 0.0 for k in ("ixy", "ixz", "iyz")} | {k: 1.0 for k in ("ixx", "iyy", "izz")}  # SDF defaults
             if i_el is not None:
                 for k in vals:
-                    t = _text(i_el, k)
-                    if t is not None:
-                        vals[k] = floats(t, 1, doc.where(i_el.find(k)), f"inertia {k}")[0]
+                    vals[k] = _sdf_number(doc, i_el, k, vals[k], f"link {name!r}")
             link.inertial = Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(inertial), inertial)
         _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link))
         links.append(link)
@@ -210,7 +229,7 @@ def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
     elif shape.tag == "mesh":
         uri = (_text(shape, "uri") or "").strip()
         scale = floats(_text(shape, "scale", "1 1 1"), 3, where, "mesh scale")
-        found = resolve_mesh(uri, base, search)
+        found = resolve_mesh(uri, base, search, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
                                "(model:// is searched next to the model folder and in --package-path)"))

@@ -138,6 +138,13 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
             msg += " (entities are not supported in robot files)"
         raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
+    except RobotFileError:
+        raise
+    except (LookupError, ValueError) as exc:  # an unknown or unusable encoding="..." (expat asks codecs)
+        declared = re.search(rb"""encoding\s*=\s*["']([^"']*)""", data[:1024])
+        name = declared.group(1).decode("ascii", "replace") if declared else "?"
+        raise RobotFileError(f"{path}:{parser.CurrentLineNumber}: the XML declaration's encoding {name!r} "
+                             f"cannot be used to read the file ({exc}); robot files are UTF-8") from None
     root = builder.close()
     doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n")
     if relocated:
@@ -145,8 +152,60 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     return doc
 
 
+#: trees nested deeper than this are written without recursion (ElementTree's writer recurses)
+DEEP_TREE = 200
+
+
 def serialize(doc: Document) -> bytes:
     """The document as bytes: the source's own bytes around the root element, the root
     element re-serialized (comments and attribute order kept)."""
-    body = ET.tostring(doc.root, encoding="unicode", short_empty_elements=True)
+    if tree_depth(doc.root) > DEEP_TREE:
+        body = serialize_flat(doc.root)
+    else:
+        body = ET.tostring(doc.root, encoding="unicode", short_empty_elements=True)
     return doc.prolog + body.encode("utf-8") + doc.epilog
+
+
+def tree_depth(root) -> int:
+    """Number of nested levels below and including ``root`` (iterative)."""
+    deepest, stack = 0, [(root, 1)]
+    while stack:
+        el, d = stack.pop()
+        deepest = max(deepest, d)
+        stack.extend((c, d + 1) for c in el)
+    return deepest
+
+
+def _escaped_text(text: str) -> str:
+    holder = ET.Element("x")
+    holder.text = text
+    return ET.tostring(holder, encoding="unicode")[3:-4]  # strip <x> and </x>
+
+
+def serialize_flat(root) -> str:
+    """``ET.tostring(root, encoding="unicode")`` without recursion, for any nesting depth.
+
+    Each start tag and each text is escaped by ElementTree itself (one element at a time),
+    so the output is the same as ElementTree's.
+    """
+    out: list[str] = []
+    stack: list = [(False, root)]
+    while stack:
+        closing, el = stack.pop()
+        if closing:
+            out.append(f"</{el.tag}>")
+        elif el.tag is ET.Comment:
+            out.append(f"<!--{el.text}-->")
+        elif el.tag is ET.ProcessingInstruction:
+            out.append(f"<?{el.text}?>")
+        else:
+            start = ET.tostring(ET.Element(el.tag, el.attrib), encoding="unicode")
+            if el.text or len(el):
+                out.append(start[:-3] + ">" + (_escaped_text(el.text) if el.text else ""))
+                stack.append((True, el))
+                stack.extend((False, c) for c in reversed(el))
+                continue
+            out.append(start)
+        if el.tail:  # after the end tag (or the empty element, or the comment)
+            out.append(_escaped_text(el.tail))
+    return "".join(out)
