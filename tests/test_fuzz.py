@@ -49,3 +49,19 @@ def test_mutated_mesh_files_give_numbers_or_our_errors(tmp_path_factory, pick, s
             return
     assert np.isfinite(p.mass) and p.mass > 0
     assert np.all(np.isfinite(p.com)) and np.all(np.isfinite(p.inertia_com))
+
+
+@_SETTINGS
+@given(pick=st.integers(0, 10_000), seed=st.integers(0, 2**32 - 1))
+def test_mutated_robot_files_give_a_report_or_our_errors(tmp_path_factory, pick, seed):
+    from inertia.robots import check_model, read_robot
+
+    ext, data = _mutated(_ROBOT, pick, seed)
+    path = tmp_path_factory.mktemp("robot") / f"fuzz{ext}"
+    path.write_bytes(data)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        try:
+            check_model(read_robot(path))
+        except InertiaError:
+            return

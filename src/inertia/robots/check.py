@@ -82,7 +82,8 @@ class CheckReport:
 def flip_products(inertia) -> np.ndarray:
     """The tensor with its off-diagonal entries negated (tensor elements <-> CAD products)."""
     I = np.asarray(inertia, float)
-    return 2 * np.diag(np.diag(I)) - I
+    with np.errstate(over="ignore", invalid="ignore"):   # near the float limit: inf, refused by the checks
+        return 2 * np.diag(np.diag(I)) - I
 
 
 def _principal(inertia):
@@ -129,7 +130,8 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
     bounds = geometry_bounds(link, mesh_units=mesh_units)
     if bounds is not None:
         lo, hi = bounds
-        margin = COM_MARGIN * float(np.linalg.norm(hi - lo))
+        with np.errstate(over="ignore", invalid="ignore"):  # shapes near the float limit: an infinite margin
+            margin = COM_MARGIN * float(np.linalg.norm(hi - lo))
         c = inertial.com_link
         if np.any(c < lo - margin) or np.any(c > hi + margin):
             rep.warnings.append(Finding("com_outside_geometry", (

@@ -80,11 +80,15 @@ class _Compiler:
 def _unit(v, where: str, attr: str, text: str, part: str) -> np.ndarray:
     """``v`` scaled to unit length; RobotFileError naming ``attr`` when it has (nearly) none."""
     v = np.asarray(v, float)
-    n = float(np.linalg.norm(v))
-    if not n > _MIN_NORM:
+    if not np.isfinite(v).all():
+        raise RobotFileError(f"{where} {attr}={text!r}: {part} is not finite")
+    s = float(np.abs(v).max()) if v.size else 0.0
+    u = v / s if s > 0 else v          # scaled first: the norm of 1e200-sized entries stays finite
+    n = float(np.linalg.norm(u))
+    if not s * n > _MIN_NORM:
         raise RobotFileError(f"{where} {attr}={text!r}: {part} has zero length, so it gives no "
                              "orientation (MuJoCo refuses it too)")
-    return v / n
+    return u / n
 
 
 def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:

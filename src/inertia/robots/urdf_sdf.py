@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._core.tolerances import COORDINATE_LIMIT
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
 from .xmlsafe import RobotFileError, parse_xml
@@ -47,6 +48,11 @@ def floats(text, n: int | None, where: str, what: str) -> list[float]:
         raise RobotFileError(f"{where}: {what} needs {n} numbers, got {len(vals)} ({text!r})")
     if not all(math.isfinite(v) for v in vals):
         raise RobotFileError(f"{where}: {what} holds a non-finite number ({text!r})")
+    big = [v for v in vals if abs(v) > COORDINATE_LIMIT]
+    if big:
+        raise RobotFileError(f"{where}: {what} holds {big[0]:g}, beyond +-{COORDINATE_LIMIT:g}: no length, mass or "
+                             "inertia of a robot is that large, and the mass properties would overflow (check the "
+                             "units)")
     return vals
 
 
