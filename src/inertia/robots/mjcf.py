@@ -147,6 +147,40 @@ def _collect_defaults(default_el, parent: dict, out: dict) -> None:
         stack.extend((child, mine) for child in reversed(el.findall("default")))
 
 
+#: MJCF elements that add bodies or mass this reader does not expand: refused by name (a
+#: check that skipped them would call an incomplete model valid)
+UNREAD = ("replicate", "attach", "composite", "flexcomp")
+
+
+def _contents(el, comp: _Compiler, doc, childclass: str):
+    """The geoms and child bodies of a body (or worldbody), through any nesting of ``<frame>``.
+
+    Yields ``(kind, element, childclass, R_body_frame, p_body_frame)`` in document order:
+    kind "geom" or "body"; a geom's pose is composed with the frames around it (a body's
+    pose is relative to its parent and does not enter its own check).  Elements this reader
+    does not expand (:data:`UNREAD`) raise RobotFileError naming them.
+    """
+    stack = [(iter(list(el)), childclass, np.eye(3), np.zeros(3))]
+    while stack:
+        children, cc, R, p = stack[-1]
+        child = next(children, None)
+        if child is None:
+            stack.pop()
+            continue
+        tag = child.tag
+        if tag in ("geom", "body"):
+            yield tag, child, cc, R, p
+        elif tag == "frame":
+            where = f"{doc.where(child)}: <frame>"
+            R_f = _orientation(child.attrib, comp, where)
+            p_f = np.asarray(floats(child.get("pos", "0 0 0"), 3, where, "frame pos"))
+            stack.append((iter(list(child)), child.get("childclass", cc), R @ R_f, R @ p_f + p))
+        elif tag in UNREAD:
+            raise RobotFileError(f"{doc.where(child)}: <{tag}> is not read by this version of inertia (MuJoCo "
+                                 "expands it into bodies and geoms whose mass properties would go unchecked); "
+                                 "check the model after compiling it, e.g. from MuJoCo's saved XML (mj_saveLastXML)")
+
+
 def read_mjcf(path, *, search_paths=()) -> RobotModel:
     doc = parse_xml(path)
     root = doc.root
@@ -187,7 +221,7 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         return merged
 
     def visit(body, childclass, index):
-        """Read one body (not its children); returns the class its children inherit."""
+        """Read one body (not its children); returns its child bodies with the class each inherits."""
         cc = body.get("childclass", childclass)
         name = body.get("name") or f"body{index[0]}"
         index[0] += 1
@@ -197,23 +231,29 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         if inertial is not None:
             where = f"{doc.where(inertial)}: body {name!r}: <inertial>"
             link.inertial = _inertial(attrs_of(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
-        for g in body.findall("geom"):
-            geom = _geom(doc, attrs_of(g, "geom", cc), g, comp, meshes, link)
+        children = []
+        for kind, el, el_cc, R_f, p_f in _contents(body, comp, doc, cc):
+            if kind == "body":
+                children.append((el, el_cc))
+                continue
+            geom = _geom(doc, attrs_of(el, "geom", el_cc), el, comp, meshes, link)
             if geom is not None:
+                geom.R_link_geom = R_f @ geom.R_link_geom
+                geom.p_link_geom = R_f @ geom.p_link_geom + p_f
                 link.geometries.append(geom)
         has_mass_geoms = any(g.role == "collision" for g in link.geometries)
         link.inertia_from_geoms = has_mass_geoms and (
             comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and link.inertial is None))
         links.append(link)
-        return cc
+        return children
 
     # depth first, parents before children, without recursion (models nest thousands deep)
     counter = [1]
-    stack = [(body, "main") for world in reversed(worlds) for body in reversed(world.findall("body"))]
+    stack = [(el, cc) for world in reversed(worlds)
+             for kind, el, cc, _, _ in reversed(list(_contents(world, comp, doc, "main"))) if kind == "body"]
     while stack:
         body, childclass = stack.pop()
-        cc = visit(body, childclass, counter)
-        stack.extend((child, cc) for child in reversed(body.findall("body")))
+        stack.extend(reversed(visit(body, childclass, counter)))
     return RobotModel(Path(path), "mjcf", links, doc)
 
 

@@ -191,6 +191,10 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
         raise RobotFileError(f"{doc.where(root)}: not an SDF file: the root element is <{root.tag}>, not <sdf>")
     base = Path(path).resolve().parent
     search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder
+    for inc in root.iter("include"):
+        uri = (inc.findtext("uri") or "").strip()
+        raise RobotFileError(f"{doc.where(inc)}: <include> of {uri or '(no uri)'!r} is not followed by this version "
+                             "of inertia (its links would go unchecked); check the included model's own SDF file")
     links = []
     for el in root.iter("link"):
         name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
