@@ -84,18 +84,26 @@ def add_source_arguments(parser, *, source_required: bool = True) -> None:
     m.add_argument("--units", default="m", choices=tuple(LENGTH_UNITS), metavar="UNIT",
                    help="length unit of the mesh coordinates or primitive dimensions: "
                         + "|".join(LENGTH_UNITS) + " (default m); results are always SI")
-    m.add_argument("--shell", action="store_true",
-                   help="thin shell: mass spread over the surface (needs --mass, or --density in kg/m^2)")
-    m.add_argument("--fix-orientation", action="store_true",
-                   help="mesh files: repair inconsistent or inverted face winding instead of refusing the mesh")
-    m.add_argument("--accept-defects", action="store_true",
-                   help="mesh files: compute even when the mesh is open/defective; the result carries "
-                        "warnings (the numbers may be meaningless)")
-    m.add_argument("--robust", action="store_true",
-                   help="mesh files: for an open, overlapping or self-intersecting solid, integrate the points "
-                        "of generalised winding number >= 1/2, with an error bound (docs/robust.md)")
-    m.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
-                   help="with --robust: the relative error bound to reach (default 1e-3)")
+    add_mesh_options(m)
+
+
+def add_mesh_options(group, *, batch: bool = False) -> None:
+    """The options of how a mesh becomes a body: --shell, --fix-orientation, --accept-defects,
+    --robust and --robust-tol (``batch``: the row-wise wording)."""
+    group.add_argument("--shell", action="store_true",
+                       help="thin shell: mass spread over the surface (needs --mass, or --density in kg/m^2)")
+    group.add_argument("--fix-orientation", action="store_true",
+                       help="mesh files: repair inconsistent or inverted face winding instead of refusing the mesh")
+    group.add_argument("--accept-defects", action="store_true",
+                       help=("accept defective meshes with warnings instead of error rows" if batch else
+                             "mesh files: compute even when the mesh is open/defective; the result carries "
+                             "warnings (the numbers may be meaningless)"))
+    group.add_argument("--robust", action="store_true",
+                       help="mesh files: for an open, overlapping or self-intersecting solid, integrate the points "
+                            "of generalised winding number >= 1/2, with an error bound (docs/robust.md)"
+                            + ("; a warning row" if batch else ""))
+    group.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
+                       help="with --robust: the relative error bound to reach (default 1e-3)")
 
 
 class SourceInfo:

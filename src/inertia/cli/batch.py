@@ -37,7 +37,7 @@ the run could not start, 130 interrupted (resumable)."""
 
 
 def register(sub) -> None:
-    from ._source import LENGTH_UNITS
+    from ._source import LENGTH_UNITS, add_mesh_options
 
     p = fmt.add_command(sub, "batch", HELP, DESCRIPTION, EPILOG)
     p.add_argument("sources", nargs="+", metavar="SOURCE", help="mesh file, folder, glob or manifest (.csv/.parquet)")
@@ -47,13 +47,7 @@ def register(sub) -> None:
     m.add_argument("--density", type=float, metavar="RHO", help="kg/m^3 (kg/m^2 with --shell) for every file")
     m.add_argument("--mass", type=float, metavar="KG", help="total mass of each body, kg")
     p.add_argument("--units", choices=tuple(LENGTH_UNITS), default="m", help="length unit of the files (default m)")
-    p.add_argument("--shell", action="store_true", help="thin shells (surface density)")
-    p.add_argument("--fix-orientation", action="store_true", help="repair inward or inconsistent winding")
-    p.add_argument("--accept-defects", action="store_true",
-                   help="accept defective meshes with warnings instead of error rows")
-    p.add_argument("--robust", action="store_true",
-                   help="open, overlapping or self-intersecting solids: the robust solid with an error bound "
-                        "(a warning row)")
+    add_mesh_options(p, batch=True)
     p.add_argument("--scheduler", metavar="ADDR",
                    help="tcp://HOST:PORT of a Dask scheduler, or 'synchronous' (default: a local cluster)")
     p.add_argument("--dask-config", metavar="FILE", help="YAML Dask config (its scheduler-address is used)")
@@ -87,7 +81,7 @@ def run(args) -> int:
     summary = run_batch(args.sources, args.output, fmt=args.format, density=args.density, mass=args.mass,
                         units=args.units, shell=args.shell, fix_orientation=args.fix_orientation,
                         on_defect="warn" if args.accept_defects else "raise", robust=args.robust,
-                        scheduler=scheduler,
+                        robust_tol=args.robust_tol, scheduler=scheduler,
                         n_workers=args.workers, chunk_files=args.chunk_files, resume=args.resume,
                         overwrite=args.force, progress=not args.no_progress)
     sys.stderr.write("\n".join(summary.lines()) + "\n")

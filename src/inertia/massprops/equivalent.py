@@ -197,6 +197,8 @@ class _EquivalentSolid:
 
     _kind = "solid"
     _dims_name = "dims"
+    _moment_divisor = 1.0   # I_i = M / divisor (d_j^2 + d_k^2)
+    _volume_factor = 1.0    # V = factor d1 d2 d3
 
     def __post_init__(self):
         m = float(self.mass)
@@ -214,12 +216,15 @@ class _EquivalentSolid:
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
     # subclasses: principal moments and volume from the dimensions
-    def principal_moments(self) -> np.ndarray:  # pragma: no cover - abstract
-        raise NotImplementedError
+    def principal_moments(self) -> np.ndarray:
+        """Moments (3,) [kg m^2] about the centre along the solid's axes: ``M/k (d_j^2 + d_k^2)``."""
+        d2 = self.dims ** 2
+        return self.mass / self._moment_divisor * (d2.sum() - d2)
 
     @property
-    def volume(self) -> float:  # pragma: no cover - abstract
-        raise NotImplementedError
+    def volume(self) -> float:
+        """The solid's volume [m^3] (0 when flat)."""
+        return float(self._volume_factor * np.prod(self.dims))
 
     @property
     def density(self) -> float:
@@ -285,21 +290,14 @@ class EquivalentBox(_EquivalentSolid):
 
     _kind = "box"
     _dims_name = "size"
+    _moment_divisor = 12.0                 # I_i = M/12 (b_j^2 + b_k^2)
+    _volume_factor = 1.0                   # b1 b2 b3
 
     @property
     def size(self) -> np.ndarray:
         """Full edge lengths (3,) [m] along principal axes 1, 2, 3 (same as ``dims``)."""
         return self.dims
 
-    def principal_moments(self) -> np.ndarray:
-        """Moments (3,) [kg m^2] about the centre along the box axes: ``M/12 (b_j^2 + b_k^2)``."""
-        b2 = self.dims ** 2
-        return self.mass / 12.0 * (b2.sum() - b2)
-
-    @property
-    def volume(self) -> float:
-        """``b1 b2 b3`` [m^3] (0 for a lamina)."""
-        return float(np.prod(self.dims))
 
 
 @dataclass(frozen=True, eq=False)
@@ -329,21 +327,14 @@ class EquivalentEllipsoid(_EquivalentSolid):
 
     _kind = "ellipsoid"
     _dims_name = "semi_axes"
+    _moment_divisor = 5.0                  # I_i = M/5 (a_j^2 + a_k^2)
+    _volume_factor = 4.0 / 3.0 * math.pi   # 4/3 pi a1 a2 a3
 
     @property
     def semi_axes(self) -> np.ndarray:
         """Semi-axes (3,) [m] along principal axes 1, 2, 3 (same as ``dims``)."""
         return self.dims
 
-    def principal_moments(self) -> np.ndarray:
-        """Moments (3,) [kg m^2] about the centre along the ellipsoid axes: ``M/5 (a_j^2 + a_k^2)``."""
-        a2 = self.dims ** 2
-        return self.mass / 5.0 * (a2.sum() - a2)
-
-    @property
-    def volume(self) -> float:
-        """``4/3 pi a1 a2 a3`` [m^3] (0 for a flat disc)."""
-        return float(4.0 / 3.0 * math.pi * np.prod(self.dims))
 
 
 def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> EquivalentBox:

@@ -26,7 +26,7 @@ from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
 from .urdf_sdf import floats
-from .xmlsafe import RobotFileError, parse_xml
+from .xmlsafe import RobotFileError, parse_robot_xml, parse_xml
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -182,10 +182,8 @@ def _contents(el, comp: _Compiler, doc, childclass: str):
 
 
 def read_mjcf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_xml(path)
+    doc = parse_robot_xml(path, "mujoco", "an MJCF")
     root = doc.root
-    if root.tag != "mujoco":
-        raise RobotFileError(f"{doc.where(root)}: not an MJCF file: the root element is <{root.tag}>, not <mujoco>")
     base = Path(path).resolve().parent
     _expand_includes(doc, base, set())
     comp_el = root.find("compiler")

@@ -24,7 +24,7 @@ import numpy as np
 from .._core.tolerances import COORDINATE_LIMIT
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
-from .xmlsafe import RobotFileError, parse_xml
+from .xmlsafe import RobotFileError, parse_robot_xml
 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
@@ -73,10 +73,8 @@ def _inertia_matrix(ixx, iyy, izz, ixy, ixz, iyz) -> np.ndarray:
 
 
 def read_urdf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_xml(path)
+    doc = parse_robot_xml(path, "robot", "a URDF")
     root = doc.root
-    if root.tag != "robot":
-        raise RobotFileError(f"{doc.where(root)}: not a URDF file: the root element is <{root.tag}>, not <robot>")
     base = Path(path).resolve().parent
     links = []
     for el in root.iter("link"):
@@ -185,10 +183,8 @@ def _sdf_pose(doc, parent):
 
 
 def read_sdf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_xml(path)
+    doc = parse_robot_xml(path, "sdf", "an SDF")
     root = doc.root
-    if root.tag != "sdf":
-        raise RobotFileError(f"{doc.where(root)}: not an SDF file: the root element is <{root.tag}>, not <sdf>")
     base = Path(path).resolve().parent
     search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder
     for inc in root.iter("include"):

@@ -85,6 +85,15 @@ def _relocated_declaration(data: bytes) -> tuple[bytes, bool]:
     return data[: m.start()] + b" " * (m.end() - m.start()) + data[m.end():], True
 
 
+def parse_robot_xml(path, root_tag: str, format_name: str) -> Document:
+    """:func:`parse_xml`, refusing a document whose root is not ``<root_tag>`` by name."""
+    doc = parse_xml(path)
+    if doc.root.tag != root_tag:
+        raise RobotFileError(f"{doc.where(doc.root)}: not {format_name} file: the root element is <{doc.root.tag}>, "
+                             f"not <{root_tag}>")
+    return doc
+
+
 def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     """Parse XML bytes safely; ``path`` is used in messages."""
     path = Path(path) if not isinstance(path, Path) else path
