@@ -233,7 +233,7 @@ class ExactSolution:
             self.parameter, self.complementary_parameter = 1.0, 0.0
             self.period = math.inf
         else:
-            ell = EllipticMotion(I, w0, major=D[1] > 0, G=G, D=D)
+            ell = EllipticMotion(I, w0, G=G, D=D, major=D[1] > 0)
             self.regime = "major_axis" if ell.major else "minor_axis"
             self._motion = ell
             self.rate = ell.lam

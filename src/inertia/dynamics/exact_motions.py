@@ -110,19 +110,26 @@ class SymmetricTopMotion:
 
 
 @dataclass
-class EllipticMotion:
-    """Asymmetric body off the separatrix: Jacobi elliptic functions (constants precomputed)."""
+class _AsymmetricMotion:
+    """Moments ``I`` (ascending), initial ``w0``, ``G = |I w0|`` and ``D_j / G^2`` of an
+    asymmetric body; subclasses precompute their constants in ``_setup``."""
 
     I: np.ndarray
     w0: np.ndarray
-    major: bool
     G: float
     D: tuple
 
     def __post_init__(self):
-        I1, I2, I3 = self.I
-        D1, D2, D3 = self.D          # D_j / G^2
-        G = self.G
+        self._setup(*self.I, *self.D, self.G)
+
+
+@dataclass
+class EllipticMotion(_AsymmetricMotion):
+    """Asymmetric body off the separatrix: Jacobi elliptic functions (constants precomputed)."""
+
+    major: bool = False
+
+    def _setup(self, I1, I2, I3, D1, D2, D3, G):
         if self.major:
             # circulation about e3: cn on axis 1, sn on 2, dn on 3
             self.cn_axis, self.dn_axis = 0, 2
@@ -215,22 +222,14 @@ class EllipticMotion:
 
 
 @dataclass
-class SeparatrixMotion:
+class SeparatrixMotion(_AsymmetricMotion):
     """``D2 = 0``: heteroclinic motion towards +-G e2 (hyperbolic functions).
 
     ``m(t) = (s1 B13 sech x, G tanh x, s3 B31 sech x)`` with ``x = lam t - nu``; the
     attitude angle about ``d = s3 e3`` integrates ``int dx / (1 + b sech x)`` in closed form.
     """
 
-    I: np.ndarray
-    w0: np.ndarray
-    G: float
-    D: tuple
-
-    def __post_init__(self):
-        I1, I2, I3 = self.I
-        D1, D2, D3 = self.D          # D_j / G^2
-        G = self.G
+    def _setup(self, I1, I2, I3, D1, D2, D3, G):
         m0 = self.I * self.w0
         self.s1 = 1.0 if m0[0] > 0 else -1.0
         self.s3 = 1.0 if m0[2] > 0 else -1.0

@@ -48,19 +48,21 @@ def _check_mass_args(density, mass, what: str) -> None:
                          f"{'both' if density is not None else 'neither'}")
 
 
+#: what to do about each defect nothing can be computed with
+_FATAL_FIX = {"empty": "give a mesh with at least one triangle",
+              "non_finite": "remove or repair the NaN/inf vertices",
+              "out_of_range": "give coordinates within +-1e60 (check the units)",
+              "bad_index": "make every face index a valid vertex index (0 <= i < V; negative indices are not wrapped)"}
+#: how to repair each topology defect
+_REPAIR = {"open_edges": "close the holes, or merge near-coincident vertices as inertia.load_mesh does",
+           "duplicate_faces": "remove the duplicate faces",
+           "non_manifold_edges": "separate parts that share edges"}
+
+
 def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
     """The sentence suggesting what the caller can do about ``codes``."""
     if codes & set(_FATAL):
-        fixes = []
-        if "empty" in codes:
-            fixes.append("give a mesh with at least one triangle")
-        if "non_finite" in codes:
-            fixes.append("remove or repair the NaN/inf vertices")
-        if "out_of_range" in codes:
-            fixes.append("give coordinates within +-1e60 (check the units)")
-        if "bad_index" in codes:
-            fixes.append("make every face index a valid vertex index (0 <= i < V; negative indices are "
-                         "not wrapped)")
+        fixes = [text for code, text in _FATAL_FIX.items() if code in codes]
         return "Nothing can be computed from such a mesh: " + "; ".join(fixes) + "."
     opts = []
     if codes & _ORIENTATION and not fix_orientation:
@@ -71,13 +73,7 @@ def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
         opts.append("robust=True for the solid the surface most nearly bounds (generalised winding number), "
                     "with an error bound")
     opts.append("on_defect='warn' to accept the result with the defects recorded as warnings")
-    how = []
-    if "open_edges" in codes:
-        how.append("close the holes, or merge near-coincident vertices as inertia.load_mesh does")
-    if "duplicate_faces" in codes:
-        how.append("remove the duplicate faces")
-    if "non_manifold_edges" in codes:
-        how.append("separate parts that share edges")
+    how = [text for code, text in _REPAIR.items() if code in codes]
     opts.append("repair the mesh" + (f" ({', '.join(how)})" if how else ""))
     return "Options: " + "; ".join(opts) + "."
 

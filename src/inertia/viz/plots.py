@@ -123,15 +123,21 @@ def polhode_plot(study, out_dir, stem: str = "polhodes") -> dict:
     m = study.omega_exact * I
     # dashed and thinner: this spin runs next to the separatrix and would hide it
     ax.plot(m[:, 0], m[:, 1], m[:, 2], color="k", lw=1.0, ls="--", label="this spin")
+    labels = ("m1 [kg m^2/s]", "m2 [kg m^2/s]", "m3 [kg m^2/s]")
+    files = _finish_3d(plt, fig, ax, labels, "Polhodes on the angular-momentum sphere", 7, out_dir, stem)
+    return {"files": files}
+
+
+def _finish_3d(plt, fig, ax, labels, title: str, legend_size: int, out_dir, stem: str) -> list:
+    """Equal aspect, axis labels, title and legend of a 3D figure; saved (PNG, SVG) and closed."""
     ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel("m1")
-    ax.set_ylabel("m2")
-    ax.set_zlabel("m3")
-    ax.set_title("Polhodes on the angular-momentum sphere")
-    ax.legend(fontsize=7, loc="upper left")
+    for set_label, text in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), labels):
+        set_label(text)
+    ax.set_title(title)
+    ax.legend(fontsize=legend_size, loc="upper left")
     files = _save(fig, Path(out_dir), stem)
     plt.close(fig)
-    return {"files": files}
+    return files
 
 
 def body_plot(props, six, out_dir, stem: str = "body") -> dict:
@@ -155,16 +161,10 @@ def body_plot(props, six, out_dir, stem: str = "body") -> dict:
     for k in range(3):
         end = c + span * R[:, k]
         ax.plot(*zip(c, end), color=colors[k], lw=2, label=f"principal axis {k + 1}: I = {moments[k]:.4g} kg m^2")
-    ax.set_box_aspect((1, 1, 1))
     lim = span * 1.1
     ax.set_xlim(c[0] - lim, c[0] + lim)
     ax.set_ylim(c[1] - lim, c[1] + lim)
     ax.set_zlim(c[2] - lim, c[2] + lim)
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
-    ax.set_title("Principal axes, six-point model and equivalent box")
-    ax.legend(fontsize=6, loc="upper left")
-    files = _save(fig, Path(out_dir), stem)
-    plt.close(fig)
+    files = _finish_3d(plt, fig, ax, ("x [m]", "y [m]", "z [m]"),
+                       "Principal axes, six-point model and equivalent box", 6, out_dir, stem)
     return {"files": files, "points": pts.tolist()}
