@@ -19,6 +19,9 @@ import os
 
 from .._core.units import DEFAULT_DENSITY, LENGTH_UNITS  # noqa: F401 - DEFAULT_DENSITY: used by commands
 
+#: the last sentence of every SOURCE command's description
+DENSITY_NOTE = "Default density: 1000 kg/m^3 (water) when neither --mass nor --density is given."
+
 
 class PrimitiveSpec:
     """One primitive shape of the SOURCE grammar: its parameter names and how to build it.

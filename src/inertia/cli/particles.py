@@ -7,13 +7,12 @@ with the same total mass, center of mass and full inertia tensor as the body.
 from __future__ import annotations
 
 from . import _format as fmt
-from ._source import add_source_arguments
+from ._source import DENSITY_NOTE, add_source_arguments
 
 HELP = "six-point and four-point particle models of a body"
 DESCRIPTION = ("Point-mass models with exactly the mass, center of mass and inertia tensor "
                "of a mesh file or primitive: six equal-mass-pair points on the principal axes, "
-               "and four points.  Default density: 1000 kg/m^3 (water) when neither --mass "
-               "nor --density is given.")
+               "and four points.  " + DENSITY_NOTE)
 
 EPILOG = """\
 examples:

@@ -9,7 +9,7 @@ columns of a proper rotation ``R_body_principal`` (det +1).
 from __future__ import annotations
 
 from . import _format as fmt
-from ._source import add_source_arguments
+from ._source import DENSITY_NOTE, add_source_arguments
 
 CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass in the body axes, "
                "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
@@ -18,8 +18,7 @@ CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass i
 HELP = "mass properties of a mesh file or primitive"
 DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
                "moments and axes, repeated-moment report and physical validity of a mesh file "
-               "or a primitive shape.  Default density: 1000 kg/m^3 (water) when neither "
-               "--mass nor --density is given.")
+               "or a primitive shape.  " + DENSITY_NOTE)
 
 EPILOG = """\
 examples:

@@ -15,6 +15,11 @@ every time step is a loop over the chunk, which LLVM vectorises for the trig-fre
 (rk4).  Left-over bodies (all of them for a single body) run one at a time with the state in
 registers.  ``error_model="numpy"`` is required: Python's ZeroDivisionError check on every
 division would keep the loops scalar.
+
+Repetition here is deliberate: the kernels are written as flat scalar arithmetic (numba
+compiles it to registers; a helper returning tuples, or a loop over the three coordinates,
+costs measurably in the inner loops), so a few lines of the same shape recur between kernels
+that differ in what they accumulate.  ``duplicates`` lists them; they stay.
 """
 
 from __future__ import annotations

@@ -320,10 +320,9 @@ def jacobians(x, u, h, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None,
     Examples
     --------
     >>> import numpy as np
-    >>> from inertia.dynamics import RigidBody, jacobians, pack_state, step
-    >>> body = RigidBody(1.0, np.diag([0.0167, 0.0142, 0.0042]))
-    >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.1, 2.0, 0.0])
-    >>> A, B = jacobians(x0, np.zeros(6), 1e-2, body=body)
+    >>> from inertia.dynamics import RigidBody, jacobians
+    >>> x0 = np.r_[0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0.1, 2.0, 0.0]   # p, v, q_world_body, omega_body
+    >>> A, B = jacobians(x0, np.zeros(6), 1e-2, body=RigidBody(1.0, np.diag([0.0167, 0.0142, 0.0042])))
     >>> A.shape, B.shape
     ((12, 12), (12, 6))
     """

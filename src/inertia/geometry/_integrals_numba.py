@@ -24,6 +24,11 @@ first face holding a bad one (``-1`` when all are valid); the caller raises.
 
 Compiled with ``cache=True`` (the machine code is cached next to this file) and
 ``nogil=True`` (callers may run several meshes in threads).
+
+Repetition here is deliberate: the kernels are written as flat scalar arithmetic (numba
+compiles it to registers; a helper returning tuples, or a loop over the three coordinates,
+costs measurably in the inner loops), so a few lines of the same shape recur between kernels
+that differ in what they accumulate.  ``duplicates`` lists them; they stay.
 """
 
 from __future__ import annotations

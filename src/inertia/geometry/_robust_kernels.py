@@ -8,6 +8,11 @@ Conventions: triangles are (3, 3) corner arrays or index triples into ``V`` (N, 
 ``eps`` is a length (the geometric tolerance, a tiny multiple of the mesh size).  Every
 intersection test is *conservative*: it answers ``True`` ("may cut") whenever the
 configuration is within ``eps`` of touching, so that ``False`` is safe to rely on.
+
+Repetition here is deliberate: the kernels are written as flat scalar arithmetic (numba
+compiles it to registers; a helper returning tuples, or a loop over the three coordinates,
+costs measurably in the inner loops), so a few lines of the same shape recur between kernels
+that differ in what they accumulate.  ``duplicates`` lists them; they stay.
 """
 
 from __future__ import annotations

@@ -14,6 +14,11 @@ load factor <= 1/2), so their cost is O(n) with no sort:
   outward, non-degenerate component?  When it answers no (or cannot tell), the caller runs
   the full NumPy analysis, which names each defect; so this kernel never has to explain
   anything, only to be right when it answers yes.
+
+Repetition here is deliberate: the kernels are written as flat scalar arithmetic (numba
+compiles it to registers; a helper returning tuples, or a loop over the three coordinates,
+costs measurably in the inner loops), so a few lines of the same shape recur between kernels
+that differ in what they accumulate.  ``duplicates`` lists them; they stay.
 """
 
 from __future__ import annotations

@@ -304,21 +304,10 @@ class EquivalentBox(_EquivalentSolid):
 class EquivalentEllipsoid(_EquivalentSolid):
     """Uniform solid ellipsoid with the mass, COM and inertia tensor of a given body.
 
-    Attributes
-    ----------
-    mass : float, kg.
-    dims : (3,) float, m
-        Semi-axes ``(a1, a2, a3)`` along principal axes 1, 2, 3.  These are the columns of
-        ``R_body_principal``, in the order of the ascending principal moments, so the
-        semi-axes are in descending order.  Also available as :attr:`semi_axes`.
-    R_body_principal : (3, 3) float
-        Proper rotation whose columns are the ellipsoid axes (principal axes) in frame F.
-    p_body_com : (3,) float, m
-        Centre (the COM) in frame F.
-    frame : str
-        Name of F.
-    warnings : tuple of str
-        Set when the ellipsoid is a flat disc (a zero semi-axis, see :func:`equivalent_ellipsoid`).
+    The attributes of :class:`EquivalentBox`, with ``dims`` the semi-axes ``(a1, a2, a3)``
+    along principal axes 1, 2, 3 (descending, also available as :attr:`semi_axes`) and
+    ``warnings`` set when the ellipsoid is a flat disc (a zero semi-axis, see
+    :func:`equivalent_ellipsoid`).
 
     Notes
     -----

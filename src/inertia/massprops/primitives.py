@@ -300,16 +300,11 @@ def tube(outer_radius, inner_radius, height, *, mass=None, density=None, shell: 
     inner_radius : float, m
         Radius of the bore, ``0 < inner_radius < outer_radius`` (use :func:`cylinder`
         for a tube without a bore).
-    height : float, m
-        Full length along z; the body spans ``-height/2 <= z <= height/2``.
-    mass : float, kg, optional
-        Give exactly one of ``mass`` and ``density``.
-    density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
+    height, mass, density, frame
+        As for :func:`cylinder`.
     shell : bool, default False
         Thin closed shell over the whole boundary: outer and inner lateral surfaces and
         the two annular end faces, uniform surface density.
-    frame : str, default "body"
 
     Returns
     -------

@@ -283,12 +283,7 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
 def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> ParticleModel:
     """The minimal particle model: four equal masses that reproduce mass, COM and inertia tensor.
 
-    Parameters
-    ----------
-    props : MassProperties
-        The body: mass M [kg], COM [m] and central inertia [kg m^2] in its frame F.
-    rtol : float
-        Tolerance on the triangle inequality and positive definiteness, times ``|trace(I)|``.
+    ``props`` and ``rtol`` as for :func:`six_point_model`.
 
     Returns
     -------

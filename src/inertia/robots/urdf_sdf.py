@@ -56,6 +56,13 @@ def floats(text, n: int | None, where: str, what: str) -> list[float]:
     return vals
 
 
+def _link_elements(doc, root):
+    """``(element, Link, <inertial> or None)`` for every ``<link>`` of a URDF or SDF document."""
+    for el in root.iter("link"):
+        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
+        yield el, Link(name, doc.line(el), None, element=el), el.find("inertial")
+
+
 def _add_shapes(link, el, parse) -> None:
     """Append every ``<collision>`` then ``<visual>`` shape of ``el`` that ``parse(element, role)`` reads."""
     for role in ("collision", "visual"):
@@ -77,10 +84,7 @@ def read_urdf(path, *, search_paths=()) -> RobotModel:
     root = doc.root
     base = Path(path).resolve().parent
     links = []
-    for el in root.iter("link"):
-        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
-        link = Link(name, doc.line(el), None, element=el)
-        inertial = el.find("inertial")
+    for el, link, inertial in _link_elements(doc, root):
         if inertial is not None:
             link.inertial = _urdf_inertial(doc, inertial)
         _add_shapes(link, el, lambda g, role: _urdf_geometry(doc, g, role, base, search_paths, link))
@@ -192,10 +196,8 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
         raise RobotFileError(f"{doc.where(inc)}: <include> of {uri or '(no uri)'!r} is not followed by this version "
                              "of inertia (its links would go unchecked); check the included model's own SDF file")
     links = []
-    for el in root.iter("link"):
-        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
-        link = Link(name, doc.line(el), None, element=el)
-        inertial = el.find("inertial")
+    for el, link, inertial in _link_elements(doc, root):
+        name = link.name
         if inertial is not None:
             R, p, rel = _sdf_pose(doc, inertial)
             if rel not in (None, "", name, "__model__") and rel != name:
