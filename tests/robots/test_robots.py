@@ -14,7 +14,7 @@ import pytest
 import inertia
 from inertia.cli.main import main
 from inertia.robots import check_model, inertial_block, nearest_physical_inertia, read_robot
-from inertia.robots.geometry import link_geometry_properties
+from inertia.robots.geometry import SUMMED_OVERLAP, link_geometry_properties
 from inertia.robots.mjcf import quat_matrix
 from inertia.robots.xmlsafe import RobotFileError
 
@@ -139,7 +139,9 @@ def test_mjcf_geometry_inertia_equals_mujocos_compiler(tmp_path, angle, seq, rob
     model = read_robot(path)
     for i, name in ((1, "a"), (2, "b")):
         ours, _, problems = link_geometry_properties(model.link(name))
-        assert not problems
+        # barkour's handle.stl holds closed parts that overlap (found by the checks; the robust
+        # winding-number solid confirms it): summed, as MuJoCo sums them, with a note
+        assert all(code == SUMMED_OVERLAP for code, _ in problems), problems
         R = quat_matrix(m.body_iquat[i])
         I_mj = R @ np.diag(m.body_inertia[i]) @ R.T
         assert abs(m.body_mass[i] / ours.mass - 1) < 1e-7

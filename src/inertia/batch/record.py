@@ -27,7 +27,8 @@ COLUMN_DOCS = {
     "status": "ok | warning (result valid, see warnings) | error (no result; see reason)",
     "reason": "error code (the error's stable code, see inertia.errors): not_found, unreadable, malformed, empty, "
               "unsupported_format, non_finite, out_of_range, bad_index, open_edges, non_manifold_edges, "
-              "inconsistent_winding, inverted, non_positive_volume, zero_area, not_orientable, invalid_mesh, "
+              "inconsistent_winding, inverted, overlapping_shells, non_positive_volume, zero_area, not_orientable, "
+              "invalid_mesh, "
               "invalid_input, invalid_inertia, missing_dependency, internal_error, "
               "crashed (the file's worker process was lost)",
     "message": "the full error message (empty when ok)",

@@ -19,14 +19,18 @@ code                     meaning
 ``inconsistent_winding`` an edge traversed in the same direction by its two faces
 ``inverted``             a closed, consistently wound component whose signed volume has
                          the wrong sign (wound inward), not explained by nesting
+``overlapping_shells``   two closed components whose volumes overlap (the integrals would
+                         count the overlap twice): one's surface runs both inside and
+                         outside the other, or their faces cross
+                         (:mod:`inertia.geometry.intersections`)
 =======================  ===============================================================
 
 Vertices with exactly equal coordinates are welded before the topology checks (OBJ and STL
 files split vertices at texture/normal seams or per face); indices in the report are the
 caller's own, the lowest index of each welded group standing for the group.
 
-Not detected: self-intersections and overlapping components (both make the volume wrong
-but cost far more to find).
+Not detected by default: a single closed shell that passes through itself (finding it costs
+far more than the integrals; ``robust=True`` finds and handles it).
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.tolerances import COORDINATE_LIMIT, DEGENERATE_AREA_RTOL
+from .intersections import overlapping_components, winding_numbers
 from .mesh_arrays import faces_in_range, topology_kernels, validate_inputs, weld_map
 from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
 
@@ -61,27 +66,6 @@ class MeshAnalysis:
     inverted_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     closed: bool = False
     labels_topo: np.ndarray | None = None        # (T,) component of each topology face
-
-
-def _winding_numbers(points: np.ndarray, tri: np.ndarray, chunk: int = 250_000) -> np.ndarray:
-    """Generalized winding number of the closed triangle set ``tri`` (T, 3, 3) at ``points`` (P, 3).
-
-    Sum of signed solid angles / 4 pi (Van Oosterom & Strackee 1983,
-    ``tan(Omega/2) = a.(b x c) / (|a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|)``):
-    +-1 inside a closed surface, 0 outside.
-    """
-    out = np.empty(len(points))
-    step = max(1, chunk // max(len(tri), 1))
-    for s in range(0, len(points), step):
-        p = points[s:s + step, None, None, :]
-        r = tri[None, :, :, :] - p                        # (p, T, 3, 3)
-        a, b, c = r[..., 0, :], r[..., 1, :], r[..., 2, :]
-        la, lb, lc = (np.linalg.norm(x, axis=-1) for x in (a, b, c))
-        num = np.einsum("ptk,ptk->pt", a, np.cross(b, c))
-        den = (la * lb * lc + np.einsum("ptk,ptk->pt", a, b) * lc + np.einsum("ptk,ptk->pt", a, c) * lb
-               + np.einsum("ptk,ptk->pt", b, c) * la)
-        out[s:s + step] = (2.0 * np.arctan2(num, den)).sum(axis=1) / (4.0 * np.pi)
-    return out
 
 
 def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarray:
@@ -115,7 +99,7 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
         if len(cand) == 0:
             continue
         tri = vertices[faces_t[face_order[fstarts[b]:fstarts[b + 1]]]]
-        w = _winding_numbers(extreme[cand].reshape(-1, 3), tri).reshape(len(cand), _MAX_CONTAIN_POINTS)
+        w = winding_numbers(extreme[cand].reshape(-1, 3), tri).reshape(len(cand), _MAX_CONTAIN_POINTS)
         depth[cand[np.all(np.abs(w) > 0.5, axis=1)]] += 1
     return depth
 
@@ -199,6 +183,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
             signed_volume = float(analysis.comp_volume.sum())
             if not len(incons):
                 _inverted_pass(vertices, ft, tidx, analysis, defects)
+                _overlap_pass(vertices, ft, tidx, analysis, defects)
     order_codes = list(SEVERITY)
     defects.sort(key=lambda d: order_codes.index(d.code))
     analysis.report = MeshReport(tuple(defects), V, F, n_welded, int(analysis.n_components), signed_volume,
@@ -394,13 +379,7 @@ def _inverted_pass(vertices, ft, tidx, analysis, defects) -> None:
     n_comp, lab_t, comp_vol = analysis.n_components, analysis.labels_topo, analysis.comp_volume
     depth = np.zeros(n_comp, dtype=np.int64)
     if n_comp > 1:
-        cl = vertices[ft].reshape(-1, 3)
-        ccomp = np.repeat(lab_t, 3)
-        comp_lo = np.full((n_comp, 3), np.inf)
-        comp_hi = np.full((n_comp, 3), -np.inf)
-        for ax in range(3):
-            np.minimum.at(comp_lo[:, ax], ccomp, cl[:, ax])
-            np.maximum.at(comp_hi[:, ax], ccomp, cl[:, ax])
+        comp_lo, comp_hi = _component_boxes(vertices, ft, lab_t, n_comp)
         depth = _nesting_depth(vertices, ft, lab_t, n_comp, comp_lo, comp_hi)
     expected = np.where(depth % 2 == 0, 1.0, -1.0)
     inverted = np.flatnonzero(comp_vol * expected < 0)
@@ -415,6 +394,33 @@ def _inverted_pass(vertices, ft, tidx, analysis, defects) -> None:
                     f"{whole} wound inward (normals point in: signed volume has the wrong sign), "
                     f"e.g. component {c} containing face {f0}, signed volume {comp_vol[c]:.6g}{nested}",
                     {"component": c, "face": f0, "volume": float(comp_vol[c])})
+
+
+def _overlap_pass(vertices, ft, tidx, analysis, defects) -> None:
+    """Closed components whose volumes overlap (see :mod:`.intersections`)."""
+    if analysis.n_components < 2 or len(analysis.inverted_components):
+        return
+    lab = analysis.labels_topo
+    lo, hi = _component_boxes(vertices, ft, lab, analysis.n_components)
+    found = overlapping_components(vertices, ft, lab, lo, hi)
+    if found:
+        a, b, point = found[0]
+        defects.add("overlapping_shells", len(found),
+                    f"{plural(len(found), 'pair')} of closed components overlap (the integrals would count the "
+                    f"overlap twice), e.g. components {a} and {b} near {fmt_point(point)}",
+                    {"components": (a, b), "point": tuple(float(x) for x in point)})
+
+
+def _component_boxes(vertices, ft, lab, K):
+    """Bounding boxes (K, 3) lo and hi of the components (faces ``ft`` labelled ``lab``)."""
+    cl = vertices[ft].reshape(-1, 3)
+    ccomp = np.repeat(lab, 3)
+    lo = np.full((K, 3), np.inf)
+    hi = np.full((K, 3), -np.inf)
+    for ax in range(3):
+        np.minimum.at(lo[:, ax], ccomp, cl[:, ax])
+        np.maximum.at(hi[:, ax], ccomp, cl[:, ax])
+    return lo, hi
 
 
 def check_mesh(vertices, faces) -> MeshReport:

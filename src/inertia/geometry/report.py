@@ -21,6 +21,7 @@ SEVERITY = {
     "non_manifold_edges": "error",
     "inconsistent_winding": "error",
     "inverted": "error",
+    "overlapping_shells": "error",
 }
 
 

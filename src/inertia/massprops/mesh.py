@@ -37,7 +37,7 @@ ON_DEFECT = ("raise", "warn")
 # Nothing can be computed with these, whatever the options.
 _FATAL = ("empty", "non_finite", "out_of_range", "bad_index")
 # Defects of the closed-surface topology: they matter for a solid only.
-_SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted"})
+_SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted", "overlapping_shells"})
 _ORIENTATION = frozenset({"inconsistent_winding", "inverted"})
 
 
@@ -56,7 +56,8 @@ _FATAL_FIX = {"empty": "give a mesh with at least one triangle",
 #: how to repair each topology defect
 _REPAIR = {"open_edges": "close the holes, or merge near-coincident vertices as inertia.load_mesh does",
            "duplicate_faces": "remove the duplicate faces",
-           "non_manifold_edges": "separate parts that share edges"}
+           "non_manifold_edges": "separate parts that share edges",
+           "overlapping_shells": "join the overlapping parts into one closed surface (a boolean union)"}
 
 
 def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
@@ -86,6 +87,8 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
         why = ""
     elif shell:
         why = " Duplicate faces count their area twice in a shell."
+    elif codes == {"overlapping_shells"}:
+        why = " The volume integrals of closed parts that overlap count the overlap twice."
     else:
         why = (" The volume integrals of a surface that is not closed and consistently outward-wound "
                "are wrong.")

@@ -153,7 +153,8 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         else:
             problems = problems + collision_problems
     for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
-        rep.notes.append(Finding(code, f"{at}: {msg}{fallback or '; geometry comparison skipped'}"))
+        suffix = fallback or ("" if computed is not None else "; geometry comparison skipped")
+        rep.notes.append(Finding(code, f"{at}: {msg}{suffix}"))
     if computed is not None:
         declared_m, declared_R = _principal(inertial.inertia_link)
         comp_m, comp_R = _principal(computed.inertia_com)

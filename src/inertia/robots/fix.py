@@ -211,7 +211,8 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
             continue
         report.changed[link.name] = (f"from its {used} geometry: mass {props.mass:.6g} kg, COM "
                                      f"{np.round(props.com, 6).tolist()} m, moments "
-                                     f"{np.array2string(props.principal()[0], precision=6)} kg m^2")
+                                     f"{np.array2string(props.principal()[0], precision=6)} kg m^2"
+                                     + "".join(f"; note: {m}" for _, m in problems))
         setter(inertial.element, props, mass_scale)
     from .._core.atomic import write_bytes_atomic
 

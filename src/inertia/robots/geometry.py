@@ -8,14 +8,20 @@ scaled to that total mass (the declared one, when checking a file).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from .._core.errors import InertiaError
+from .._core.errors import InertiaError, MeshError
 from ..geometry.mesh_io import SUPPORTED_EXTENSIONS
 from ..geometry.shapes import BOX_CORNER_SIGNS as CORNER_SIGNS
 
 #: geometry used when a link has both: collision first (it is what the simulator sees)
 ROLES = ("collision", "visual")
+
+
+#: note code: a mesh of overlapping closed parts, summed as MuJoCo sums it
+SUMMED_OVERLAP = "mesh_overlapping_shells"
 
 
 def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
@@ -49,7 +55,16 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
         vertices = vertices * np.asarray(p.get("scale", (1, 1, 1)), float)
         if np.prod(np.sign(p.get("scale", (1, 1, 1)))) < 0:  # a mirroring scale turns the winding inside out
             faces = faces[:, ::-1]
-        props = mesh_properties(vertices, faces, density=rho, name=str(path))
+        try:
+            props = mesh_properties(vertices, faces, density=rho, name=str(path))
+        except MeshError as exc:
+            if exc.report is None or set(exc.report.codes) != {"overlapping_shells"}:
+                raise
+            # closed parts that overlap: the simulator sums them (MuJoCo integrates the signed
+            # volume), so the comparison does too; the caller notes it (SUMMED_OVERLAP)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                props = mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn")
     else:
         raise InertiaError(f"geometry {k!r} is not supported")
     if geom.mass is not None:
@@ -63,14 +78,16 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
 
     ``role=None`` uses the collision shapes, or the visual ones when there are none.
     ``problems`` lists ``(code, message)`` for shapes that could not be used; any such
-    shape makes the result None (a partial sum would be silently wrong).
+    shape makes the result None (a partial sum would be silently wrong).  With a result,
+    the list holds the notes on it (:data:`SUMMED_OVERLAP`: a mesh whose closed parts
+    overlap, summed as the simulator sums it).
     """
     roles = [role] if role else list(ROLES)
     for r in roles:
         shapes = [g for g in link.geometries if g.role == r]
         if not shapes:
             continue
-        total, problems = None, []
+        total, problems, notes = None, [], []
         for g in shapes:
             try:
                 part = shape_properties(g, density=density, mesh_units=mesh_units)
@@ -78,11 +95,14 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
                 problems.append(("geometry_unusable", f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
                 continue
             total = part if total is None else total + part
+            if any("overlapping_shells accepted" in w for w in part.warnings):
+                notes.append((SUMMED_OVERLAP, f"line {g.line}: {r} mesh {g.params.get('path')}: closed parts of "
+                              "the mesh overlap; summed as the simulator sums them (the overlap counts twice)"))
         if problems:
             return None, r, problems
         if total is not None and mass is not None:
             total = total.with_mass(mass)
-        return total, r, []
+        return total, r, notes
     return None, None, []
 
 
