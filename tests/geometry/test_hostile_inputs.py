@@ -122,3 +122,38 @@ def test_obj_indices_with_zeros_inside_them_are_read(tmp_path):
     pad = "".join("v 5 5 5\n" for _ in range(10))
     f.write_text(pad + "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 11 13 12\nf 11 12 14\nf -4 -1 -2\nf 12 13 14\n")
     assert inertia.mesh_file_properties(f, density=1.0).mass == pytest.approx(1 / 6, rel=1e-12)
+
+
+CUBE_V = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+CUBE_F = np.array([(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+                   (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+
+
+def _obj(path, v, f):
+    path.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in v.tolist())
+                    + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f.tolist()))
+    return path
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_a_micrometre_body_far_from_the_origin_keeps_every_face(tmp_path, seed):
+    # truth: the same arrays integrated without reading a file (no merging); the merge
+    # tolerance follows the faces' own edges, not the distance from the origin
+    rng = np.random.default_rng(seed)
+    R, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    R *= np.sign(np.linalg.det(R))
+    v = (CUBE_V - 0.5) @ R.T * 1e-6 * rng.uniform(0.5, 2) + rng.normal(size=3) * 1e7
+    p = inertia.mesh_file_properties(_obj(tmp_path / "far.obj", v, CUBE_F), density=1.0)
+    truth = inertia.mesh_properties(v, CUBE_F, density=1.0)
+    assert p.volume == pytest.approx(truth.volume, rel=1e-9)
+    assert np.allclose(p.inertia_com, truth.inertia_com, rtol=1e-6, atol=0)
+
+
+def test_two_micrometre_cubes_twenty_kilometres_apart_load_as_two_cubes(tmp_path):
+    # truth: 2 x (1e-6 m)^3; faces are degenerate relative to their own size, not the mesh's
+    v = np.vstack([CUBE_V * 1e-6, CUBE_V * 1e-6 + [2e4, 0, 0]])
+    f = np.vstack([CUBE_F, CUBE_F + 8])
+    vv, ff = inertia.load_mesh(_obj(tmp_path / "two.obj", v, f))
+    report = check_mesh(vv, ff)
+    assert (len(vv), len(ff), report.codes) == (16, 24, ())
+    assert report.volume == pytest.approx(2e-18, rel=1e-6)

@@ -134,12 +134,14 @@ def test_merge_close_vertices_is_the_same_with_and_without_numba(meshes, monkeyp
 def test_grid_declines_coordinates_it_cannot_index_and_extremes_still_match(monkeypatch):
     v = np.array([[0.0, 0, 0], [1e300, 0, 0], [0, 1, 0], [0, 0, 1e-300]])
     assert nbk.near_merge_map(v, 1e-290).shape == (0,)   # |x| / tol beyond int64: the caller's k-d tree
-    # the merge tolerance is never below 64 ulps of the largest coordinate, so inside the
-    # library the grid always indexes: here 1 and 1e-300 merge with 0 (1e300 is the scale)
+    # the merge tolerance is capped by the faces' own short edges (here 1e-300): no vertex of
+    # this tetrahedron merges, although 64 ulps of 1e300 would swallow 0, 1 and 1e-300; the grid
+    # cannot index such a tolerance and declines, and both paths keep the four vertices
     f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     out_v, out_f, done = nbk.weld_and_merge(v, f, 1e-310)
-    assert done and len(out_v) == 2
+    assert not done or len(out_v) == 4
     fast = mesh_io._merge_close_vertices(v, f, 1e-310)
+    assert len(fast[0]) == 4
     monkeypatch.setattr(mesh_checks, "_topology_state", False)
     slow = mesh_io._merge_close_vertices(v, f, 1e-310)
     assert np.array_equal(fast[0], slow[0]) and np.array_equal(fast[1], slow[1])

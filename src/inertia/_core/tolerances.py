@@ -31,7 +31,8 @@ REPEATED_MOMENTS_RTOL = 1e-13
 COORDINATE_LIMIT = 1e60
 
 #: Mesh checks: a face is degenerate when its area is below
-#: DEGENERATE_AREA_RTOL * (bounding-box diagonal)**2.
+#: DEGENERATE_AREA_RTOL * (its longest edge)**2: relative to the face itself, so small faces
+#: of a large or far-away mesh are not called degenerate.
 DEGENERATE_AREA_RTOL = 1e-14
 
 #: A quaternion argument whose norm differs from 1 by more than this is refused (a zero or

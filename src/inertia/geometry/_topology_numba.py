@@ -28,6 +28,9 @@ import numpy as np
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
+#: merging never joins vertices farther apart than this fraction of the short face edges
+MERGE_EDGE_FRACTION = 0.25
+
 _M1 = np.uint64(0x9E3779B97F4A7C15)
 _M2 = np.uint64(0xC2B2AE3D27D4EB4F)
 _M3 = np.uint64(0x165667B19E3779F9)
@@ -273,8 +276,8 @@ def closed_single_shell(vertices, faces, area_rtol, out):
 
     ``faces`` index distinct positions (welded).  "Closed single shell" here means every
     check of ``checks.analyse_mesh`` passes with no defect and no note: indices in range,
-    finite vertices, no face repeating a vertex or of area <= ``area_rtol`` x bbox
-    diagonal^2, every edge used by exactly two faces in opposite directions, one
+    finite vertices, no face repeating a vertex or of area <= ``area_rtol`` x its longest
+    edge^2, every edge used by exactly two faces in opposite directions, one
     edge-connected component, signed volume > 0.  Duplicate faces need no test: a face
     whose three edges are each shared with its duplicate forms, with it, a closed component
     of its own, so one component means F = 2 and volume 0, which fails anyway.
@@ -329,8 +332,6 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     r0 = 0.5 * (lo0 + hi0)
     r1 = 0.5 * (lo1 + hi1)
     r2 = 0.5 * (lo2 + hi2)
-    diag2 = (hi0 - lo0) ** 2 + (hi1 - lo1) ** 2 + (hi2 - lo2) ** 2
-    min_area = area_rtol * diag2
     twice_area = 0.0
     det_sum = 0.0
     fill = start[:-1].copy()
@@ -353,7 +354,10 @@ def closed_single_shell(vertices, faces, area_rtol, out):
         ny = uz * wx - ux * wz
         nz = ux * wy - uy * wx
         a2 = np.sqrt(nx * nx + ny * ny + nz * nz)
-        if not (0.5 * a2 > min_area):
+        # zero area relative to the face's own size (longest edge squared), not the mesh's
+        vx, vy, vz = wx - ux, wy - uy, wz - uz
+        e2 = max(ux * ux + uy * uy + uz * uz, wx * wx + wy * wy + wz * wz, vx * vx + vy * vy + vz * vz)
+        if not (0.5 * a2 > area_rtol * e2):
             return False
         twice_area += a2
         det_sum += ax * nx + ay * ny + az * nz
@@ -552,6 +556,34 @@ def stl_weld_and_merge(corners, rtol):
 
 
 @nb.njit(**_JIT)
+def _capped_by_edges(v, f, tol):
+    """``tol``, at most MERGE_EDGE_FRACTION of the short edges of the faces (their 1st
+    percentile): merging is for copies of a vertex, never for the mesh's own features, whatever
+    its distance from the origin (mesh_io.edge_capped_tolerance is the NumPy twin)."""
+    m = f.shape[0]
+    shortest = np.inf
+    for t in range(m):
+        for k in range(3):
+            a, b = f[t, k], f[t, (k + 1) % 3]
+            d = (v[a, 0] - v[b, 0]) ** 2 + (v[a, 1] - v[b, 1]) ** 2 + (v[a, 2] - v[b, 2]) ** 2
+            if d > 0.0 and d < shortest:
+                shortest = d
+    if not (tol > MERGE_EDGE_FRACTION * np.sqrt(shortest)):
+        return tol                 # the common case: far below every edge
+    lengths = np.empty(3 * m)
+    n = 0
+    for t in range(m):
+        for k in range(3):
+            a, b = f[t, k], f[t, (k + 1) % 3]
+            d = np.sqrt((v[a, 0] - v[b, 0]) ** 2 + (v[a, 1] - v[b, 1]) ** 2 + (v[a, 2] - v[b, 2]) ** 2)
+            if d > 0.0:
+                lengths[n] = d
+                n += 1
+    short = np.sort(lengths[:n])[(n - 1) // 100]
+    return min(tol, MERGE_EDGE_FRACTION * short)
+
+
+@nb.njit(**_JIT)
 def _merge_near(v, f, rtol):
     """Second half of :func:`weld_and_merge`: merge the welded ``v, f`` within the tolerance."""
     n = v.shape[0]
@@ -580,6 +612,7 @@ def _merge_near(v, f, rtol):
         return v, f, True
     if not np.isfinite(tol):
         return v, f, True
+    tol = _capped_by_edges(v, f, tol)
     rep = near_merge_map(v, tol)
     if rep.shape[0] == 0:
         return v, f, False

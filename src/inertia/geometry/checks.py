@@ -163,9 +163,9 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
     fw = rep[fv]
     n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
     geo = valid & finite_v[fv].all(axis=1)
-    twice_area, det, diag2 = _face_geometry(vertices, fv, geo)
+    twice_area, det, longest2 = _face_geometry(vertices, fv, geo)
     total_area = float(0.5 * twice_area.sum()) if finite_v.all() else math.nan
-    collapsed = _degenerate_pass(faces, fw, valid, geo, twice_area, diag2, defects)
+    collapsed = _degenerate_pass(faces, fw, valid, geo, twice_area, longest2, defects)
     # topology on valid, non-collapsed faces (zero-area faces with distinct corners stay:
     # removing them could open the surface)
     topo = valid & ~collapsed
@@ -223,10 +223,11 @@ def _index_pass(faces, V: int, defects) -> np.ndarray:
 
 
 def _face_geometry(vertices, fv, geo):
-    """``(twice_area (F,), det (F,), diag2)`` of faces with finite corners, relative to the bbox center.
+    """``(twice_area (F,), det (F,), longest2 (F,))`` of faces with finite corners, relative to
+    the bbox center.
 
     ``det = a.(b x c)`` is six times the signed volume of the tetrahedron on the center;
-    ``diag2`` is the squared bounding-box diagonal of the used vertices.
+    ``longest2`` is each face's longest edge squared (the scale of "zero area").
     """
     V = len(vertices)
     used = np.zeros(V, dtype=bool)
@@ -234,9 +235,8 @@ def _face_geometry(vertices, fv, geo):
     if used.any():
         lo, hi = vertices[used].min(axis=0), vertices[used].max(axis=0)
         ref = 0.5 * (lo + hi)
-        diag2 = float(np.sum((hi - lo) ** 2))
     else:
-        ref, diag2 = np.zeros(3), 0.0
+        ref = np.zeros(3)
     with np.errstate(invalid="ignore", over="ignore"):
         tri = vertices[fv] - ref
         a0 = tri[:, 0]
@@ -247,14 +247,17 @@ def _face_geometry(vertices, fv, geo):
         nrm[:, 2] = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
         twice_area = np.where(geo, np.sqrt(np.einsum("ij,ij->i", nrm, nrm)), 0.0)
         det = np.where(geo, np.einsum("ij,ij->i", a0, nrm), 0.0)
-    return twice_area, det, diag2
+        e3 = e2 - e1
+        longest2 = np.maximum(np.maximum(np.einsum("ij,ij->i", e1, e1), np.einsum("ij,ij->i", e2, e2)),
+                              np.einsum("ij,ij->i", e3, e3))
+    return twice_area, det, longest2
 
 
-def _degenerate_pass(faces, fw, valid, geo, twice_area, diag2: float, defects) -> np.ndarray:
+def _degenerate_pass(faces, fw, valid, geo, twice_area, longest2, defects) -> np.ndarray:
     """Zero-area faces (a repeated vertex after welding, or area below the tolerance), and a
     mesh of nothing but those; returns the mask of faces repeating a vertex (F,)."""
     collapsed = valid & ((fw[:, 0] == fw[:, 1]) | (fw[:, 1] == fw[:, 2]) | (fw[:, 2] == fw[:, 0]))
-    tiny = geo & (0.5 * twice_area <= DEGENERATE_AREA_RTOL * diag2)
+    tiny = geo & (0.5 * twice_area <= DEGENERATE_AREA_RTOL * longest2)
     degenerate = collapsed | tiny
     if degenerate.any():
         bad = np.flatnonzero(degenerate)
@@ -262,7 +265,7 @@ def _degenerate_pass(faces, fw, valid, geo, twice_area, diag2: float, defects) -
         why = "repeats a vertex" if collapsed[k] else f"has area {0.5 * twice_area[k]:.3g}"
         defects.add("degenerate_faces", len(bad),
                     f"{plural(len(bad), 'face')} of zero area ({int(collapsed.sum())} repeating a vertex after "
-                    f"welding; area <= {DEGENERATE_AREA_RTOL:g} x bbox diagonal^2), e.g. face {k} = "
+                    f"welding; area <= {DEGENERATE_AREA_RTOL:g} x its longest edge^2), e.g. face {k} = "
                     f"{tuple(int(i) for i in faces[k])} {why}",
                     {"face": k, "vertices": tuple(int(i) for i in faces[k]), "area": float(0.5 * twice_area[k])})
     if valid.any() and degenerate[valid].all():

@@ -58,6 +58,24 @@ def _unit_factor(units) -> float:
         raise InputError(f"unknown length unit {units!r}; valid units: {', '.join(UNITS)}") from None
 
 
+#: merging never joins vertices farther apart than this fraction of the short face edges
+MERGE_EDGE_FRACTION = 0.25
+
+
+def edge_capped_tolerance(v: np.ndarray, f: np.ndarray, tol: float) -> float:
+    """``tol``, at most MERGE_EDGE_FRACTION of the short edges of the faces (their 1st
+    percentile): merging joins copies of a vertex, never the mesh's own features, whatever
+    its size or its distance from the origin (a 1 um part 1e7 m out keeps its faces)."""
+    d = v[f] - v[np.roll(f, -1, axis=1)]
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # scaled: no under- or overflow
+        big = np.abs(d).max(axis=2)
+        e = (big * np.linalg.norm(d / big[..., None], axis=2)).ravel()
+    e = e[(e > 0) & np.isfinite(e)]
+    if len(e) == 0 or tol <= MERGE_EDGE_FRACTION * e.min():
+        return tol
+    return min(tol, MERGE_EDGE_FRACTION * float(np.sort(e)[(len(e) - 1) // 100]))
+
+
 def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     """Merge vertices within ``rtol`` of the mesh size; drop unreferenced ones.
 
@@ -92,6 +110,9 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     tol = float(max(rtol * diag, 64 * np.finfo(np.float64).eps * float(np.abs(v).max())))
     if not 0 < tol < np.inf:
         return v, f
+    tol = edge_capped_tolerance(v, f, tol)
+    if not float(np.abs(v).max()) / tol < 1e150:
+        return v, f   # the tree's squared distances would overflow (the checks refuse such coordinates)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
