@@ -9,7 +9,6 @@ overlapping and crossing shells, all under random rigid motions.
 from __future__ import annotations
 
 import itertools
-import time
 
 import numpy as np
 import pytest
@@ -265,18 +264,16 @@ def _random_case(rng):
 
 
 def test_bound_is_honest_on_random_cases():
+    pytest.importorskip("numba")   # the plain-Python kernels would take minutes for 100 cases
     rng = np.random.default_rng(20261124)
-    robust_integrals(*box([0, 0, 0], [1, 1, 1]))          # compile outside the time budget
-    start, n, worst = time.perf_counter(), 0, 0.0
-    while n < 300 and time.perf_counter() - start < 5.0:
+    worst = 0.0
+    for n in range(100):
         v, f, truth = _random_case(rng)
         res = robust_integrals(v, f, reference=ORIGIN, tol=3e-2, max_pieces=20_000)
         assert within_bound(res, truth), (n, res.volume, truth[0], res.bound_volume, res.defects)
         if res.bound_volume > 0:
             worst = max(worst, abs(res.volume - truth[0]) / res.bound_volume)
-        n += 1
-    print(f"{n} random cases, worst error / bound = {worst:.3g}")
-    assert n >= 100
+    print(f"100 random cases, worst error / bound = {worst:.3g}")
     assert worst <= 1.0
 
 

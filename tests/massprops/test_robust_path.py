@@ -67,9 +67,11 @@ def test_holes_punched_in_a_sphere_stay_within_the_stated_bound(seed):
 def test_cli_robust_turns_the_refusal_into_a_number_with_its_bound(tmp_path, capsys):
     from inertia.cli.main import main
 
-    f = tmp_path / "open.obj"
-    f.write_text("".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in CUBE_V)
-                 + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in CUBE_F[:-2]))
+    f = tmp_path / "open.stl"   # binary STL: read natively (no optional dependency)
+    tris = CUBE_V[CUBE_F[:-2]].astype("<f4")
+    records = np.zeros(len(tris), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    records["v"] = tris
+    f.write_bytes(b"open cube".ljust(80, b" ") + np.uint32(len(tris)).tobytes() + records.tobytes())
     assert main(["props", str(f)]) == 1
     assert "--robust" in capsys.readouterr().err
     assert main(["props", str(f), "--robust", "--format", "json"]) == 0

@@ -403,17 +403,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
                          f"run again with --resume to finish\n")
         raise
 
-    # assemble in Arrow: the latest row per path, in the order of the jobs, then the rows of
-    # an earlier run for paths no longer among the sources
-    import pyarrow as pa
-
-    combined = pa.concat_tables(previous + tables) if previous or tables else rows_to_table([])
-    latest: dict[str, int] = {}
-    for i, p in enumerate(combined.column("path").to_pylist()):
-        latest[p] = i  # later rows (newer parts, this run) win; a dict keeps first-seen order
-    job_paths = dict.fromkeys(j.path for j in jobs)
-    take = [latest[p] for p in job_paths if p in latest] + [i for p, i in latest.items() if p not in job_paths]
-    final = combined.take(pa.array(take, type=pa.int64()))
+    final = _latest_rows(previous + tables, jobs)
     if fmt == "parquet":
         write_table_parquet(final, output)
     else:
@@ -427,6 +417,20 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
                         ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
                         errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output))
+
+
+def _latest_rows(tables, jobs):
+    """One Arrow table: the latest row per path (later tables win), in the order of ``jobs``,
+    then the rows of earlier runs for paths no longer among the jobs."""
+    import pyarrow as pa
+
+    combined = pa.concat_tables(tables) if tables else rows_to_table([])
+    latest: dict[str, int] = {}
+    for i, p in enumerate(combined.column("path").to_pylist()):
+        latest[p] = i  # later rows (newer parts, this run) win; a dict keeps first-seen order
+    job_paths = dict.fromkeys(j.path for j in jobs)
+    take = [latest[p] for p in job_paths if p in latest] + [i for p, i in latest.items() if p not in job_paths]
+    return combined.take(pa.array(take, type=pa.int64()))
 
 
 def _jobs_to_do(jobs, previous, options: dict, output: Path, *, recompute_stale: bool) -> list:

@@ -211,6 +211,8 @@ def faces_cut(V, F, f, g, eps, A, B, scratch):
       starting at v; they cut iff those segments point the same way (conservatively:
       unless one triangle lies strictly on one side of the other's plane);
     * no shared corner: :func:`tris_cut`.
+
+    One kernel that reads better whole (compiled by numba: its phases share scalar state).
     """
     _load(V, F, f, A)
     _load(V, F, g, B)
@@ -424,6 +426,8 @@ def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
     than ``max_span`` cells: such big faces are tested against every face by boxes.  A
     pair sharing several cells is examined only in the cell holding the low corner of the
     intersection of their boxes, so each pair is reported once.
+
+    One kernel that reads better whole (compiled by numba: its phases share scalar state).
     """
     nf = F.shape[0]
     cnt_e = 0

@@ -189,6 +189,20 @@ def _winding_backend(backend):
     return k
 
 
+def _uncut_sums(pieces, p, stats):
+    """Integrals about ``p`` of the faces no other face cuts, each patch weighted +-1 by one
+    winding evaluation; returns ``(volume, first, second, number of undecided faces)``."""
+    weights, _, n_uncertain = pieces.patch_weights()
+    stats["patches"] = pieces.n_patches
+    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
+    for sgn in (1, -1):
+        sel = np.flatnonzero(weights == sgn)
+        if len(sel):
+            dv, df, ds = _face_sums(pieces.V, pieces.F[sel], p)
+            vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
+    return vol, first, second, n_uncertain
+
+
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
                      max_depth: int = 30, time_budget: float | None = None,
                      backend: str = "auto") -> RobustResult:
@@ -234,14 +248,7 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
                        f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping shells")
     # 1. uncut faces: one winding evaluation per patch, then exact sums
-    weights, _, n_uncertain = pieces.patch_weights()
-    stats["patches"] = pieces.n_patches
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    for sgn in (1, -1):
-        sel = np.flatnonzero(weights == sgn)
-        if len(sel):
-            dv, df, ds = _face_sums(pieces.V, pieces.F[sel], p)
-            vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
+    vol, first, second, n_uncertain = _uncut_sums(pieces, p, stats)
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
