@@ -10,10 +10,6 @@ from __future__ import annotations
 
 from . import _format as fmt
 
-HELP = "mass properties of many mesh files (local Dask cluster or a remote one)"
-DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manifests, in parallel on Dask, "
-               "one row per file, saved as it goes and resumable.")
-
 EPILOG = """\
 examples:
   inertia batch meshes/ -o results.parquet                 (local Dask cluster, all cores)
@@ -34,6 +30,10 @@ a resume with other options is refused unless --force recomputes those rows.
 
 exit status: 0 the run completed (file errors are rows, counted in the summary), 1 bad input or
 the run could not start, 130 interrupted (resumable)."""
+
+HELP = "mass properties of many mesh files (local Dask cluster or a remote one)"
+DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manifests, in parallel on Dask, "
+               "one row per file, saved as it goes and resumable.")
 
 
 def register(sub) -> None:

@@ -8,11 +8,6 @@ from __future__ import annotations
 
 from . import _format as fmt
 
-HELP = "check the inertials of a URDF, SDF or MJCF file"
-DESCRIPTION = ("For each link: non-positive mass, non-symmetric or non-positive-definite tensor, "
-               "triangle-inequality violation (with the margin), center of mass outside the link's "
-               "geometry, and the declared inertial against the one computed from the link's own geometry.")
-
 EPILOG = """\
 examples:
   inertia check robot.urdf
@@ -29,6 +24,11 @@ JSON: {"file": ..., "links": [{"name": ..., "line": ..., "errors": [{"code": ...
        "warnings": [...], "notes": [...]}]}
 
 exit status: 0 no errors, 1 errors found, 2 the file could not be read (or bad usage)."""
+
+HELP = "check the inertials of a URDF, SDF or MJCF file"
+DESCRIPTION = ("For each link: non-positive mass, non-symmetric or non-positive-definite tensor, "
+               "triangle-inequality violation (with the margin), center of mass outside the link's "
+               "geometry, and the declared inertial against the one computed from the link's own geometry.")
 
 MASS_UNITS = {"kg": 1.0, "g": 1e-3, "lb": 0.45359237}
 

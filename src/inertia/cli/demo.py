@@ -19,10 +19,6 @@ from . import _format as fmt
 #: where the report goes by default (relative to the working folder)
 DEFAULT_OUT = "inertia-report"
 
-HELP = "tour of the package on a steel T-handle (or on --mesh FILE)"
-DESCRIPTION = ("Mass properties, canonical form, validity, six-point and four-point particle "
-               "models and the equivalent box of a real body, in readable tables.")
-
 EPILOG = """\
 default body: a steel T-handle built from two solid cylinders (cross-bar 80 mm long and 12 mm
 thick, stem 50 mm long and 10 mm thick), 7850 kg/m^3, exact mass properties.
@@ -32,6 +28,10 @@ examples:
   inertia demo --density 2700                 (the same T-handle in aluminium)
   inertia demo --mesh part.stl --units mm --mass 0.25
   inertia demo --format json"""
+
+HELP = "tour of the package on a steel T-handle (or on --mesh FILE)"
+DESCRIPTION = ("Mass properties, canonical form, validity, six-point and four-point particle "
+               "models and the equivalent box of a real body, in readable tables.")
 
 
 def register(sub) -> None:

@@ -7,10 +7,6 @@ from __future__ import annotations
 
 from . import _format as fmt
 
-HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
-DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
-               "tensors by the nearest physically valid one; write the result atomically.")
-
 EPILOG = """\
 examples:
   inertia fix model.sdf -o fixed.sdf                        (invalid tensors -> nearest physical)
@@ -24,6 +20,10 @@ uniform solids, at the declared mass (or at --density), COM and tensor written i
 Everything else in the file is kept (comments, other elements, attribute order).
 
 exit status: 0 written, 1 bad input, 2 the file could not be read."""
+
+HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
+DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
+               "tensors by the nearest physically valid one; write the result atomically.")
 
 
 def register(sub) -> None:

@@ -16,11 +16,6 @@ import math
 from . import _format as fmt
 from .simulate import add_body_arguments, check_spin_scale, initial_state, resolve_body
 
-HELP = "intermediate-axis flip interval and the stability of each principal axis"
-DESCRIPTION = ("Dzhanibekov (intermediate-axis) flip: predicted time between flips, polhode period, "
-               "regime, and the linear stability (eigenvalues) of steady spin about each principal axis "
-               "at the spin rate |omega|.")
-
 EPILOG = """\
 examples:
   inertia flip --moments 1,2,3 --omega 0.01,1,0
@@ -41,6 +36,11 @@ JSON keys:
         first_flip_time, unstable_axis_direction, conventions
 
 exit status: 0 on success, 1 on bad input (the message names the problem), 2 on bad usage."""
+
+HELP = "intermediate-axis flip interval and the stability of each principal axis"
+DESCRIPTION = ("Dzhanibekov (intermediate-axis) flip: predicted time between flips, polhode period, "
+               "regime, and the linear stability (eigenvalues) of steady spin about each principal axis "
+               "at the spin rate |omega|.")
 
 CONVENTIONS = ("SI units; moments in kg m^2 (for --moments in the given order, for a SOURCE its principal "
                "moments, ascending); axis indices are 0-based into moments; eigenvalues in 1/s as [real, imag]")

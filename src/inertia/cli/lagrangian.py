@@ -10,10 +10,6 @@ from __future__ import annotations
 
 from . import _format as fmt
 
-HELP = "Euler-angle equations of motion (LaTeX, Python, C, JSON), derived symbolically"
-DESCRIPTION = ("Lagrange equations of a rigid body in Euler angles, solved for the accelerations without "
-               "simplify or solve, common subexpressions eliminated, in under a second.")
-
 EPILOG = """\
 examples:
   inertia lagrangian                                  (Z-Y-X, rotation only, LaTeX)
@@ -29,6 +25,10 @@ Singular (gimbal lock) where cos(q2) = 0 (Tait-Bryan) or sin(q2) = 0 (proper Eul
 generated Python raises, the C function returns 1.
 
 exit status: 0 on success, 1 on bad input, 2 on bad usage."""
+
+HELP = "Euler-angle equations of motion (LaTeX, Python, C, JSON), derived symbolically"
+DESCRIPTION = ("Lagrange equations of a rigid body in Euler angles, solved for the accelerations without "
+               "simplify or solve, common subexpressions eliminated, in under a second.")
 
 
 def register(sub) -> None:

@@ -9,11 +9,6 @@ from __future__ import annotations
 from . import _format as fmt
 from ._source import DENSITY_NOTE, add_source_arguments
 
-HELP = "six-point and four-point particle models of a body"
-DESCRIPTION = ("Point-mass models with exactly the mass, center of mass and inertia tensor "
-               "of a mesh file or primitive: six equal-mass-pair points on the principal axes, "
-               "and four points.  " + DENSITY_NOTE)
-
 EPILOG = """\
 examples:
   inertia particles box:0.1,0.2,0.4 --mass 2
@@ -21,6 +16,11 @@ examples:
 
 JSON: {"six_point": {"masses": [...], "positions": [[x, y, z], ...]}, "four_point": {...}, ...}
 with masses in kg and positions in m in the body frame."""
+
+HELP = "six-point and four-point particle models of a body"
+DESCRIPTION = ("Point-mass models with exactly the mass, center of mass and inertia tensor "
+               "of a mesh file or primitive: six equal-mass-pair points on the principal axes, "
+               "and four points.  " + DENSITY_NOTE)
 
 MODELS = (("six_point", "Six-point model", "six_point_model"),
           ("four_point", "Four-point model", "four_point_model"))

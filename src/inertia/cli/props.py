@@ -15,11 +15,6 @@ CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass i
                "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
                "are the columns of R_body_principal (det +1)")
 
-HELP = "mass properties of a mesh file or primitive"
-DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
-               "moments and axes, repeated-moment report and physical validity of a mesh file "
-               "or a primitive shape.  " + DENSITY_NOTE)
-
 EPILOG = """\
 examples:
   inertia props box:0.1,0.2,0.4 --mass 2
@@ -27,6 +22,11 @@ examples:
   inertia props sphere:5 --units cm            (water, 1000 kg/m^3, by default)
 
 exit status: 0 on success, 1 on bad input (the message on stderr names the problem), 2 on bad usage."""
+
+HELP = "mass properties of a mesh file or primitive"
+DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
+               "moments and axes, repeated-moment report and physical validity of a mesh file "
+               "or a primitive shape.  " + DENSITY_NOTE)
 
 
 def register(sub) -> None:

@@ -30,12 +30,6 @@ DEFAULT_MAX_STEPS = 1_000_000
 CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "
                "body -> world; energy = 1/2 w.I w in J; angular_momentum_norm = |I w| in kg m^2/s")
 
-HELP = "torque-free rotation: exact solution or a fixed-step integrator"
-DESCRIPTION = ("Torque-free rotation of a rigid body from an initial angular velocity: the exact "
-               "closed-form solution (--method exact, any time at the same cost) or a fixed-step "
-               "integrator.  Prints the angular velocity, attitude quaternion, energy and |L| at "
-               "each sample time.")
-
 EPILOG = """\
 examples:
   inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.5
@@ -51,6 +45,12 @@ JSON keys: t (N), omega_body (N x 3), q_world_body (N x 4), energy (N),
 angular_momentum_norm (N), plus method, moments, regime, period, conventions.
 
 exit status: 0 on success, 1 on bad input (the message names the problem), 2 on bad usage."""
+
+HELP = "torque-free rotation: exact solution or a fixed-step integrator"
+DESCRIPTION = ("Torque-free rotation of a rigid body from an initial angular velocity: the exact "
+               "closed-form solution (--method exact, any time at the same cost) or a fixed-step "
+               "integrator.  Prints the angular velocity, attitude quaternion, energy and |L| at "
+               "each sample time.")
 
 
 # ============================================================================ shared with `flip`

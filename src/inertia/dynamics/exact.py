@@ -189,12 +189,9 @@ class ExactSolution:
         self.angular_momentum_world = quat_to_matrix(q0) @ (I_B * w0_B)
         self._q_WP0 = quat_multiply(q0, self._q_BP)
 
-        nan = math.nan
-        self.rate = nan
-        self.parameter = nan
-        self.complementary_parameter = nan
-        self.rotation_per_period = nan
-        self.period = nan
+        # not defined for every regime: NaN until the regime below sets them
+        self.rate = self.parameter = self.complementary_parameter = math.nan
+        self.rotation_per_period = self.period = math.nan
         self._motion = None
 
         scale = I[2]

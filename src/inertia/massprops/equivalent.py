@@ -282,22 +282,14 @@ class EquivalentBox(_EquivalentSolid):
         Name of F.
     warnings : tuple of str
         Set when the box is a lamina (a zero edge, see :func:`equivalent_box`).
-
-    Notes
-    -----
-    ``I_i = M/12 (b_j^2 + b_k^2)`` about the centre, along the box axes.
     """
 
     _kind = "box"
     _dims_name = "size"
-    _moment_divisor = 12.0                 # I_i = M/12 (b_j^2 + b_k^2)
+    _moment_divisor = 12.0                 # I_i = M/12 (b_j^2 + b_k^2) about the centre, box axes
     _volume_factor = 1.0                   # b1 b2 b3
 
-    @property
-    def size(self) -> np.ndarray:
-        """Full edge lengths (3,) [m] along principal axes 1, 2, 3 (same as ``dims``)."""
-        return self.dims
-
+    size = property(lambda self: self.dims, doc="Full edge lengths (3,) [m] along principal axes 1, 2, 3 (``dims``).")
 
 
 @dataclass(frozen=True, eq=False)
@@ -308,22 +300,14 @@ class EquivalentEllipsoid(_EquivalentSolid):
     along principal axes 1, 2, 3 (descending, also available as :attr:`semi_axes`) and
     ``warnings`` set when the ellipsoid is a flat disc (a zero semi-axis, see
     :func:`equivalent_ellipsoid`).
-
-    Notes
-    -----
-    ``I_i = M/5 (a_j^2 + a_k^2)`` about the centre, along the ellipsoid axes.
     """
 
     _kind = "ellipsoid"
     _dims_name = "semi_axes"
-    _moment_divisor = 5.0                  # I_i = M/5 (a_j^2 + a_k^2)
+    _moment_divisor = 5.0                  # I_i = M/5 (a_j^2 + a_k^2) about the centre, ellipsoid axes
     _volume_factor = 4.0 / 3.0 * math.pi   # 4/3 pi a1 a2 a3
 
-    @property
-    def semi_axes(self) -> np.ndarray:
-        """Semi-axes (3,) [m] along principal axes 1, 2, 3 (same as ``dims``)."""
-        return self.dims
-
+    semi_axes = property(lambda self: self.dims, doc="Semi-axes (3,) [m] along principal axes 1, 2, 3 (``dims``).")
 
 
 def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> EquivalentBox:
@@ -382,12 +366,7 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
 def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> EquivalentEllipsoid:
     """The uniform solid ellipsoid with the same mass, COM and full inertia tensor as ``props``.
 
-    Parameters
-    ----------
-    props : MassProperties
-        The body: mass [kg], COM [m] and central inertia [kg m^2], expressed in frame F.
-    rtol : float
-        Tolerance on the triangle inequality and positive definiteness, times ``|trace(I)|``.
+    ``props`` and ``rtol`` as for :func:`equivalent_box`.
 
     Returns
     -------
@@ -408,14 +387,12 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from .properties import MassProperties
-    >>> from .equivalent import equivalent_ellipsoid
-    >>> M, (a, b, c) = 3.0, (0.5, 0.2, 0.1)
-    >>> I = M / 5 * np.diag([b*b + c*c, a*a + c*c, a*a + b*b])
-    >>> e = equivalent_ellipsoid(MassProperties(M, [0.0, 0.0, 0.0], I))
-    >>> np.round(e.semi_axes, 12).tolist(), e.semi_axes.shape
-    ([0.5, 0.2, 0.1], (3,))
+    The equivalent ellipsoid of a uniform ellipsoid is that ellipsoid:
+
+    >>> from .primitives import ellipsoid
+    >>> e = equivalent_ellipsoid(ellipsoid((0.5, 0.2, 0.1), mass=3.0))
+    >>> [round(float(x), 12) for x in e.semi_axes], e.mass
+    ([0.5, 0.2, 0.1], 3.0)
     """
     sm = principal_second_moments(props, model="equivalent ellipsoid", symbol="a", factor=5.0, rtol=rtol)
     semi = np.sqrt(5.0 * sm.second_moments / props.mass)  # a_i^2 = 5 s_i / M

@@ -219,8 +219,7 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
     props : MassProperties
         The body: mass M [kg], COM [m] and central inertia [kg m^2] in its frame F.
     rtol : float
-        Tolerance on the triangle inequality and positive definiteness, times ``|trace(I)|``
-        (default :data:`inertia._core.tolerances.PHYSICAL_RTOL`).
+        The physical-validity tolerance, as for :func:`inertia.massprops.equivalent_box`.
 
     Returns
     -------
