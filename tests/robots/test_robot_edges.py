@@ -279,3 +279,16 @@ def test_a_second_top_level_default_adds_to_the_first(tmp_path):
                     '</default></default></mujoco>')
     (geom,) = read_robot(path).links[0].geometries
     assert geom.kind == "box" and geom.params["size"] == pytest.approx([0.2, 0.4, 0.6])
+
+
+@pytest.mark.parametrize("fmt, text", [
+    ("urdf", '<robot name="r"><link name="a">\n<visual><origin xyz="0 0 0"/></visual></link></robot>\n'),
+    ("sdf", '<sdf version="1.7"><model name="m"><link name="a">\n<collision name="c"></collision>'
+            '</link></model></sdf>\n'),
+])
+def test_a_shape_element_without_geometry_is_refused_not_skipped(tmp_path, fmt, text):
+    # urdfdom and the SDF specification require <geometry> in <visual> and <collision>
+    path = tmp_path / f"m.{fmt}"
+    path.write_text(text)
+    with pytest.raises(RobotFileError, match=r"m\.\w+:2: link 'a': <(visual|collision)> has no <geometry>"):
+        read_robot(path)

@@ -123,8 +123,8 @@ def _urdf_inertial(doc, el) -> Inertial:
 
 def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
     g = el.find("geometry")
-    if g is None:
-        return None
+    if g is None:  # urdfdom refuses it too
+        raise RobotFileError(f"{doc.where(el)}: link {link.name!r}: <{role}> has no <geometry>")
     shapes = [c for c in g if isinstance(c.tag, str)]
     if not shapes:  # urdfdom refuses the file too
         raise RobotFileError(f"{doc.where(g)}: link {link.name!r}: {role} <geometry> holds no shape "
@@ -217,8 +217,8 @@ def read_sdf(path, *, search_paths=()) -> RobotModel:
 
 def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
     g = el.find("geometry")
-    if g is None:
-        return None
+    if g is None:  # required by the SDF specification
+        raise RobotFileError(f"{doc.where(el)}: link {link.name!r}: <{role}> has no <geometry>")
     shapes = [c for c in g if isinstance(c.tag, str)]
     if not shapes:
         return None
