@@ -16,6 +16,9 @@ Warnings:
   principal axes more than 45 degrees apart (visual shapes are used first: they describe the
   body, while collision shapes are often simplified) (axes compared only where the moments are
   distinct by more than 10 %);
+* ``legacy_mesh_inertia``: an MJCF body whose inertia MuJoCo infers from meshes in its
+  default ``inertia="legacy"`` mode differs from the exact solid by more than 5 % in mass or
+  a principal moment (legacy overcounts non-convex meshes);
 * ``mesh_not_found``, ``unsupported_geometry``, ``unsupported_pose``: the reader could not
   use part of the file; the rest of the check goes on.
 
@@ -175,7 +178,7 @@ def _check_from_geoms(link, rep, where, mesh_units):
     from ..massprops.validity import check_inertia
 
     at = f"{where}: body {link.name!r}"
-    props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units)
+    props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units, simulator=True)
     for code, msg in problems:
         rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
     if props is not None:
@@ -185,7 +188,45 @@ def _check_from_geoms(link, rep, where, mesh_units):
         if link.inertial is not None:
             rep.notes.append(Finding("inertial_ignored", f"{at}: inertiafromgeom=\"true\": the declared "
                                      "<inertial> is replaced by the geoms' inertia"))
+        if not rep.errors:
+            _compare_legacy(link, props, rep, at, mesh_units)
     return rep
+
+
+#: relative difference in mass or a principal moment between MuJoCo's legacy mesh inertia and
+#: the exact solid above which the check warns (``legacy_mesh_inertia``)
+LEGACY_RTOL = 0.05
+
+
+def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
+    """Warn when MuJoCo's default (legacy) mesh inertia is far from the body's exact solid.
+
+    Legacy counts the volume of pyramids as positive, so a non-convex or open mesh gets more
+    mass and inertia than the solid it bounds; the body then simulates heavier than it is.
+    """
+    meshes = [g for g in link.geometries if g.role == "collision" and g.kind == "mesh"]
+    legacy = [g for g in meshes if g.params.get("mujoco_inertia") == "legacy"]
+    if not any(g.params.get("mujoco_inertia") in ("legacy", "exact") for g in meshes):
+        return  # primitives, convex hulls and shells: what MuJoCo computes is well defined
+    solid, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units)
+    if solid is None:  # an open or non-manifold mesh: MuJoCo's number bounds no solid
+        for code, msg in problems:
+            rep.warnings.append(Finding(code, f"{at}: {msg}; MuJoCo still infers mass {simulated.mass:.6g} kg "
+                                        "from it (pyramids to a centroid), which is not the mass of a solid"))
+        return
+    if not legacy:
+        return
+    dm = abs(simulated.mass - solid.mass) / solid.mass
+    moments_sim, moments_solid = simulated.principal()[0], solid.principal()[0]
+    dI = float(np.max(np.abs(moments_sim - moments_solid) / moments_solid))
+    if max(dm, dI) > LEGACY_RTOL:
+        names = ", ".join(sorted({str(g.params.get("uri") or g.params.get("where")) for g in legacy}))
+        rep.warnings.append(Finding("legacy_mesh_inertia", (
+            f"{at}: MuJoCo's default mesh inertia (legacy) gives mass {simulated.mass:.6g} kg and principal "
+            f"moments {np.array2string(moments_sim, precision=4)} kg m^2, the exact solid {solid.mass:.6g} kg and "
+            f"{np.array2string(moments_solid, precision=4)} ({100 * dm:.0f} % in mass, up to {100 * dI:.0f} % in "
+            f"a moment): legacy overcounts non-convex meshes ({names}); set inertia=\"exact\" (closed meshes) or "
+            "\"convex\" on the <mesh> asset, or declare an <inertial>")))
 
 
 def _well_defined(moments, i: int) -> bool:

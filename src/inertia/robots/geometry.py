@@ -8,6 +8,7 @@ scaled to that total mass (the declared one, when checking a file).
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -24,47 +25,90 @@ ROLES = ("collision", "visual")
 SUMMED_OVERLAP = "mesh_overlapping_shells"
 
 
-def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
+def mujoco_mesh_arrays(params: dict, mesh_units: str = "m"):
+    """Vertices and faces of an MJCF mesh asset as MuJoCo's compiler holds them.
+
+    File coordinates rounded to float32 (MuJoCo stores them so), then ``refpos``/
+    ``refquat`` and ``scale`` applied in double; a mesh given by vertices alone gets its
+    convex hull as faces, as in MuJoCo.  A mirroring scale reverses the winding.
+    """
+    from .._core.rotations import quat_normalize, quat_to_matrix
+    from .mujoco_inertia import hull_faces
+
+    if params.get("path") is not None:
+        v, f = _load_cached(params["path"], mesh_units)
+    elif params.get("vertices") is not None:
+        v, f = params["vertices"], params.get("faces")
+    else:
+        raise InertiaError(f"mesh {params.get('uri')!r} not found")
+    v = np.asarray(v, np.float32).astype(float) - np.asarray(params.get("refpos", (0, 0, 0)), float)
+    q = np.asarray(params.get("refquat", (1, 0, 0, 0)), float)
+    if not np.array_equal(q, [1, 0, 0, 0]):
+        v = v @ quat_to_matrix(quat_normalize(q))
+    scale = np.asarray(params.get("scale", (1, 1, 1)), float)
+    v = v * scale
+    if f is None:
+        f = hull_faces(v)
+    elif np.prod(np.sign(scale)) < 0:
+        f = f[:, ::-1]
+    return v, np.asarray(f, np.int64)
+
+
+#: meshes read by the robot checks, by (path, size, mtime, units): a robot uses a mesh in
+#: several places (visual and collision, a fitted primitive, the bounds)
+_MESH_CACHE: dict = {}
+_MESH_CACHE_SIZE = 64
+
+
+def _load_cached(path, mesh_units: str):
+    from ..geometry.mesh_io import load_mesh
+
+    try:
+        st = path.stat()
+        key = (str(path), st.st_size, st.st_mtime_ns, mesh_units)
+    except OSError:
+        return load_mesh(path, units=mesh_units)
+    if key not in _MESH_CACHE:
+        if len(_MESH_CACHE) >= _MESH_CACHE_SIZE:
+            _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
+        v, f = load_mesh(path, units=mesh_units)
+        v.setflags(write=False)
+        f.setflags(write=False)
+        _MESH_CACHE[key] = (v, f)
+    return _MESH_CACHE[key]
+
+
+def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m", simulator: bool = False):
     """MassProperties of one :class:`~inertia.robots.model.Geometry` in the link frame.
 
+    ``simulator=True``: what the simulator computes where it differs from the exact solid
+    (MJCF meshes in their ``<mesh inertia>`` mode, MuJoCo's ellipsoid shell:
+    :mod:`inertia.robots.mujoco_inertia`); otherwise the exact uniform solid (or shell).
     Raises InertiaError (with a message naming the shape) when it cannot be computed.
     """
-    from ..geometry.mesh_io import load_mesh
     from ..massprops import primitives
-    from ..massprops.mesh import mesh_properties
 
     rho = geom.density if geom.density is not None else density
     k, p = geom.kind, geom.params
+    shell = bool(p.get("shell", False))
+    if "error" in p:
+        raise InertiaError(p["error"])
     if k == "box":
-        props = primitives.box(tuple(p["size"]), density=rho)
+        props = primitives.box(tuple(p["size"]), density=rho, shell=shell)
     elif k == "sphere":
-        props = primitives.sphere(p["radius"], density=rho)
+        props = primitives.sphere(p["radius"], density=rho, shell=shell)
     elif k == "cylinder":
-        props = primitives.cylinder(p["radius"], p["length"], density=rho)
+        props = primitives.cylinder(p["radius"], p["length"], density=rho, shell=shell)
     elif k == "capsule":
-        props = primitives.capsule(p["radius"], p["length"], density=rho)
+        props = primitives.capsule(p["radius"], p["length"], density=rho, shell=shell)
+    elif k == "ellipsoid" and shell and simulator:
+        props = _mujoco_ellipsoid_shell(p["semi_axes"], rho, geom.mass)
     elif k == "ellipsoid":
-        props = primitives.ellipsoid(tuple(p["semi_axes"]), density=rho)
+        props = primitives.ellipsoid(tuple(p["semi_axes"]), density=rho, shell=shell)
+    elif k == "mesh" and simulator and p.get("mujoco_inertia") is not None:
+        props = _mujoco_mesh(p, rho, mesh_units)
     elif k == "mesh":
-        path = p.get("path")
-        if path is None:
-            raise InertiaError(f"mesh {p.get('uri')!r} not found")
-        if path.suffix.lower() not in SUPPORTED_EXTENSIONS:
-            raise InertiaError(f"mesh {path.name}: format {path.suffix} is not supported for inertia")
-        vertices, faces = load_mesh(path, units=mesh_units)
-        vertices = vertices * np.asarray(p.get("scale", (1, 1, 1)), float)
-        if np.prod(np.sign(p.get("scale", (1, 1, 1)))) < 0:  # a mirroring scale turns the winding inside out
-            faces = faces[:, ::-1]
-        try:
-            props = mesh_properties(vertices, faces, density=rho, name=str(path))
-        except MeshError as exc:
-            if exc.report is None or set(exc.report.codes) != {"overlapping_shells"}:
-                raise
-            # closed parts that overlap: the simulator sums them (MuJoCo integrates the signed
-            # volume), so the comparison does too; the caller notes it (SUMMED_OVERLAP)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                props = mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn")
+        props = _solid_mesh(p, rho, mesh_units)
     else:
         raise InertiaError(f"geometry {k!r} is not supported")
     if geom.mass is not None:
@@ -72,8 +116,60 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m"):
     return props.transformed(geom.R_link_geom, geom.p_link_geom)
 
 
+def _solid_mesh(p: dict, rho: float, mesh_units: str):
+    """The exact uniform solid of a mesh file (closed parts that overlap are summed)."""
+    from ..massprops.mesh import mesh_properties
+
+    path = p.get("path")
+    if path is None and p.get("vertices") is not None:
+        vertices, faces = mujoco_mesh_arrays(p, mesh_units)
+        return mesh_properties(vertices, faces, density=rho, name=p.get("where", "mesh"))
+    if path is None:
+        raise InertiaError(f"mesh {p.get('uri')!r} not found")
+    if path.suffix.lower() not in SUPPORTED_EXTENSIONS:
+        raise InertiaError(f"mesh {path.name}: format {path.suffix} is not supported for inertia")
+    vertices, faces = _load_cached(path, mesh_units)
+    vertices = vertices * np.asarray(p.get("scale", (1, 1, 1)), float)
+    if np.prod(np.sign(p.get("scale", (1, 1, 1)))) < 0:  # a mirroring scale turns the winding inside out
+        faces = faces[:, ::-1]
+    try:
+        return mesh_properties(vertices, faces, density=rho, name=str(path))
+    except MeshError as exc:
+        if exc.report is None or set(exc.report.codes) != {"overlapping_shells"}:
+            raise
+        # closed parts that overlap: the simulator sums them (MuJoCo integrates the signed
+        # volume), so the comparison does too; the caller notes it (SUMMED_OVERLAP)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn")
+
+
+def _mujoco_mesh(p: dict, rho: float, mesh_units: str):
+    """What MuJoCo's compiler computes for a mesh geom in its asset's inertia mode."""
+    from ..massprops.properties import MassProperties
+    from .mujoco_inertia import check_mesh_inertia, mesh_inertia
+
+    if p.get("path") is not None and p["path"].suffix.lower() not in SUPPORTED_EXTENSIONS:
+        raise InertiaError(f"mesh {p['path'].name}: format {p['path'].suffix} is not supported for inertia")
+    v, f = mujoco_mesh_arrays(p, mesh_units)
+    measure, com, inertia = mesh_inertia(v, f, p["mujoco_inertia"])
+    check_mesh_inertia(np.linalg.eigvalsh(inertia))
+    shell = p["mujoco_inertia"] == "shell"
+    return MassProperties(rho * measure, com, rho * inertia, volume=math.nan if shell else measure, validate=False)
+
+
+def _mujoco_ellipsoid_shell(semi_axes, rho: float, mass):
+    from ..massprops.properties import MassProperties
+    from .mujoco_inertia import ellipsoid_shell
+
+    area, _ = ellipsoid_shell(semi_axes, 1.0)
+    m = mass if mass is not None else rho * area
+    _, moments = ellipsoid_shell(semi_axes, m)
+    return MassProperties(m, np.zeros(3), np.diag(moments), validate=False)
+
+
 def link_geometry_properties(link, *, role: str | None = None, density: float = 1000.0, mass=None,
-                             mesh_units: str = "m"):
+                             mesh_units: str = "m", simulator: bool = False):
     """``(MassProperties or None, role used, problems)`` from the link's geometry.
 
     ``role=None`` uses the collision shapes, or the visual ones when there are none.
@@ -90,7 +186,7 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
         total, problems, notes = None, [], []
         for g in shapes:
             try:
-                part = shape_properties(g, density=density, mesh_units=mesh_units)
+                part = shape_properties(g, density=density, mesh_units=mesh_units, simulator=simulator)
             except InertiaError as exc:
                 problems.append(("geometry_unusable", f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
                 continue
@@ -122,12 +218,12 @@ def _short(exc, geom) -> str:
 
 def geometry_bounds(link, *, mesh_units: str = "m"):
     """Axis-aligned bounds ``(lo, hi)`` of the link's shapes in the link frame, or None."""
-    from ..geometry.mesh_io import load_mesh
-
     pts = []
     for g in link.geometries:
         R, t = g.R_link_geom, g.p_link_geom
         p = g.params
+        if "error" in p:
+            continue
         if g.kind == "box":
             h = np.asarray(p["size"]) / 2
             corners = CORNER_SIGNS * h
@@ -139,12 +235,15 @@ def geometry_bounds(link, *, mesh_units: str = "m"):
             corners = CORNER_SIGNS * (r, r, hz)
         elif g.kind == "ellipsoid":
             corners = CORNER_SIGNS * p["semi_axes"]
-        elif g.kind == "mesh" and p.get("path") is not None and p["path"].suffix.lower() in SUPPORTED_EXTENSIONS:
+        elif g.kind == "mesh" and (p.get("vertices") is not None or (
+                p.get("path") is not None and p["path"].suffix.lower() in SUPPORTED_EXTENSIONS)):
             try:
-                v, _ = load_mesh(p["path"], units=mesh_units)
+                if p.get("mujoco_inertia") is not None:
+                    corners, _ = mujoco_mesh_arrays(p, mesh_units)
+                else:
+                    corners = _load_cached(p["path"], mesh_units)[0] * np.asarray(p.get("scale", (1, 1, 1)), float)
             except InertiaError:
                 continue
-            corners = v * np.asarray(p.get("scale", (1, 1, 1)), float)
         else:
             continue
         pts.append(corners @ R.T + t)

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._core.errors import InertiaError
 from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .model import Geometry, Inertial, Link, RobotModel
 from .resolve import resolve_mesh
@@ -72,6 +73,7 @@ class _Compiler:
         self.meshdir = el.get("meshdir") if el is not None else None
         self.assetdir = el.get("assetdir") if el is not None else None
         self.inertiafromgeom = _choice(el, "inertiafromgeom", "auto", ("false", "true", "auto"), where)
+        self.fitaabb = _choice(el, "fitaabb", "false", ("false", "true"), where) == "true"
 
     def angle(self, v: float) -> float:
         return math.radians(v) if self.degree else v
@@ -198,12 +200,9 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         for m in asset.findall("mesh"):
             attrs = dict(defaults.get(m.get("class", "main"), {}).get("mesh", {}))
             attrs.update(m.attrib)
-            file = attrs.get("file")
-            if file is None:
-                continue  # vertex-defined meshes are not supported: reported when used
-            name = attrs.get("name") or Path(file).stem
-            scale = floats(attrs.get("scale", "1 1 1"), 3, doc.where(m), "mesh scale")
-            meshes[name] = (file, resolve_mesh(file, mesh_dir, search_paths, where=doc.where(m)), scale)
+            name, params = _mesh_asset(doc, m, attrs, mesh_dir, search_paths)
+            if name is not None:
+                meshes[name] = params
 
     links = []
     worlds = root.findall("worldbody")  # MuJoCo merges them all (includes often add one each)
@@ -339,6 +338,52 @@ def _included(doc, child, base: Path, first: dict):
     return target, sub
 
 
+def _fitted(a: dict, kind: str, meshes: dict, comp, where: str):
+    """MuJoCo's fit of a primitive geom to its ``mesh``: ``(size, R_geom_fit, p_geom_fit)``."""
+    from .geometry import mujoco_mesh_arrays
+    from .mujoco_inertia import fit_primitive
+
+    name = a["mesh"]
+    if name not in meshes:
+        raise InertiaError("it is not a mesh asset")
+    params = meshes[name]
+    v, f = mujoco_mesh_arrays(params)
+    fitscale = floats(a.get("fitscale", "1"), 1, where, "fitscale")[0]
+    return fit_primitive(kind, v, f, params["mujoco_inertia"], fitaabb=comp.fitaabb, fitscale=fitscale)
+
+
+def _mesh_asset(doc, m, attrs: dict, mesh_dir: Path, search_paths):
+    """``(name, params)`` of a ``<mesh>`` asset (file or ``vertex``/``face`` lists), MuJoCo's
+    ``inertia`` mode, ``scale``, ``refpos`` and ``refquat`` included."""
+    from .mujoco_inertia import MESH_INERTIA_MODES
+
+    where = f"{doc.where(m)}: <mesh>"
+    mode = attrs.get("inertia", "legacy")
+    if mode not in MESH_INERTIA_MODES:
+        raise RobotFileError(f"{where} inertia={mode!r} must be one of {', '.join(MESH_INERTIA_MODES)}")
+    params = {"scale": floats(attrs.get("scale", "1 1 1"), 3, where, "mesh scale"), "mujoco_inertia": mode,
+              "refpos": floats(attrs.get("refpos", "0 0 0"), 3, where, "mesh refpos"),
+              "refquat": floats(attrs.get("refquat", "1 0 0 0"), 4, where, "mesh refquat"), "where": where}
+    file = attrs.get("file")
+    if file is not None:
+        params.update(uri=file, path=resolve_mesh(file, mesh_dir, search_paths, where=doc.where(m)))
+        return attrs.get("name") or Path(file).stem, params
+    if "vertex" not in attrs:
+        return None, params  # a mesh without shape (MuJoCo refuses it when a geom uses it)
+    v = np.asarray(floats(attrs["vertex"], None, where, "mesh vertex"), float)
+    if v.size < 12 or v.size % 3:
+        raise RobotFileError(f"{where} vertex: needs at least 4 vertices of 3 numbers each, got {v.size} numbers")
+    params.update(uri=None, path=None, vertices=v.reshape(-1, 3))
+    if "face" in attrs:
+        f = np.asarray(floats(attrs["face"], None, where, "mesh face"))
+        if f.size % 3 or not np.all(f == np.round(f)) or np.any(f < 0) or np.any(f >= len(params["vertices"])):
+            raise RobotFileError(f"{where} face: needs triples of vertex indices 0..{len(params['vertices']) - 1}")
+        params["faces"] = f.astype(np.int64).reshape(-1, 3)
+    if attrs.get("name") is None:
+        raise RobotFileError(f"{where}: a mesh given by its vertices needs a name")
+    return attrs["name"], params
+
+
 def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
     where = f"{doc.where(el)}: body {link.name!r}: <geom>"
     kind = a.get("type", "sphere")
@@ -364,6 +409,16 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
         else:
             size = [size[0], size[1] if len(size) > 1 else size[0], half]
     need = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}
+    if kind in need and a.get("mesh") is not None:  # a primitive fitted to a mesh: MuJoCo sets its size
+        if "fromto" in a:
+            raise RobotFileError(f"{where}: fromto cannot be used with a mesh (MuJoCo refuses it too)")
+        try:
+            size, R_fit, p_fit = _fitted(a, kind, meshes, comp, where)
+        except InertiaError as exc:
+            link.notes.append(("geometry_unusable", f"{where}: {kind} fitted to mesh {a.get('mesh')!r}: {exc}"))
+            return Geometry(kind, {"error": f"{kind} fitted to mesh {a.get('mesh')!r}: {exc}"}, R, p,
+                            "collision", doc.line(el), density=density, mass=mass)
+        p, R = p + R @ p_fit, R @ R_fit
     if kind in need and len(size) < need[kind]:
         raise RobotFileError(f"{where}: {kind} geom needs {need[kind]} size values, got {len(size)}")
     if kind == "sphere":
@@ -377,16 +432,21 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
     elif kind == "mesh":
         name = a.get("mesh")
         if name not in meshes:
-            link.notes.append(("mesh_not_found", f"{where}: geom mesh {name!r} is not a file mesh asset"))
+            link.notes.append(("mesh_not_found", f"{where}: geom mesh {name!r} is not a mesh asset"))
             return None
-        file, found, scale = meshes[name]
-        if found is None:
-            link.notes.append(("mesh_not_found", f"{where}: mesh {name!r} file {file!r} not found (meshdir)"))
-        params = {"path": found, "uri": file, "scale": scale}
+        if a.get("shellinertia", "false") == "true":
+            raise RobotFileError(f"{where}: shellinertia does not apply to mesh geoms; set inertia=\"shell\" on "
+                                 f"the mesh asset {name!r} (MuJoCo refuses it too)")
+        params = meshes[name]
+        if params.get("uri") is not None and params["path"] is None:
+            link.notes.append(("mesh_not_found", f"{where}: mesh {name!r} file {params['uri']!r} not found "
+                                                 "(meshdir)"))
     else:
         link.notes.append(("unsupported_geometry", f"{where}: geom type {kind!r} is not supported"))
         return None
-    if mass is None and density == 0:
+    if kind in need and a.get("shellinertia", "false") == "true":
+        params["shell"] = True  # hollow: density per unit area (MuJoCo's shellinertia)
+    if (mass is None and density == 0) or mass == 0:
         # no mass in MuJoCo (a visual geom), but its shape still describes the body: kept for
         # the checks as a "visual" shape of uniform density
         return Geometry(kind, params, R, p, "visual", doc.line(el))
