@@ -11,8 +11,12 @@ Supported, following MuJoCo's compiler:
 * ``<inertial pos quat mass diaginertia|fullinertia>`` where ``fullinertia`` is
   ``ixx iyy izz ixy ixz iyz`` (tensor elements, our convention);
 * geoms ``sphere``, ``capsule``, ``cylinder``, ``ellipsoid``, ``box`` (half sizes, or
-  ``fromto``) and ``mesh`` (asset ``file`` and ``scale``), each with ``density`` (default
-  1000 kg/m^3) or ``mass``.  Planes, height fields and SDF geoms carry no volume and are skipped.
+  ``fromto``) and ``mesh`` (asset ``file`` or ``vertex``/``face``, ``scale``, ``refpos``,
+  ``refquat`` and ``inertia`` mode), each with ``density`` (default 1000 kg/m^3) or ``mass``;
+  ``shellinertia`` primitives; primitives fitted to a mesh (``mesh`` on a primitive geom,
+  ``<compiler fitaabb>``, ``fitscale``): see :mod:`inertia.robots.mujoco_inertia` for what
+  the compiler computes from them.  Planes, height fields and SDF geoms carry no volume and
+  are skipped.
 """
 
 from __future__ import annotations
