@@ -68,3 +68,24 @@ def test_the_robust_path_answers_the_union_within_its_bound():
     text = p.warnings[-1]
     bound = float(text.split("relative error bounds: volume ")[1].split(",")[0])
     assert abs(p.volume / 1500.0 - 1) <= bound and bound < 0.5
+
+
+def test_compiled_winding_numbers_equal_the_numpy_ones_and_the_solid_angle_closed_form():
+    """Both evaluations agree to rounding, and give 1 inside / 0 outside a closed box and the
+    solid angle of one face of a cube seen from its center (4 pi / 6, so 1/6)."""
+    pytest.importorskip("numba")
+    from inertia.geometry.intersections import winding_numbers, winding_numbers_numpy
+    from inertia.geometry.shapes import cylinder_mesh
+
+    v, f = cylinder_mesh(0.5, 1.0, sides=12)
+    tri = v[f]
+    rng = np.random.default_rng(5)
+    pts = rng.uniform(-1, 1, size=(200, 3))
+    a, b = winding_numbers(pts, tri), winding_numbers_numpy(pts, tri)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    inside = (np.hypot(pts[:, 0], pts[:, 1]) < 0.4) & (np.abs(pts[:, 2]) < 0.45)
+    outside = (np.hypot(pts[:, 0], pts[:, 1]) > 0.55) | (np.abs(pts[:, 2]) > 0.55)
+    np.testing.assert_allclose(a[inside], 1.0, atol=1e-9)
+    np.testing.assert_allclose(a[outside], 0.0, atol=1e-9)
+    square = np.array([[[1, -1, -1], [1, 1, -1], [1, 1, 1]], [[1, -1, -1], [1, 1, 1], [1, -1, 1]]], float)
+    assert winding_numbers(np.zeros((1, 3)), square)[0] == pytest.approx(1 / 6, abs=1e-14)

@@ -28,7 +28,7 @@ import numpy as np
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
-from ._shell_numba import closed_single_shell, find_root, union_low  # noqa: E402,F401 - one module object for the callers
+from ._shell_numba import closed_single_shell, find_root, union_low, winding_numbers  # noqa: E402,F401 - one module object for the callers
 
 #: merging never joins vertices farther apart than this fraction of the short face edges
 MERGE_EDGE_FRACTION = 0.25
