@@ -24,10 +24,16 @@ from .._core.errors import RobotFileError
 class Document:
     """A parsed XML file: the root element, the source path and each element's line."""
 
-    def __init__(self, root: ET.Element, path: Path, lines: dict, prolog: bytes = b"", epilog: bytes = b"\n"):
+    def __init__(self, root: ET.Element, path: Path, lines: dict, prolog: bytes = b"", epilog: bytes = b"\n",
+                 *, source: bytes = b"", starts: dict | None = None, ends: dict | None = None):
         self.root = root
         self.path = path
         self._lines = lines
+        # the source bytes and, per element of this file, where its start tag and its end tag
+        # begin (byte offsets): what :mod:`inertia.robots.edit` changes in place
+        self.source = source
+        self._starts = starts or {}
+        self._ends = ends or {}
         self._files: dict[int, Path] = {}  # elements merged in from other files (MJCF <include>)
         # the source's bytes before and after the root element, written back unchanged
         self.prolog, self.epilog = prolog, epilog
@@ -39,6 +45,15 @@ class Document:
             if id(el) in other._lines:
                 self._lines[id(el)] = other._lines[id(el)]
                 self._files[id(el)] = other._files.get(id(el), other.path)
+
+    def start_byte(self, element) -> int | None:
+        """Byte offset of the element's ``<`` in :attr:`source` (None: not from this file)."""
+        return self._starts.get(id(element))
+
+    def end_byte(self, element) -> int | None:
+        """Byte offset of the element's end tag ``</`` in :attr:`source` (an empty element:
+        its start tag's)."""
+        return self._ends.get(id(element))
 
     def line(self, element) -> int | None:
         """1-based line of the element's start tag in the source (None for new elements)."""
@@ -103,6 +118,9 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     parser = expat.ParserCreate()
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     lines: dict[int, int] = {}
+    starts: dict[int, int] = {}
+    ends: dict[int, int] = {}
+    stack: list = []
     depth = [0]
     span = {"start": None, "end": None}
 
@@ -111,10 +129,13 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
             span["start"] = parser.CurrentByteIndex
         el = builder.start(tag, attrs)
         lines[id(el)] = parser.CurrentLineNumber
+        starts[id(el)] = parser.CurrentByteIndex
+        stack.append(el)
         depth[0] += 1
 
     def end(tag):
         builder.end(tag)
+        ends[id(stack.pop())] = parser.CurrentByteIndex
         depth[0] -= 1
         if depth[0] == 0:
             i = parser.CurrentByteIndex
@@ -155,7 +176,8 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         raise RobotFileError(f"{path}:{parser.CurrentLineNumber}: the XML declaration's encoding {name!r} "
                              f"cannot be used to read the file ({exc}); robot files are UTF-8") from None
     root = builder.close()
-    doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n")
+    doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n",
+                   source=source, starts=starts, ends=ends)
     if relocated:
         doc.notes.append(f"{path}: the XML declaration follows a comment (not allowed by XML); read anyway")
     return doc
