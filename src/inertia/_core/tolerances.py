@@ -39,3 +39,12 @@ DEGENERATE_AREA_RTOL = 1e-14
 #: garbage quaternion is a bug, not drift); closer ones are renormalised silently (a solver's
 #: or filter's drift).  Every function taking ``q_world_body`` uses it.
 QUAT_NORM_TOL = 1e-6
+
+#: Robot files: the least mass [kg] and principal moment [kg m^2] a moving body may have in a
+#: simulator.  MuJoCo (its mjMINVAL) refuses a body with degrees of freedom whose mass or a
+#: principal moment, with every body welded to it, is below 1e-15 ("mass and inertia of moving
+#: bodies must be larger than mjMINVAL"), and a ``fullinertia`` with an eigenvalue below it
+#: ("inertia must have positive eigenvalues"); Gazebo (DART) and Pinocchio need them positive.
+#: Absolute, not relative: a 1 kg link with moments of 1e-35 kg m^2 is rounding noise however
+#: well shaped.  ``inertia fix`` never writes a tensor below it.
+SIMULATOR_MIN_VALUE = 1e-15

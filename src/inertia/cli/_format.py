@@ -159,10 +159,15 @@ def table(header, rows, *, indent: int = 2) -> list[str]:
     return out
 
 
-def emit(lines_or_text) -> None:
-    """Print lines (a list) or a text to stdout."""
+def emit(lines_or_text, file=None) -> None:
+    """Print lines (a list) or a text to stdout (or ``file``)."""
     text = lines_or_text if isinstance(lines_or_text, str) else "\n".join(lines_or_text)
-    sys.stdout.write(text.rstrip("\n") + "\n")
+    (file or sys.stdout).write(text.rstrip("\n") + "\n")
+
+
+def plural(n: int, noun: str, plural_form: str | None = None) -> str:
+    """``"1 link"``, ``"2 links"``, ``"0 links"``."""
+    return f"{n} {noun if n == 1 else (plural_form or noun + 's')}"
 
 
 def add_command(sub, name: str, help: str, description: str, epilog: str):

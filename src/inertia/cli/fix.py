@@ -17,9 +17,14 @@ examples:
 Nearest physical tensor: the declared tensor's principal moments projected (least squares) onto
 {I_i >= 1e-6 trace, I_i + I_j >= I_k}, axes and COM kept.  From geometry: the link's shapes as
 uniform solids, at the declared mass (or at --density), COM and tensor written in the link frame.
-Everything else in the file is kept (comments, other elements, attribute order).
+The output is the input byte for byte except the numbers (or inertial elements) that change:
+quoting, attribute order, indentation, line endings, comments and encoding are kept, and a
+file with nothing to fix comes back identical.  A tensor that is zero or rounding noise
+(largest moment below 1e-15 kg m^2, the least MuJoCo accepts) is not "fixed" into another
+meaningless number: it is kept and reported, and the exit status says the output still fails.
 
-exit status: 0 written, 1 bad input, 2 the file could not be read."""
+exit status: 0 written and valid, 1 bad input or the written file still fails the check (it says
+which links and why), 2 the file could not be read."""
 
 HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
 DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
@@ -68,8 +73,26 @@ def run(args) -> int:
     except RobotFileError as exc:
         print(f"inertia fix: error: {exc}", file=sys.stderr)
         return 2
-    lines = [f"wrote {report.output}: {len(report.changed)} inertials changed"]
+    fmt.emit(fix_summary(report, mode), file=sys.stderr)
+    return 1 if report.remaining else 0
+
+
+def fix_summary(report, mode: str) -> list:
+    """What the fix did, what it left and why the output is still invalid (if it is)."""
+    n = len(report.changed)
+    if report.identical:
+        lines = [f"wrote {report.output}: nothing changed; it is byte-identical to the input"]
+    else:
+        lines = [f"wrote {report.output}: {fmt.plural(n, 'inertial')} changed (only their numbers; every other "
+                 "byte as in the input)"]
     lines += [f"  {name}: {what}" for name, what in report.changed.items()]
     lines += [f"  {name}: kept ({why})" for name, why in report.skipped.items()]
-    print("\n".join(lines), file=sys.stderr)
-    return 0
+    if report.remaining:
+        lines.append(f"{report.output} still fails the check ({fmt.plural(len(report.remaining), 'link')}):")
+        lines += [f"  {name}: {why}" for name, why in report.remaining.items()]
+        if mode == "flip":
+            lines.append("  --flip-products only negates products where that makes the tensor physical; "
+                         "for these it does not: try --nearest-valid or --from-geometry")
+        elif mode == "nearest":
+            lines.append("  try --from-geometry, or declare these tensors")
+    return lines

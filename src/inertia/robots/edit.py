@@ -20,6 +20,18 @@ from .._core.errors import RobotFileError
 _ATTR = re.compile(rb"""(\s+)([^\s=/>]+)(\s*=\s*)(?:"([^"]*)"|'([^']*)')""")
 
 
+def _numbers(text: str):
+    """The floats in ``text``, or None when it does not hold only numbers."""
+    try:
+        return [float(t) for t in text.split()]
+    except ValueError:
+        return None
+
+
+def _format(values) -> str:
+    return " ".join(repr(float(v)) for v in values)
+
+
 class SourceEditor:
     """Replacements on the source bytes of a parsed :class:`~inertia.robots.xmlsafe.Document`."""
 
@@ -83,6 +95,24 @@ class SourceEditor:
         while at > start and self.data[at - 1:at].isspace():
             at -= 1
         self.edits.append((at, at, f' {name}="{value}"'.encode("ascii")))
+
+    def set_numbers(self, el, name: str, values, *, default=None) -> None:
+        """Set attribute ``name`` to the numbers ``values``, unless it already holds them
+        (compared as floats, so ``"0"`` stays ``"0"``); an absent attribute whose ``default``
+        equals ``values`` stays absent."""
+        values = [float(v) for v in values]
+        if name not in el.attrib:
+            if default is not None and [float(v) for v in default] == values:
+                return
+        elif _numbers(el.attrib[name]) == values:
+            return
+        self.set_attribute(el, name, _format(values))
+
+    def set_text_numbers(self, el, values) -> None:
+        """Set a leaf element's text to the numbers ``values``, unless it already holds them."""
+        values = [float(v) for v in values]
+        if _numbers(el.text or "") != values:
+            self.set_text(el, _format(values))
 
     def remove_attribute(self, el, name: str) -> None:
         attrs = self.attributes(el)

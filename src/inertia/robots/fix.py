@@ -19,52 +19,84 @@ inertial's own elements and attributes are rewritten.
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.tolerances import SIMULATOR_MIN_VALUE
+from ..massprops.validity import check_inertia
+from .check import flip_products
+from .edit import SourceEditor
 from .geometry import link_geometry_properties
 from .io import read_robot
 from .writers import format_number, format_vector, inertia_elements
-from .xmlsafe import serialize
 
-#: smallest principal moment the projection allows, relative to the trace
+#: smallest principal moment the projection allows, relative to the trace (and never below
+#: :data:`~inertia._core.tolerances.SIMULATOR_MIN_VALUE`, the least MuJoCo accepts)
 MIN_MOMENT_RTOL = 1e-6
+
+
+def below_floor(inertia) -> bool:
+    """The tensor's smallest principal moment is below what simulators accept for a moving
+    body (:data:`~inertia._core.tolerances.SIMULATOR_MIN_VALUE` kg m^2)."""
+    I = np.asarray(inertia, float)
+    with np.errstate(all="ignore"):
+        return not bool(np.linalg.eigvalsh(0.5 * (I + I.T))[0] >= SIMULATOR_MIN_VALUE)
 
 
 def nearest_physical_inertia(inertia, *, min_rtol: float = MIN_MOMENT_RTOL) -> np.ndarray:
     """The physical tensor nearest to ``inertia`` in the Frobenius norm, with the same axes.
 
     Method: in the principal axes of the declared tensor, project the three moments onto
-    the convex set ``{I_i >= min_rtol * trace, I_i + I_j >= I_k}`` (Euclidean projection,
-    solved exactly as a 3-variable quadratic program with SLSQP); the axes are kept, so the
-    result is the nearest physical tensor among those sharing the declared principal axes.
-    A tensor that is already physical is returned unchanged.
+    the convex set ``{I_i >= floor, I_i + I_j >= I_k}`` with ``floor = max(min_rtol * trace,
+    SIMULATOR_MIN_VALUE)``.  The set is a polyhedron, so the projection is the projection onto
+    the affine hull of one of its faces: every subset of active constraints is tried (64
+    small least-squares problems) and the nearest feasible candidate kept, exact to rounding.
+    The axes are kept, so the result is the nearest physical tensor among those sharing the
+    declared principal axes.  A tensor that is already physical is returned unchanged.
     """
-    from scipy.optimize import minimize
-
-    from ..massprops.validity import check_inertia
-
     I = 0.5 * (np.asarray(inertia, float) + np.asarray(inertia, float).T)
     if not check_inertia(I):
         return I
     w, V = np.linalg.eigh(I)
-    floor = min_rtol * max(abs(float(np.sum(w))), float(np.abs(w).max()), 1e-300)
-    cons = [{"type": "ineq", "fun": (lambda x, i=i: x[i] - floor)} for i in range(3)]
-    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        cons.append({"type": "ineq", "fun": (lambda x, i=i, j=j, k=k: x[i] + x[j] - x[k])})
-    res = minimize(lambda x: float(np.sum((x - w) ** 2)), np.maximum(w, floor), jac=lambda x: 2 * (x - w),
-                   constraints=cons, method="SLSQP", options={"ftol": 1e-15, "maxiter": 200})
-    x = res.x
-    # clean up SLSQP's last-digit residue so the result passes the validity check exactly
+    floor = max(min_rtol * max(abs(float(np.sum(w))), float(np.abs(w).max())), SIMULATOR_MIN_VALUE)
+    x = _project_moments(w, floor)
+    # the candidates meet their active constraints to rounding: make them hold exactly
     x = np.maximum(x, floor)
     order = np.argsort(x)
     if x[order[0]] + x[order[1]] < x[order[2]]:
         x[order[2]] = x[order[0]] + x[order[1]]
     return (V * x) @ V.T
+
+
+#: the constraints a x >= b of physical moments: x_i >= floor (b = floor) and x_i + x_j - x_k >= 0
+_PHYSICAL_A = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], float)
+
+
+def _project_moments(w, floor: float) -> np.ndarray:
+    """Euclidean projection of ``w`` onto ``{x_i >= floor, x_i + x_j >= x_k}`` by active sets."""
+    import itertools
+
+    A = _PHYSICAL_A
+    b = np.array([floor] * 3 + [0.0] * 3)
+    scale = max(float(np.abs(w).max()), floor)
+    best, best_d = None, np.inf
+    for k in range(4):   # at most 3 independent constraints are active at a point in 3D
+        for act in itertools.combinations(range(6), k):
+            x = w.copy()
+            if act:
+                Aa, ba = A[list(act)], b[list(act)]
+                G = Aa @ Aa.T
+                if abs(np.linalg.det(G)) < 1e-12:
+                    continue
+                x = w - Aa.T @ np.linalg.solve(G, Aa @ w - ba)
+            if np.all(A @ x - b >= -1e-12 * scale):
+                d = float(np.sum((x - w) ** 2))
+                if d < best_d:
+                    best, best_d = x, d
+    return best
 
 
 @dataclass
@@ -74,90 +106,99 @@ class FixReport:
     output: str
     changed: dict = field(default_factory=dict)
     skipped: dict = field(default_factory=dict)
+    #: the output is byte-identical to the input (nothing needed changing)
+    identical: bool = False
+    #: link name -> why it is still invalid in the output
+    remaining: dict = field(default_factory=dict)
 
 
-def _set_tensor(fmt: str, el, inertia, mass_scale: float) -> None:
+def _tensor_numbers(fmt: str, inertia, mass_scale: float) -> dict:
+    e = inertia_elements(np.asarray(inertia, float) / mass_scale)
+    return {k: e[k] for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+
+
+def _set_tensor(ed: SourceEditor, fmt: str, el, inertia, mass_scale: float) -> None:
     """Rewrite only the tensor of an inertial element, in its own (declared) axes."""
-    e = inertia_elements(np.asarray(inertia) / mass_scale)
+    e = _tensor_numbers(fmt, inertia, mass_scale)
     if fmt == "urdf":
-        i_el = el.find("inertia")
-        for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-            i_el.set(k, format_number(e[k]))
+        _urdf_inertia(ed, el, e)
     elif fmt == "sdf":
-        i_el = el.find("inertia")
-        if i_el is None:
-            i_el = ET.SubElement(el, "inertia")
-        for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-            c = i_el.find(k)
-            if c is None:
-                c = ET.SubElement(i_el, k)
-            c.text = format_number(e[k])
-    elif "diaginertia" in el.attrib and max(abs(e["ixy"]), abs(e["ixz"]), abs(e["iyz"])) == 0:
-        el.set("diaginertia", " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz")))
+        _sdf_inertia(ed, el, e)
     else:
-        el.attrib.pop("diaginertia", None)
-        el.set("fullinertia", " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")))
+        _mjcf_inertia(ed, el, e)
 
 
-def _set_urdf(el, props, mass_scale: float) -> None:
-    origin = el.find("origin")
-    if origin is None:
-        origin = ET.Element("origin")
-        el.insert(0, origin)
-    origin.set("xyz", format_vector(props.com))
-    origin.set("rpy", "0 0 0")
-    m = el.find("mass")
-    m.set("value", format_number(props.mass / mass_scale))
-    i_el = el.find("inertia")
-    e = inertia_elements(props.inertia_com)
-    for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-        i_el.set(k, format_number(e[k] / mass_scale))
-
-
-def _set_sdf(el, props, mass_scale: float) -> None:
-    pose = el.find("pose")
-    if pose is None:
-        pose = ET.Element("pose")
-        el.insert(0, pose)
-    pose.text = f"{format_vector(props.com)} 0 0 0"
-    for a in list(pose.attrib):
-        if a == "relative_to":
-            del pose.attrib[a]
-    m = el.find("mass")
-    if m is None:
-        m = ET.SubElement(el, "mass")
-    m.text = format_number(props.mass / mass_scale)
+def _urdf_inertia(ed: SourceEditor, el, e: dict) -> None:
     i_el = el.find("inertia")
     if i_el is None:
-        i_el = ET.SubElement(el, "inertia")
-    e = inertia_elements(props.inertia_com)
-    for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
+        ed.append_child(el, "<inertia " + " ".join(f'{k}="{format_number(v)}"' for k, v in e.items()) + "/>")
+        return
+    for k, v in e.items():
+        ed.set_numbers(i_el, k, [v])
+
+
+def _sdf_inertia(ed: SourceEditor, el, e: dict) -> None:
+    i_el = el.find("inertia")
+    if i_el is None:
+        ed.append_child(el, "<inertia>" + "".join(f"<{k}>{format_number(v)}</{k}>" for k, v in e.items())
+                        + "</inertia>")
+        return
+    for k, v in e.items():
         c = i_el.find(k)
         if c is None:
-            c = ET.SubElement(i_el, k)
-        c.text = format_number(e[k] / mass_scale)
+            ed.append_child(i_el, f"<{k}>{format_number(v)}</{k}>")
+        else:
+            ed.set_text_numbers(c, [v])
 
 
-def _set_mjcf(el, props, mass_scale: float) -> None:
-    for a in ("quat", "euler", "axisangle", "xyaxes", "zaxis", "diaginertia", "fullinertia"):
-        el.attrib.pop(a, None)
-    e = inertia_elements(props.inertia_com)
-    el.set("pos", format_vector(props.com))
-    el.set("mass", format_number(props.mass / mass_scale))
-    keys = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
-    el.set("fullinertia", " ".join(format_number(e[k] / mass_scale) for k in keys))
+def _mjcf_inertia(ed: SourceEditor, el, e: dict) -> None:
+    diagonal = max(abs(e["ixy"]), abs(e["ixz"]), abs(e["iyz"])) == 0
+    if "diaginertia" in el.attrib and diagonal:
+        ed.set_numbers(el, "diaginertia", [e["ixx"], e["iyy"], e["izz"]])
+        return
+    ed.remove_attribute(el, "diaginertia")
+    ed.set_numbers(el, "fullinertia", [e[k] for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")])
 
 
-def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,
-             in_place: bool = False, search_paths=(), mesh_units: str = "m", mass_scale: float = 1.0) -> FixReport:
-    """Write the corrected copy (see the module docstring); returns what changed.
+def _set_urdf(ed: SourceEditor, el, props, mass_scale: float) -> None:
+    origin = el.find("origin")
+    if origin is None:
+        ed.append_child(el, f'<origin xyz="{format_vector(props.com)}" rpy="0 0 0"/>')
+    else:
+        ed.set_numbers(origin, "xyz", props.com)
+        ed.set_numbers(origin, "rpy", [0.0, 0.0, 0.0], default=[0.0, 0.0, 0.0])
+    m = el.find("mass")
+    if m is None:
+        ed.append_child(el, f'<mass value="{format_number(props.mass / mass_scale)}"/>')
+    else:
+        ed.set_numbers(m, "value", [props.mass / mass_scale])
+    _urdf_inertia(ed, el, _tensor_numbers("urdf", props.inertia_com, mass_scale))
 
-    ``mass_scale`` is the file's mass unit in kg (1e-3 for grams): declared values are read
-    and written in the file's units.
-    """
-    path = Path(path)
-    if mode not in ("nearest", "geometry", "flip"):
-        raise InputError(f"mode must be 'nearest', 'geometry' or 'flip', got {mode!r}")
+
+def _set_sdf(ed: SourceEditor, el, props, mass_scale: float) -> None:
+    pose = el.find("pose")
+    if pose is None:
+        ed.append_child(el, f"<pose>{format_vector(props.com)} 0 0 0</pose>")
+    else:
+        ed.remove_attribute(pose, "relative_to")
+        ed.set_text_numbers(pose, [*props.com, 0.0, 0.0, 0.0])
+    m = el.find("mass")
+    if m is None:
+        ed.append_child(el, f"<mass>{format_number(props.mass / mass_scale)}</mass>")
+    else:
+        ed.set_text_numbers(m, [props.mass / mass_scale])
+    _sdf_inertia(ed, el, _tensor_numbers("sdf", props.inertia_com, mass_scale))
+
+
+def _set_mjcf(ed: SourceEditor, el, props, mass_scale: float) -> None:
+    for a in ("quat", "euler", "axisangle", "xyaxes", "zaxis"):
+        ed.remove_attribute(el, a)
+    ed.set_numbers(el, "pos", props.com)
+    ed.set_numbers(el, "mass", [props.mass / mass_scale])
+    _mjcf_inertia(ed, el, _tensor_numbers("mjcf", props.inertia_com, mass_scale))
+
+
+def _output_path(path: Path, output, in_place: bool) -> Path:
     if in_place:
         if output is not None and Path(output).resolve() != path.resolve():
             raise InputError("give either -o OUT or --in-place, not both")
@@ -167,54 +208,111 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     output = Path(output)
     if output.resolve() == path.resolve() and not in_place:
         raise InputError(f"{output} is the input file: pass --in-place to overwrite it")
+    return output
+
+
+def _moments(I) -> str:
+    return np.array2string(np.linalg.eigvalsh(0.5 * (I + I.T)), precision=6)
+
+
+def _fix_flip(ed, fmt, inertial, own, mass_scale, report, name) -> None:
+    """Negate the products where the declared tensor is not physical and the flipped one is."""
+    flipped = flip_products(own)
+    if check_inertia(own) and not check_inertia(flipped) and not below_floor(flipped):
+        report.changed[name] = "products of inertia negated (CAD sign -> tensor elements)"
+        _set_tensor(ed, fmt, inertial.element, flipped, mass_scale)
+        return inertial.mass * mass_scale, flipped
+    return None
+
+
+def _fix_nearest(ed, fmt, inertial, own, mass_scale, report, name) -> None:
+    """The nearest physical tensor in the declared axes; COM, mass and frame stay as written.
+
+    A tensor below the simulators' floor (zero, or rounding noise) has no meaningful nearest
+    tensor: the link is skipped with the reason, never written as 1e-41 kg m^2."""
+    if inertial.mass <= 0 and not np.any(own):
+        return None  # a massless frame (mass 0, tensor 0): an idiom, nothing to fix
+    w = np.linalg.eigvalsh(0.5 * (own + own.T))
+    if float(np.max(np.abs(w))) < SIMULATOR_MIN_VALUE:
+        report.skipped[name] = (f"its tensor is zero or rounding noise (largest moment {float(np.max(np.abs(w))):.3g} "
+                                f"kg m^2, below {SIMULATOR_MIN_VALUE:g}, the least MuJoCo accepts for a moving "
+                                "body): no nearest tensor means anything; recompute it with --from-geometry or "
+                                "declare it")
+        return None
+    fixed = nearest_physical_inertia(own)
+    if np.array_equal(fixed, 0.5 * (own + own.T)):
+        return None
+    report.changed[name] = (f"principal moments {_moments(own)} -> {_moments(fixed)} kg m^2 "
+                            "(nearest physical, same axes)")
+    _set_tensor(ed, fmt, inertial.element, fixed, mass_scale)
+    return inertial.mass * mass_scale, fixed
+
+
+def _fix_geometry(ed, setter, link, mass, report, *, role, density, mesh_units, mass_scale) -> None:
+    props, used, problems = link_geometry_properties(
+        link, role=role, mass=None if density is not None else mass,
+        density=density if density is not None else 1000.0, mesh_units=mesh_units)
+    if props is None:
+        report.skipped[link.name] = "; ".join(m for _, m in problems) or "no geometry"
+        return None
+    report.changed[link.name] = (f"from its {used} geometry: mass {props.mass:.6g} kg, COM "
+                                 f"{np.round(props.com, 6).tolist()} m, moments "
+                                 f"{np.array2string(props.principal()[0], precision=6)} kg m^2"
+                                 + "".join(f"; note: {m}" for _, m in problems))
+    setter(ed, link.inertial.element, props, mass_scale)
+    return props.mass, props.inertia_com
+
+
+def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,
+             in_place: bool = False, search_paths=(), mesh_units: str = "m", mass_scale: float = 1.0) -> FixReport:
+    """Write the corrected copy (see the module docstring); returns what changed.
+
+    The output is the input's bytes with only the changed numbers (or inertial elements)
+    replaced; with nothing to change it is identical (``report.identical``).  Links still
+    invalid in the output are in ``report.remaining`` (link name -> why).
+    ``mass_scale`` is the file's mass unit in kg (1e-3 for grams): declared values are read
+    and written in the file's units.
+    """
+    path = Path(path)
+    if mode not in ("nearest", "geometry", "flip"):
+        raise InputError(f"mode must be 'nearest', 'geometry' or 'flip', got {mode!r}")
+    output = _output_path(path, output, in_place)
     model = read_robot(path, search_paths=search_paths)
     included = getattr(model.document, "included", [])
     if included:
         raise InputError(f"{path} includes other files ({', '.join(p.name for p in included)}); fix the file "
                          "that holds the inertials instead, so that no change is lost")
+    ed = SourceEditor(model.document)
     setter = {"urdf": _set_urdf, "sdf": _set_sdf, "mjcf": _set_mjcf}[model.format]
     report = FixReport(str(output))
     for link in model.links:
         inertial = link.inertial
         if inertial is None:
             continue
-        mass = inertial.mass * mass_scale
+        own, mass = inertial.inertia_declared * mass_scale, inertial.mass * mass_scale
         if mode == "flip":
-            # only where the declared tensor is not physical and the flipped one is
-            from ..massprops.validity import check_inertia
-            from .check import flip_products
-
-            own = inertial.inertia_declared * mass_scale
-            flipped = flip_products(own)
-            if check_inertia(own) and not check_inertia(flipped):
-                report.changed[link.name] = "products of inertia negated (CAD sign -> tensor elements)"
-                _set_tensor(model.format, inertial.element, flipped, mass_scale)
-            continue
-        if mode == "nearest":
-            # the projection commutes with rotations: fix the tensor in its declared axes and
-            # rewrite nothing else (COM, mass and frame stay as written)
-            declared_own = inertial.inertia_declared * mass_scale
-            fixed = nearest_physical_inertia(declared_own)
-            if np.array_equal(fixed, 0.5 * (declared_own + declared_own.T)):
-                continue
-            before = np.array2string(np.linalg.eigvalsh(declared_own), precision=6)
-            after = np.array2string(np.linalg.eigvalsh(fixed), precision=6)
-            report.changed[link.name] = (f"principal moments {before} -> {after} kg m^2 "
-                                         "(nearest physical, same axes)")
-            _set_tensor(model.format, inertial.element, fixed, mass_scale)
-            continue
-        props, used, problems = link_geometry_properties(
-            link, role=role, mass=None if density is not None else mass,
-            density=density if density is not None else 1000.0, mesh_units=mesh_units)
-        if props is None:
-            report.skipped[link.name] = "; ".join(m for _, m in problems) or "no geometry"
-            continue
-        report.changed[link.name] = (f"from its {used} geometry: mass {props.mass:.6g} kg, COM "
-                                     f"{np.round(props.com, 6).tolist()} m, moments "
-                                     f"{np.array2string(props.principal()[0], precision=6)} kg m^2"
-                                     + "".join(f"; note: {m}" for _, m in problems))
-        setter(inertial.element, props, mass_scale)
+            final = _fix_flip(ed, model.format, inertial, own, mass_scale, report, link.name)
+        elif mode == "nearest":
+            final = _fix_nearest(ed, model.format, inertial, own, mass_scale, report, link.name)
+        else:
+            final = _fix_geometry(ed, setter, link, mass, report, role=role, density=density,
+                                  mesh_units=mesh_units, mass_scale=mass_scale)
+        why = _remaining_problems(*(final or (mass, own)))
+        if why:
+            report.remaining[link.name] = why
+    data = ed.result()
+    report.identical = data == model.document.source
     from .._core.atomic import write_bytes_atomic
 
-    write_bytes_atomic(output, serialize(model.document))
+    write_bytes_atomic(output, data)
     return report
+
+
+def _remaining_problems(mass: float, own) -> str | None:
+    """Why a link's final inertial (mass in kg, tensor in kg m^2) is still invalid, or None."""
+    if mass <= 0 and not np.any(own):
+        return None  # a massless frame
+    problems = [v.message for v in check_inertia(own, mass)]
+    if not problems and below_floor(own):
+        problems.append(f"its largest principal moment is below {SIMULATOR_MIN_VALUE:g} kg m^2 (MuJoCo refuses it)")
+    return "; ".join(problems) or None
