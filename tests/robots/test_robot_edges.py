@@ -236,18 +236,6 @@ def test_robot_file_error_is_an_inertia_error():
     assert issubclass(RobotFileError, InertiaError)
 
 
-def test_flat_writer_equals_elementtree():
-    import xml.etree.ElementTree as ET
-
-    from inertia.robots.xmlsafe import parse_xml_bytes, serialize_flat
-
-    text = ('<robot name="a &amp; b">\n  <!-- a comment -->\n  <link name="q&quot;uote" x="1&#10;2\t3">'
-            'text &lt; here<inertial/>tail &gt;<empty></empty><a b="c"><d/></a>\n  </link>\n'
-            '  <!--c2-->tail2\n</robot>\n')
-    root = parse_xml_bytes(text.encode()).root
-    assert serialize_flat(root) == ET.tostring(root, encoding="unicode", short_empty_elements=True)
-
-
 @pytest.mark.parametrize("encoding", ["utfa", "rot13", "idna", "utf-7", "undefined"])
 def test_unusable_declared_encoding_is_named(tmp_path, encoding):
     path = tmp_path / "enc.sdf"

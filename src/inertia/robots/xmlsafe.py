@@ -24,8 +24,8 @@ from .._core.errors import RobotFileError
 class Document:
     """A parsed XML file: the root element, the source path and each element's line."""
 
-    def __init__(self, root: ET.Element, path: Path, lines: dict, prolog: bytes = b"", epilog: bytes = b"\n",
-                 *, source: bytes = b"", starts: dict | None = None, ends: dict | None = None):
+    def __init__(self, root: ET.Element, path: Path, lines: dict, *, source: bytes = b"",
+                 starts: dict | None = None, ends: dict | None = None):
         self.root = root
         self.path = path
         self._lines = lines
@@ -35,8 +35,6 @@ class Document:
         self._starts = starts or {}
         self._ends = ends or {}
         self._files: dict[int, Path] = {}  # elements merged in from other files (MJCF <include>)
-        # the source's bytes before and after the root element, written back unchanged
-        self.prolog, self.epilog = prolog, epilog
         self.notes: list[str] = []
 
     def merge(self, other: "Document") -> None:
@@ -121,30 +119,19 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     starts: dict[int, int] = {}
     ends: dict[int, int] = {}
     stack: list = []
-    depth = [0]
-    span = {"start": None, "end": None}
 
     def start(tag, attrs):
-        if depth[0] == 0:
-            span["start"] = parser.CurrentByteIndex
         el = builder.start(tag, attrs)
         lines[id(el)] = parser.CurrentLineNumber
         starts[id(el)] = parser.CurrentByteIndex
         stack.append(el)
-        depth[0] += 1
 
     def end(tag):
         builder.end(tag)
         ends[id(stack.pop())] = parser.CurrentByteIndex
-        depth[0] -= 1
-        if depth[0] == 0:
-            i = parser.CurrentByteIndex
-            # an empty root (<robot/>) reports the start tag's index: find the tag's real end
-            j = data.find(b">", i) if 0 <= i < len(data) else -1
-            span["end"] = j + 1 if j >= 0 else len(data)
 
     def comment(text):
-        if depth[0] > 0:  # comments outside the root stay in the raw prolog / epilog bytes
+        if stack:  # comments outside the root are not part of the tree
             builder.comment(text)
 
     def entity_decl(name, is_param, value, base, system_id, public_id, notation):
@@ -176,67 +163,7 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         raise RobotFileError(f"{path}:{parser.CurrentLineNumber}: the XML declaration's encoding {name!r} "
                              f"cannot be used to read the file ({exc}); robot files are UTF-8") from None
     root = builder.close()
-    doc = Document(root, path, lines, source[: span["start"] or 0], source[span["end"]:] if span["end"] else b"\n",
-                   source=source, starts=starts, ends=ends)
+    doc = Document(root, path, lines, source=source, starts=starts, ends=ends)
     if relocated:
         doc.notes.append(f"{path}: the XML declaration follows a comment (not allowed by XML); read anyway")
     return doc
-
-
-#: trees nested deeper than this are written without recursion (ElementTree's writer recurses)
-DEEP_TREE = 200
-
-
-def serialize(doc: Document) -> bytes:
-    """The document as bytes: the source's own bytes around the root element, the root
-    element re-serialized (comments and attribute order kept)."""
-    if tree_depth(doc.root) > DEEP_TREE:
-        body = serialize_flat(doc.root)
-    else:
-        body = ET.tostring(doc.root, encoding="unicode", short_empty_elements=True)
-    return doc.prolog + body.encode("utf-8") + doc.epilog
-
-
-def tree_depth(root) -> int:
-    """Number of nested levels below and including ``root`` (iterative)."""
-    deepest, stack = 0, [(root, 1)]
-    while stack:
-        el, d = stack.pop()
-        deepest = max(deepest, d)
-        stack.extend((c, d + 1) for c in el)
-    return deepest
-
-
-def _escaped_text(text: str) -> str:
-    holder = ET.Element("x")
-    holder.text = text
-    return ET.tostring(holder, encoding="unicode")[3:-4]  # strip <x> and </x>
-
-
-def serialize_flat(root) -> str:
-    """``ET.tostring(root, encoding="unicode")`` without recursion, for any nesting depth.
-
-    Each start tag and each text is escaped by ElementTree itself (one element at a time),
-    so the output is the same as ElementTree's.
-    """
-    out: list[str] = []
-    stack: list = [(False, root)]
-    while stack:
-        closing, el = stack.pop()
-        if closing:
-            out.append(f"</{el.tag}>")
-        elif el.tag is ET.Comment:
-            out.append(f"<!--{el.text}-->")
-        elif el.tag is ET.ProcessingInstruction:
-            out.append(f"<?{el.text}?>")
-        else:
-            start = ET.tostring(ET.Element(el.tag, el.attrib), encoding="unicode")
-            if el.text or len(el):
-                out.append(start[:-3] + ">" + (_escaped_text(el.text) if el.text else ""))
-                stack.append((True, el))
-                stack.extend((False, c) for c in reversed(el))
-                continue
-            out.append(start)
-        if el.tail:  # after the end tag (or the empty element, or the comment)
-            out.append(_escaped_text(el.tail))
-    return "".join(out)
