@@ -50,6 +50,13 @@ def register(sub) -> None:
     p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
+    detail = p.add_mutually_exclusive_group()
+    detail.add_argument("-q", "--quiet", dest="detail", action="store_const", const="quiet", default="default",
+                        help="print only the summary line (the exit status says the rest)")
+    detail.add_argument("--errors-only", dest="detail", action="store_const", const="errors",
+                        help="print the errors, not the warnings and notes")
+    detail.add_argument("-v", "--verbose", dest="detail", action="store_const", const="verbose",
+                        help="print every note too (comparisons skipped, and why)")
     p.set_defaults(func=run)
 
 
@@ -81,14 +88,52 @@ def run(args) -> int:
     if args.format == "json":
         fmt.emit(fmt.to_json(report.to_dict()))
     else:
-        lines = [f"{report.file} ({model.format.upper()}, {len(report.links)} links): "
-                 f"{report.n_errors} errors, {report.n_warnings} warnings"]
-        for lk in report.links:
-            if not (lk.errors or lk.warnings or lk.notes):
-                continue
-            lines.append(f"  link {lk.name!r} (line {lk.line}):")
-            lines += [f"    error {e.code}: {e.message}" for e in lk.errors]
-            lines += [f"    warning {w.code}: {w.message}" for w in lk.warnings]
-            lines += [f"    note {n.code}: {n.message}" for n in lk.notes]
-        fmt.emit(lines)
+        fmt.emit(report_lines(report, model, detail=args.detail))
     return 1 if report.n_errors else 0
+
+
+def report_lines(report, model, *, detail: str = "default") -> list:
+    """The table: one summary line, then (unless ``detail="quiet"``) each link's errors and
+    warnings (``"errors"``: errors only; ``"verbose"``: notes too), and one line per kind of
+    note left out."""
+    n_notes = sum(len(lk.notes) for lk in report.links)
+    lines = [f"{report.file} ({model.format.upper()}, {fmt.plural(len(report.links), 'link')}): "
+             f"{fmt.plural(report.n_errors, 'error')}, {fmt.plural(report.n_warnings, 'warning')}"
+             + (f", {fmt.plural(n_notes, 'note')}" if n_notes else "")]
+    if detail == "quiet":
+        return lines
+    kinds = ["errors"] + (["warnings"] if detail != "errors" else []) + (["notes"] if detail == "verbose" else [])
+    for lk in report.links:
+        found = [(kind[:-1], f) for kind in kinds for f in getattr(lk, kind)]
+        if not found:
+            continue
+        lines.append(f"  link {lk.name!r} (line {lk.line}):")
+        lines += [f"    {kind} {f.code}: {_short(f.message, report.file, lk.name)}" for kind, f in found]
+    if n_notes and detail == "default":
+        lines += _note_summary(report)
+    return lines
+
+
+def _short(message: str, path: str, name: str) -> str:
+    """A finding's message under its link's heading: ``line N:`` for this file's
+    ``file:N:``, without the link's name again."""
+    if message.startswith(f"{path}:"):
+        message = "line " + message[len(path) + 1:]
+    for kind in ("link", "body"):
+        message = message.replace(f" {kind} {name!r}:", "", 1)
+    import re
+
+    return re.sub(r"^line \d+: (line \d+: )", r"\1", message)  # the shape's own line, not its link's
+
+
+def _note_summary(report) -> list:
+    """One line per kind of note: how many, and the command that lists them."""
+    counts: dict = {}
+    for lk in report.links:
+        for n in lk.notes:
+            counts.setdefault(n.code, set()).add(lk.name)
+    what = {"geometry_unusable": "geometry comparisons skipped (shapes that are not usable solids, e.g. open meshes)",
+            "mesh_overlapping_shells": "meshes whose closed parts overlap, summed as the simulator sums them",
+            "inertial_ignored": "declared inertials ignored (inertiafromgeom)"}
+    return [f"  notes: {what.get(code, code)} in {fmt.plural(len(names), 'link')}; --verbose lists them"
+            for code, names in counts.items()]

@@ -157,6 +157,9 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
             problems = problems + collision_problems
     for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
         suffix = fallback or ("" if computed is not None else "; geometry comparison skipped")
+        if code == "mesh_not_found":  # the reader's warning says it already: one message per missing mesh
+            _mark_skipped(rep, msg, suffix)
+            continue
         rep.notes.append(Finding(code, f"{at}: {msg}{suffix}"))
     if computed is not None:
         declared_m, declared_R = _principal(inertial.inertia_link)
@@ -171,6 +174,15 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
                 f"(ratios {np.array2string(ratios, precision=3)}"
                 + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")")))
     return rep
+
+
+def _mark_skipped(rep, problem: str, suffix: str) -> None:
+    """Add ``suffix`` to the reader's mesh_not_found warning for the shape ``problem`` names
+    (``"line N: ..."``), instead of a second message about the same mesh."""
+    line = problem.split(":", 1)[0].removeprefix("line ").strip()
+    for w in rep.warnings:
+        if w.code == "mesh_not_found" and f":{line}: " in w.message and not w.message.endswith(suffix):
+            w.message += suffix
 
 
 def _check_from_geoms(link, rep, where, mesh_units):

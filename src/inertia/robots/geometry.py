@@ -188,7 +188,9 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             try:
                 part = shape_properties(g, density=density, mesh_units=mesh_units, simulator=simulator)
             except InertiaError as exc:
-                problems.append(("geometry_unusable", f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
+                missing = g.kind == "mesh" and g.params.get("path") is None
+                problems.append(("mesh_not_found" if missing else "geometry_unusable",
+                                 f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
                 continue
             total = part if total is None else total + part
             if any("overlapping_shells accepted" in w for w in part.warnings):
@@ -212,7 +214,8 @@ def _short(exc, geom) -> str:
     path = geom.params.get("path") if geom.kind == "mesh" else None
     if report is None or path is None or not report.codes:
         return str(exc)
-    return (f"mesh {path} is not a closed, consistently wound solid "
+    name = geom.params.get("uri") or path
+    return (f"mesh {str(name)!r} is not a closed, consistently wound solid "
             f"({', '.join(dict.fromkeys(report.codes))}); details: inertia props {path}")
 
 

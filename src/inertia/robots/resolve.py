@@ -57,3 +57,18 @@ def _resolve(uri: str, base_dir: Path, search_paths) -> Path | None:
     if not p.is_absolute():
         p = base_dir / p
     return p if p.is_file() else None
+
+
+def not_found_hint(uri: str, base_dir: Path) -> str:
+    """Where ``uri`` was looked for, for the 'not found' message (a package:// hint only for
+    package:// URIs)."""
+    uri = uri.strip()
+    if uri.startswith("package://"):
+        return "package:// is searched in each --package-path folder and the file's parent folders"
+    if uri.startswith("model://"):
+        return "model:// is searched next to the model folder and in each --package-path folder"
+    if uri.startswith("file://"):
+        return "no such local file"
+    if "://" in uri:
+        return "network URIs are never fetched"
+    return f"looked for {Path(uri) if Path(uri).is_absolute() else base_dir / uri}"

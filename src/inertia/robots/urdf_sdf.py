@@ -23,7 +23,7 @@ import numpy as np
 
 from .._core.tolerances import COORDINATE_LIMIT
 from .model import Geometry, Inertial, Link, RobotModel
-from .resolve import resolve_mesh
+from .resolve import not_found_hint, resolve_mesh
 from .xmlsafe import RobotFileError, parse_robot_xml
 
 
@@ -145,7 +145,7 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
         found = resolve_mesh(uri, base, search_paths, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               f"(relative to {base}; package:// needs --package-path)"))
+                               f"({not_found_hint(uri, base)})"))
         params = {"path": found, "uri": uri, "scale": scale}
     else:
         link.notes.append(("unsupported_geometry", f"{where}: {role} geometry <{shape.tag}> is not supported"))
@@ -240,7 +240,7 @@ def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
         found = resolve_mesh(uri, base, search, where=f"{where}: link {link.name!r}")
         if found is None:
             link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               "(model:// is searched next to the model folder and in --package-path)"))
+                               f"({not_found_hint(uri, base)})"))
         params = {"path": found, "uri": uri, "scale": scale}
     elif shape.tag in ("plane", "heightmap", "empty"):
         return None
