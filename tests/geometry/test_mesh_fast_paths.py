@@ -272,3 +272,45 @@ def test_stl_bytes_kernel_equals_the_soup_route(meshes, tmp_path):
             assert done
             assert np.array_equal(got_v, expect[0], equal_nan=True) and np.array_equal(got_f, expect[1]), (name, rtol)
             assert np.array_equal(np.signbit(got_v), np.signbit(expect[0])), name
+
+
+# ---------------------------------------------------------------- checks and sums in one pass
+def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
+    """The fused check returns the volume sums of the integrals kernel bit for bit (the same
+    two-level blocked summation), here over five chunks of faces, far from the origin."""
+    trimesh = pytest.importorskip("trimesh")
+    from inertia.geometry import _integrals_numba as nbi
+    from inertia.geometry._solid_numba import CHUNK
+
+    m = trimesh.creation.icosphere(subdivisions=6)                 # 81,920 faces
+    assert len(m.faces) > 4 * CHUNK
+    rng = np.random.default_rng(5)
+    v = np.ascontiguousarray(m.vertices * [1.0, 2.0, 0.5] + rng.normal(size=3) * 1e3)
+    f = np.ascontiguousarray(m.faces, dtype=np.int64)
+    out = np.empty(14)
+    assert nbk.clean_solid(v, f, 1e-14, 1e60, out)
+    ref = np.empty(10)
+    assert nbi.solid_sums(v, f, out[11:14].copy(), ref) == -1
+    assert np.array_equal(ref, out[:10])
+    used_lo, used_hi = v.min(axis=0), v.max(axis=0)
+    assert np.array_equal(out[11:14], 0.5 * (used_lo + used_hi))
+
+
+def test_public_call_tries_the_faces_as_given_then_welds():
+    """A triangle soup (every corner its own vertex) is not closed as given: the call welds and
+    gives the same properties as the welded mesh; an indexed closed mesh needs no weld."""
+    import inertia
+
+    rng = np.random.default_rng(2)
+    v_soup, f_soup = _box_soup(rng)
+    soup = inertia.mesh_properties(v_soup, f_soup, density=1.0)
+    v, f = mesh_checks.weld_vertices(v_soup, f_soup)
+    indexed = inertia.mesh_properties(v, f, density=1.0)
+    assert soup.mass == pytest.approx(1.0, rel=1e-15) and indexed.mass == pytest.approx(1.0, rel=1e-15)
+    np.testing.assert_allclose(soup.inertia_com, np.eye(3) / 6, rtol=1e-14, atol=1e-16)
+    np.testing.assert_allclose(indexed.inertia_com, soup.inertia_com, rtol=1e-14, atol=1e-16)
+    # a bad index must never be wrapped by the weld (rep[-1]): refused by name
+    f_bad = f_soup.copy()
+    f_bad[0, 0] = -1
+    with pytest.raises(inertia.MeshError, match="bad_index"):
+        inertia.mesh_properties(v_soup, f_bad, density=1.0)

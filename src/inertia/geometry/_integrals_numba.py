@@ -39,6 +39,10 @@ import numpy as np
 #: Faces per block of the blocked summation (see the module docstring).
 BLOCK = 256
 
+#: Blocks are added into chunk totals of this many faces, and the chunk totals in order (the
+#: summation of :mod:`._solid_numba`, so that both kernels give the same bits).
+CHUNK = 64 * BLOCK
+
 _JIT = dict(cache=True, nogil=True, boundscheck=False, fastmath={"contract"})
 
 
@@ -91,6 +95,7 @@ def solid_sums(vertices, faces, p, out):
     nv = vertices.shape[0]
     nf = faces.shape[0]
     y = _shifted(vertices, p)
+    chunk = np.zeros(10)
     for k in range(10):
         out[k] = 0.0
     start = 0
@@ -144,16 +149,20 @@ def solid_sums(vertices, faces, p, out):
             txy += d * (ax * ay + bx * by + cx * cy + sx * sy)
             tyz += d * (ay * az + by * bz + cy * cz + sy * sz)
             tzx += d * (az * ax + bz * bx + cz * cx + sz * sx)
-        out[0] += t0
-        out[1] += t1
-        out[2] += t2
-        out[3] += t3
-        out[4] += txx
-        out[5] += tyy
-        out[6] += tzz
-        out[7] += txy
-        out[8] += tyz
-        out[9] += tzx
+        chunk[0] += t0
+        chunk[1] += t1
+        chunk[2] += t2
+        chunk[3] += t3
+        chunk[4] += txx
+        chunk[5] += tyy
+        chunk[6] += tzz
+        chunk[7] += txy
+        chunk[8] += tyz
+        chunk[9] += tzx
+        if stop % CHUNK == 0 or stop == nf:      # chunk totals, added in order
+            for k in range(10):
+                out[k] += chunk[k]
+                chunk[k] = 0.0
         start = stop
     return -1
 

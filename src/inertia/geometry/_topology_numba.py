@@ -9,7 +9,7 @@ load factor <= 1/2), so their cost is O(n) with no sort:
   (the same map as the NumPy ``checks._weld_map``);
 * :func:`near_merge_map` -- the lowest index of each group of vertices joined by pairs at
   distance <= ``tol`` (the same groups as ``cKDTree.query_pairs`` + connected components);
-* :func:`closed_single_shell` (in :mod:`._shell_numba`, re-exported here) -- does a welded
+* :func:`closed_single_shell` and :func:`clean_solid` (in :mod:`._solid_numba`, re-exported here) -- does a welded
   mesh pass every check of :func:`inertia.geometry.checks.check_mesh` as one closed,
   consistently wound, outward, non-degenerate component?  When it answers no (or cannot
   tell), the caller runs the full NumPy analysis, which names each defect; so this kernel
@@ -28,7 +28,8 @@ import numpy as np
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
-from ._shell_numba import closed_single_shell, find_root, union_low, winding_numbers  # noqa: E402,F401 - one module object for the callers
+from ._shell_numba import find_root, union_low, winding_numbers  # noqa: E402,F401 - one module object for the callers
+from ._solid_numba import clean_solid, closed_single_shell  # noqa: E402,F401
 
 #: merging never joins vertices farther apart than this fraction of the short face edges
 MERGE_EDGE_FRACTION = 0.25

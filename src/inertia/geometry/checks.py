@@ -66,6 +66,8 @@ class MeshAnalysis:
     inverted_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     closed: bool = False
     labels_topo: np.ndarray | None = None        # (T,) component of each topology face
+    #: a clean solid's volume sums from the compiled check (see ``_solid_numba.clean_solid``)
+    solid_sums: np.ndarray | None = None
 
 
 def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarray:
@@ -104,30 +106,40 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
     return depth
 
 
-def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool) -> MeshAnalysis | None:
+def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_first: bool) -> MeshAnalysis | None:
     """The analysis of a mesh without any defect, from the compiled kernel; None otherwise.
 
-    None also when numba is missing: the full analysis then runs and names the defects.
+    The kernel (:func:`._solid_numba.clean_solid`) also returns the volume sums, kept in
+    ``MeshAnalysis.solid_sums``.  With ``weld_first=False`` the faces are tried as given
+    first (most indexed meshes are welded already) and welded only when that fails; the
+    report then counts no welded duplicates.  None also when numba is missing: the full
+    analysis then runs and names the defects.
     """
     kernels = topology_kernels()
     V = len(vertices)
     if kernels is None or V == 0 or len(faces) == 0:
         return None
-    if not faces_in_range(faces, V) or not -COORDINATE_LIMIT <= vertices.min() <= vertices.max() <= COORDINATE_LIMIT:
-        return None   # the full analysis names the bad indices or coordinates (NaN fails the test too)
+    v = np.ascontiguousarray(vertices)
+    out = np.empty(14)
+    tries = [] if weld_first or welded else [faces]
     if welded:
-        fw, n_welded = faces, 0
+        tries.append(faces)
     else:
-        rep = weld_map(vertices)
-        fw = rep[faces]
-        n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
-    out = np.empty(2)
-    if not kernels.closed_single_shell(np.ascontiguousarray(vertices), np.ascontiguousarray(fw),
-                                       DEGENERATE_AREA_RTOL, out):
-        return None
-    volume = float(out[1])
-    report = MeshReport((), V, len(faces), n_welded, 1, volume, float(out[0]))
-    return MeshAnalysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]), closed=True)
+        tries.append(None)     # the welded faces, made only if needed
+    n_welded = 0
+    for fw in tries:
+        if fw is None:
+            if not faces_in_range(faces, V):
+                return None    # the full analysis names the bad indices (rep[-1] would wrap)
+            rep = weld_map(v)
+            fw = rep[faces]
+            n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
+        if kernels.clean_solid(v, np.ascontiguousarray(fw), DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out):
+            volume = out[0] / 6.0
+            report = MeshReport((), V, len(faces), n_welded, 1, volume, 0.5 * out[10])
+            return MeshAnalysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]),
+                                closed=True, solid_sums=out)
+    return None
 
 
 class _Defects(list):
@@ -137,18 +149,20 @@ class _Defects(list):
         self.append(Defect(code, int(count), message, example, SEVERITY[code]))
 
 
-def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False) -> MeshAnalysis:
+def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False,
+                 weld_first: bool = True) -> MeshAnalysis:
     """Run every check on validated arrays; see :func:`check_mesh`.
 
     ``welded=True`` promises that no two vertices have equal coordinates (as
-    :func:`inertia.load_mesh` returns them), which skips the welding.  A mesh without any
+    :func:`inertia.load_mesh` returns them), which skips the welding; ``weld_first=False``
+    tries the faces as given before welding (see :func:`_analyse_clean`).  A mesh without any
     defect is recognised by a compiled kernel when numba is present; ``full=True`` always
     runs the NumPy analysis, which also fills the face-adjacency fields that re-orienting needs.
     The passes, in order: empty, non-finite coordinates, indices, welding, face geometry,
     degenerate faces, then (on the valid faces) duplicates, edges, components, inversion.
     """
     if not full:
-        clean = _analyse_clean(vertices, faces, welded)
+        clean = _analyse_clean(vertices, faces, welded, weld_first)
         if clean is not None:
             return clean
     V, F = len(vertices), len(faces)

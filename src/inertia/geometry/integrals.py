@@ -270,6 +270,12 @@ def _mesh_arrays(vertices, faces):
     return v, np.ascontiguousarray(f)
 
 
+def solid_sums_moments(out: np.ndarray):
+    """``(volume, first (3,), second (3, 3))`` from the unscaled sums of a solid kernel
+    (``out[:10]`` as ``solid_sums`` writes them)."""
+    return float(out[0] / _SOLID_SCALE[0]), out[1:4] / _SOLID_SCALE[1], out[_SYM] / _SOLID_SCALE[2]
+
+
 def _sums(kernel, v, f, p, scale):
     """Run one kernel pass about ``p``; return ``(measure, first (3,), second (3, 3))``."""
     out = np.empty(10)
@@ -286,7 +292,7 @@ def _sums(kernel, v, f, p, scale):
     return out[0] / scale[0], out[1:4] / scale[1], out[_SYM] / scale[2]
 
 
-def _offset_ratio(measure: float, first: np.ndarray, second: np.ndarray) -> float:
+def offset_ratio(measure: float, first: np.ndarray, second: np.ndarray) -> float:
     """``kappa = |g|^2 / k^2`` of the error analysis (0 when it is meaningless, e.g. zero measure)."""
     if measure == 0.0:
         return 0.0
@@ -308,7 +314,7 @@ def _integrals(kernels, kernel, v, f, reference, scale):
     measure, first, second = _sums(kernel, v, f, p, scale)
     for _ in range(MAX_REFINE):
         # lopsided body: expand again about the computed COM (error analysis, item 4)
-        if not _offset_ratio(measure, first, second) > REFINE_KAPPA:
+        if not offset_ratio(measure, first, second) > REFINE_KAPPA:
             break
         p = p + first / measure
         measure, first, second = _sums(kernel, v, f, p, scale)

@@ -22,6 +22,10 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     defects (``non_finite``, ``bad_index``) reported by :func:`check_mesh`.  Float face arrays
     are accepted when every value is integral.  Empty inputs become (0, 3) arrays.
     """
+    if (type(vertices) is np.ndarray and type(faces) is np.ndarray and vertices.dtype == np.float64
+            and faces.dtype == np.int64 and vertices.ndim == 2 and faces.ndim == 2 and vertices.shape[1] == 3
+            and faces.shape[1] == 3 and vertices.size and faces.size):
+        return vertices, faces           # the common case, already in final form
     try:
         v = np.asarray(vertices, dtype=np.float64)
     except (TypeError, ValueError) as exc:

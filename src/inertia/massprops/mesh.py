@@ -24,7 +24,14 @@ import numpy as np
 from .._core.errors import InputError, MeshDefectWarning, MeshError
 from .._core.validation import resolve_mass
 from ..geometry.checks import analyse_mesh
-from ..geometry.integrals import central_inertia, shell_integrals, solid_integrals
+from ..geometry.integrals import (
+    REFINE_KAPPA,
+    central_inertia,
+    offset_ratio,
+    shell_integrals,
+    solid_integrals,
+    solid_sums_moments,
+)
 from ..geometry.mesh_arrays import compact_vertices, validate_inputs
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
 from ..geometry.orient import orient_analysed
@@ -116,8 +123,12 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     _check_mass_args(density, mass, what)
     v, f = validate_inputs(vertices, faces)
 
-    analysis = analyse_mesh(v, f, welded=welded)
+    analysis = analyse_mesh(v, f, welded=welded, weld_first=False)
     report = analysis.report
+    if analysis.solid_sums is not None and not shell:   # a clean solid: its sums came with the check
+        props = _clean_solid_properties(analysis.solid_sums, v, f, density=density, mass=mass, frame=frame,
+                                        what=what)
+        return (props, report) if with_report else props
     fatal = [d for d in report.defects if d.code in _FATAL]
     if fatal:
         raise _defect_error(what, fatal, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
@@ -172,6 +183,22 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     com, inertia = central_inertia(volume, first, second, r, rho)
     props = MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
     return (props, report) if with_report else props
+
+
+def _clean_solid_properties(sums, v, f, *, density, mass, frame, what):
+    """Mass properties from the volume sums of the compiled check (``clean_solid``'s ``out``);
+    a lopsided body (see :mod:`inertia.geometry.integrals`, error analysis item 4) is
+    integrated again about its COM, as :func:`solid_integrals` does."""
+    from .properties import MassProperties
+
+    volume, first, second = solid_sums_moments(sums)
+    r = sums[11:14].copy()
+    if offset_ratio(volume, first, second) > REFINE_KAPPA:
+        vc, fc = compact_vertices(v, f)
+        volume, first, second, r = solid_integrals(vc, fc)
+    m, rho = resolve_mass(volume, density, mass, what=what)
+    com, inertia = central_inertia(volume, first, second, r, rho)
+    return MassProperties._computed(m, com, inertia, frame=frame, volume=volume)
 
 
 def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, stacklevel):

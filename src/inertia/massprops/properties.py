@@ -75,6 +75,21 @@ class MassProperties:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
+    def _computed(cls, mass: float, com: np.ndarray, inertia: np.ndarray, *, frame: str = "body",
+                  volume: float = math.nan, warnings: tuple = ()) -> "MassProperties":
+        """Internal: a value this package has just computed (``com`` (3,) and ``inertia`` (3, 3)
+        fresh float64 arrays, ``mass`` a float): validated for physics as every value is, without
+        re-checking shapes and types (the per-call cost of a small mesh)."""
+        raise_if_invalid(inertia, mass, com)
+        obj = object.__new__(cls)
+        com.setflags(write=False)
+        inertia.setflags(write=False)
+        for name, value in (("mass", float(mass)), ("com", com), ("inertia_com", inertia), ("frame", frame),
+                            ("volume", float(volume)), ("warnings", tuple(warnings)), ("validate", True)):
+            object.__setattr__(obj, name, value)
+        return obj
+
+    @classmethod
     def from_point_masses(cls, masses, positions, *, frame: str = "body", validate: bool = True) -> "MassProperties":
         """Mass properties of point masses (N,) kg at positions (N, 3) m in ``frame``.
 

@@ -63,10 +63,11 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
         raise InputError(f"inertia must have shape (3, 3), got {I.shape}")
     # nine numbers: plain Python is several times faster than NumPy reductions here
     rows = I.tolist()
-    if not all(math.isfinite(x) for row in rows for x in row):
+    flat = rows[0] + rows[1] + rows[2]
+    if not all(map(math.isfinite, flat)):
         out.append(Violation("not_finite", f"inertia holds non-finite entries: {rows}", {"inertia": rows}))
         return out
-    scale = max(abs(x) for row in rows for x in row)
+    scale = max(map(abs, flat))
     asym = max(abs(rows[0][1] - rows[1][0]), abs(rows[0][2] - rows[2][0]), abs(rows[1][2] - rows[2][1]))
     if asym > symmetry_rtol * max(scale, np.finfo(float).tiny):
         i, j = np.unravel_index(np.argmax(np.abs(I - I.T)), I.shape)
@@ -77,6 +78,8 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     # Work on I / max|I|: 0.5 (I + I^T), the eigensolver's squares and the trace cannot overflow
     # or underflow, whatever the magnitude (1e-300 to 1e308); moments are scaled back for messages.
     s = scale if scale > 0.0 else 1.0
+    if not out and _clearly_physical(rows, s, rtol):
+        return out
     unit = np.linalg.eigvalsh(0.5 * (I / s + I.T / s))
     with np.errstate(over="ignore"):
         moments = unit * s
@@ -95,6 +98,22 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
                              f"I3 = {moments[2]:.6g} (margin {margin:.3g}; principal moments about the COM, kg m^2)",
                              {"moments": moments.tolist(), "margin": margin, "tolerance": tol}))
     return out
+
+
+def _clearly_physical(rows, s: float, rtol: float) -> bool:
+    """A shortcut that proves a symmetric tensor physical without an eigensolver (pure Python).
+
+    With ``C = tr(I)/2 - I`` (the second moments of the mass about the COM), the principal
+    moments are ``c_i + c_j`` and the triangle margin ``I1 + I2 - I3`` is ``2 c_min``.  When
+    every Gershgorin disc of ``C`` lies above ``rtol * trace`` (with room for rounding), every
+    moment exceeds the tolerance and the margin is positive, so :func:`check_inertia` would
+    find nothing.  Otherwise (a thin or rotated body) the eigenvalues decide.
+    """
+    (a, b, c), (d, e, f), (g, h, k) = [[x / s for x in row] for row in rows]
+    half = 0.5 * (a + e + k)
+    xy, xz, yz = 0.5 * (b + d), 0.5 * (c + g), 0.5 * (f + h)
+    low = min(half - a - abs(xy) - abs(xz), half - e - abs(xy) - abs(yz), half - k - abs(xz) - abs(yz))
+    return low > 2.0 * (rtol + 1e-14) * abs(a + e + k)
 
 
 def is_physical(inertia, mass=None, **kwargs) -> bool:
