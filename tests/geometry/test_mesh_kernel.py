@@ -350,7 +350,6 @@ def test_missing_numba_falls_back_or_raises(monkeypatch):
     monkeypatch.setitem(sys.modules, "numba", None)              # `import numba` now fails
     monkeypatch.delitem(sys.modules, "inertia.geometry._integrals_numba", raising=False)
     monkeypatch.delattr(inertia.geometry, "_integrals_numba", raising=False)
-    monkeypatch.setattr(mk, "_numba_state", None)
     with pytest.raises(MissingDependencyError, match=r"^backend='numba' needs numba, which cannot be imported"):
         mk.solid_integrals(CUBE_V, CUBE_F, backend="numba")
     auto = mk.solid_integrals(CUBE_V + FAR, CUBE_F)

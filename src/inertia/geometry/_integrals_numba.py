@@ -45,6 +45,9 @@ CHUNK = 64 * BLOCK
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False, fastmath={"contract"})
 
+#: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
+WARM_PROBE = ("solid_sums", "shell_sums")
+
 
 @nb.njit(**_JIT)
 def bbox_center(vertices, out):

@@ -42,7 +42,7 @@ import numpy as np
 
 from .._core.tolerances import COORDINATE_LIMIT, DEGENERATE_AREA_RTOL
 from .intersections import overlapping_components, winding_numbers
-from .mesh_arrays import faces_in_range, topology_kernels, validate_inputs, weld_map
+from .mesh_arrays import connected_components, faces_in_range, topology_kernels, validate_inputs, weld_map
 from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
 
 _MAX_CONTAIN_POINTS = 6  # extreme vertices of a component tested for nesting in another
@@ -115,7 +115,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
     report then counts no welded duplicates.  None also when numba is missing: the full
     analysis then runs and names the defects.
     """
-    kernels = topology_kernels()
+    kernels = topology_kernels(len(faces))
     V = len(vertices)
     if kernels is None or V == 0 or len(faces) == 0:
         return None
@@ -369,9 +369,6 @@ def _edge_pass(edges: _EdgeGroups, vertices, tidx, defects):
 
 def _component_pass(edges: _EdgeGroups, tidx, F: int, det, analysis) -> None:
     """Face pairs across 2-face edges, edge-connected components and their signed volumes."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     order, start, counts = edges.order, edges.start, edges.counts
     two = np.flatnonzero(counts == 2)
     same_dir = (edges.n_forward[two] != 1)
@@ -380,9 +377,7 @@ def _component_pass(edges: _EdgeGroups, tidx, F: int, det, analysis) -> None:
     # every face sharing an edge with another is connected (consecutive half-edges of a group)
     link = edges.skey[1:] == edges.skey[:-1]
     ga, gb = order[:-1][link] // 3, order[1:][link] // 3
-    T = len(tidx)
-    graph = coo_matrix((np.ones(len(ga), dtype=np.int8), (ga, gb)), shape=(T, T))
-    n_comp, lab_t = connected_components(graph, directed=False)
+    n_comp, lab_t = connected_components(len(tidx), ga, gb)
     labels = np.full(F, -1, dtype=np.int64)
     labels[tidx] = lab_t
     analysis.labels, analysis.n_components, analysis.pairs = labels, n_comp, pairs

@@ -213,38 +213,35 @@ _NUMPY = _Kernels("numpy", reference_point,
                   lambda v, f, p, out: _numpy_sums(v, f, p, out, False),
                   lambda v, f, p, out: _numpy_sums(v, f, p, out, True))
 
-# None: not tried yet; False: numba unavailable (reason in _NUMBA_ERROR); else the kernels
-_numba_state = None
-_NUMBA_ERROR = ""
+def _numba_kernels(required: bool, work: int = 0):
+    """The numba kernels; None for the NumPy path (numba missing, or the rule of
+    :func:`inertia._core.compiled.kernels` says so), or raise if ``required`` and numba is missing."""
+    from .._core.compiled import kernels
 
-
-def _numba_kernels(required: bool):
-    """The numba kernels, importing numba on first use; None (or raise, if ``required``) without it."""
-    global _numba_state, _NUMBA_ERROR
-    if _numba_state is None:
+    if required:
         try:
             from . import _integrals_numba as nbk
         except ImportError as exc:
-            _numba_state, _NUMBA_ERROR = False, f"{type(exc).__name__}: {exc}"
-        else:
-            def center(v, _bbox=nbk.bbox_center):
-                p = np.empty(3)
-                _bbox(v, p)
-                return p
-
-            _numba_state = _Kernels("numba", center, nbk.solid_sums, nbk.shell_sums)
-    if _numba_state is False:
-        if required:
             raise MissingDependencyError(
                 "backend='numba' needs numba, which cannot be imported "
-                f"({_NUMBA_ERROR}); install it with pip install 'inertia[fast]' or use backend='numpy'")
-        return None
-    return _numba_state
+                f"({type(exc).__name__}: {exc}); install it with pip install 'inertia[fast]' or use "
+                "backend='numpy'") from None
+    else:
+        nbk = kernels("inertia.geometry._integrals_numba", work=work)
+        if nbk is None:
+            return None
+
+    def center(v, _bbox=nbk.bbox_center):
+        p = np.empty(3)
+        _bbox(v, p)
+        return p
+
+    return _Kernels("numba", center, nbk.solid_sums, nbk.shell_sums)
 
 
-def _kernels(backend: str) -> _Kernels:
+def _kernels(backend: str, work: int = 0) -> _Kernels:
     if backend == "auto":
-        return _numba_kernels(required=False) or _NUMPY
+        return _numba_kernels(required=False, work=work) or _NUMPY
     if backend == "numpy":
         return _NUMPY
     if backend == "numba":
@@ -357,8 +354,8 @@ def solid_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarr
         Wrong shapes, non-integer faces, a vertex index out of range, or a non-finite
         vertex used by a face.
     """
-    kernels = _kernels(backend)
     v, f = _mesh_arrays(vertices, faces)
+    kernels = _kernels(backend, len(f))
     return _integrals(kernels, kernels.solid, v, f, reference, _SOLID_SCALE)
 
 
@@ -369,8 +366,8 @@ def shell_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarr
     Same parameters as :func:`solid_integrals`.  Returns ``(area m^2,
     int (x - r) dA (3,) m^3, int (x - r)(x - r)^T dA (3, 3) m^4, r (3,) m)``.
     """
-    kernels = _kernels(backend)
     v, f = _mesh_arrays(vertices, faces)
+    kernels = _kernels(backend, len(f))
     return _integrals(kernels, kernels.shell, v, f, reference, _SHELL_SCALE)
 
 

@@ -64,24 +64,24 @@ def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
 
 
 # ---------------------------------------------------------------------------------- compiled path
-# None: not tried yet; False: numba unavailable; else the module of compiled kernels
+# False: run as if numba were not installed (tests set it); None: ask the rule of
+# :mod:`inertia._core.compiled` on each call
 _topology_state = None
 
 
-def topology_kernels():
-    """The numba welding/topology kernels (:mod:`._topology_numba`), or None without numba.
+def topology_kernels(work: int = 0):
+    """The numba welding/topology kernels (:mod:`._topology_numba`), or None for the NumPy path.
 
-    They give the same answers as the NumPy code here, in O(n) hash passes instead of sorts;
-    tests compare the two.
+    ``work`` is the job's size in faces: whether the compiled kernels run is decided by
+    :func:`inertia._core.compiled.kernels` (numba missing, a small job in a process without
+    numba, a cold cache: the NumPy path).  They give the same answers as the NumPy code here, in
+    O(n) hash passes instead of sorts; tests compare the two.
     """
-    global _topology_state
-    if _topology_state is None:
-        try:
-            from . import _topology_numba as kernels
-        except ImportError:
-            kernels = False
-        _topology_state = kernels
-    return _topology_state or None
+    if _topology_state is False:
+        return None
+    from .._core.compiled import kernels
+
+    return kernels("inertia.geometry._topology_numba", work=work)
 
 
 # ---------------------------------------------------------------------------------- welding
@@ -93,7 +93,7 @@ def weld_map(vertices: np.ndarray) -> np.ndarray:
     equal hashes are confirmed by comparing the rows, and a collision falls back to a
     lexicographic sort.
     """
-    kernels = topology_kernels()
+    kernels = topology_kernels(len(vertices))
     if kernels is not None:
         return kernels.weld_map(np.ascontiguousarray(vertices, dtype=np.float64))
     return weld_map_numpy(vertices)
@@ -138,7 +138,7 @@ def weld_vertices(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     if not faces_in_range(f, len(v)):
         raise InputError(f"faces index vertices outside 0..{len(v) - 1} "
                          f"(min {int(f.min())}, max {int(f.max())})", code="bad_index")
-    kernels = topology_kernels()
+    kernels = topology_kernels(len(f))
     if kernels is not None:
         return kernels.weld_compact(np.ascontiguousarray(v), np.ascontiguousarray(f))
     rep = weld_map(v)
@@ -155,3 +155,32 @@ def compact_vertices(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarra
     used[faces.ravel()] = True
     new_index = np.cumsum(used, dtype=np.int64) - 1
     return vertices[used], new_index[faces]
+
+
+# ---------------------------------------------------------------------------------- graphs
+def connected_components(n: int, a, b) -> tuple[int, np.ndarray]:
+    """``(count, labels (n,))`` of the undirected graph on nodes ``0..n-1`` with edges
+    ``a[i] - b[i]``; components are numbered in order of their lowest node, as
+    ``scipy.sparse.csgraph.connected_components`` numbers them (tests compare the two).
+
+    Pure NumPy (a one-shot command on a small mesh need not import scipy.sparse, 0.15 s):
+    each round hooks the higher root of every edge still joining two trees onto the lower one,
+    then jumps pointers until every node points at its root; the roots are the lowest nodes.
+    """
+    parent = np.arange(n, dtype=np.int64)
+    a = np.asarray(a, dtype=np.int64).ravel()
+    b = np.asarray(b, dtype=np.int64).ravel()
+    while len(a):
+        ra, rb = parent[a], parent[b]
+        apart = ra != rb
+        if not apart.any():
+            break
+        a, b, ra, rb = a[apart], b[apart], ra[apart], rb[apart]
+        np.minimum.at(parent, np.maximum(ra, rb), np.minimum(ra, rb))
+        while True:
+            jumped = parent[parent]
+            if np.array_equal(jumped, parent):
+                break
+            parent = jumped
+    roots, labels = np.unique(parent, return_inverse=True)
+    return len(roots), labels.reshape(-1)

@@ -86,7 +86,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     """
     from .mesh_arrays import compact_vertices, topology_kernels, weld_vertices
 
-    kernels = topology_kernels()
+    kernels = topology_kernels(len(faces))
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
         v, f = validate_inputs(vertices, faces)
         if not faces_in_range(f, len(v)):
@@ -241,7 +241,7 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
     compiled merge declines (the caller then takes the general route)."""
     from .mesh_arrays import topology_kernels
 
-    kernels = topology_kernels()
+    kernels = topology_kernels(n)
     if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively
         return None
     if data is None:

@@ -1,0 +1,131 @@
+"""When to run the compiled (numba) kernels, and when the NumPy path instead.
+
+Every compiled kernel has a NumPy twin that gives the same answers (tests compare them), so the
+choice is only about time.  Three costs decide it:
+
+* importing numba and loading a cached kernel: about 0.2-0.4 s, once per process;
+* compiling a kernel whose cache is cold (a fresh install): 5-30 s;
+* the NumPy path: about 0.6 us per face of a mesh (measured at 1k-1.3M faces).
+
+The rule (``INERTIA_COMPILED=auto``, the default):
+
+1. A process that has not imported numba yet runs small jobs on the NumPy path: a one-shot
+   ``inertia props part.stl`` never pays for numba.  Once the NumPy work of the process passes
+   :data:`IMPORT_WORK` (about the import's cost), or one job is that large, numba is imported.
+2. A kernel whose machine code is not in numba's cache is not compiled in the caller's time:
+   the NumPy path runs, and a background process (``python -m inertia._warmup``, detached, at
+   low priority, one at a time) compiles every kernel into the cache.  Later calls, in this
+   process or the next, find the cache warm.
+3. Otherwise the compiled kernel runs.
+
+``INERTIA_COMPILED=always`` compiles on first use and waits (the behaviour before this rule);
+``never`` keeps every call on the NumPy path.  Either way the numbers are the same.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+import time
+
+#: NumPy work (faces, or body-steps) a process does before importing numba pays off: the NumPy
+#: path costs ~0.6 us a face, numba's import and a cache load ~0.25 s.
+IMPORT_WORK = 400_000
+
+_MODES = ("auto", "always", "never")
+_numpy_work = 0            # work done on the NumPy path by this process while numba was not imported
+_checked: dict = {}        # module name -> (time of the last cache check, module or None)
+_RECHECK_S = 5.0           # a cold cache is looked at again after this long (the warm-up may be done)
+_warmup_started = False
+
+
+def mode() -> str:
+    """``INERTIA_COMPILED`` (auto, always or never); anything else is read as auto."""
+    m = os.environ.get("INERTIA_COMPILED", "auto").strip().lower()
+    return m if m in _MODES else "auto"
+
+
+def numba_available() -> bool:
+    """numba can be imported (checked without importing it when possible)."""
+    if "numba" in sys.modules:
+        return True
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
+
+
+def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
+    """The compiled kernel module ``module_name``, or None when the NumPy path should run.
+
+    ``work`` is the size of the job (faces, body-steps); ``probe`` names the kernel whose
+    cached machine code shows that the module is warm (default: every kernel the module's
+    ``WARM_PROBE`` names).  See the module docstring for the rule.
+    """
+    global _numpy_work
+    m = mode()
+    if m == "never":
+        return None
+    if m == "auto" and "numba" not in sys.modules:
+        if work < IMPORT_WORK and _numpy_work + work < IMPORT_WORK:
+            _numpy_work += work
+            return None
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError:            # numba missing or broken: the NumPy path
+        return None
+    if m == "always":
+        return module
+    now = time.monotonic()
+    seen = _checked.get(module_name)
+    if seen is not None and (seen[1] is not None or now - seen[0] < _RECHECK_S):
+        return seen[1]
+    warm = _is_cached(module, probe)
+    _checked[module_name] = (now, module if warm else None)
+    if not warm:
+        start_warmup()
+    return module if warm else None
+
+
+def _is_cached(module, probe: str | None) -> bool:
+    """The probe kernel's machine code is in numba's cache for the current source."""
+    names = [probe] if probe else list(getattr(module, "WARM_PROBE", ()))
+    try:
+        for name in names:
+            dispatcher = getattr(module, name)
+            if dispatcher.signatures:          # compiled in this process already
+                continue
+            if not dispatcher._cache._cache_file._load_index():   # numba internals: see below
+                return False
+        return True
+    except Exception:     # a numba without these internals: behave as before (compile on first use)
+        return True
+
+
+def start_warmup() -> bool:
+    """Start the background compilation of every kernel (once per process, one at a time
+    per installation); True if one was started."""
+    global _warmup_started
+    if _warmup_started or os.environ.get("INERTIA_WARMUP_CHILD"):
+        return False
+    _warmup_started = True
+    import subprocess
+    import tempfile
+    import zlib
+
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    lock = os.path.join(tempfile.gettempdir(), f"inertia-warmup-{zlib.crc32(here.encode()):08x}.lock")
+    try:
+        if time.time() - os.path.getmtime(lock) < 600:
+            return False             # another process is compiling (a lock older than 10 min is stale)
+    except OSError:
+        pass
+    try:
+        with open(lock, "w") as fh:
+            fh.write(str(os.getpid()))
+        env = dict(os.environ, INERTIA_WARMUP_CHILD="1", INERTIA_WARMUP_LOCK=lock)
+        subprocess.Popen([sys.executable, "-m", "inertia._warmup"], env=env, stdin=subprocess.DEVNULL,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    except OSError:
+        return False
+    return True
