@@ -1,5 +1,8 @@
 """``inertia props SOURCE``: mass, center of mass, inertia, principal axes and validity.
 
+SOURCE a robot file (URDF, SDF, MJCF, ``.xacro``): the whole robot and each link
+(:mod:`inertia.cli.props_robot`).
+
 Output (``--format table`` or ``json``) is in SI units; the inertia matrix is about the
 center of mass, in the axes of the mesh file (or primitive), with negated products of
 inertia (``L = I w``).  Principal moments are ascending and the principal axes are the
@@ -20,19 +23,27 @@ examples:
   inertia props box:0.1,0.2,0.4 --mass 2
   inertia props part.stl --units mm --density 2700 --format json
   inertia props sphere:5 --units cm            (water, 1000 kg/m^3, by default)
+  inertia props robot.urdf --joint elbow=0.5   (whole robot and each link, root frame)
+  inertia props scene.xml --subtree gripper --format json
+  inertia props robot.urdf.xacro --xacro-arg prefix:=left_ --package-path ~/ws/src
 
 exit status: 0 on success, 1 on bad input (the message on stderr names the problem), 2 on bad usage."""
 
-HELP = "mass properties of a mesh file or primitive"
+HELP = "mass properties of a mesh file, a primitive or a whole robot"
 DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
                "moments and axes, repeated-moment report and physical validity of a mesh file "
-               "or a primitive shape.  " + DENSITY_NOTE)
+               "or a primitive shape.  " + DENSITY_NOTE + "  For a robot file (URDF, SDF, MJCF, "
+               ".xacro): the whole robot's mass, center of mass and inertia at a joint "
+               "configuration, and each link's, in the root frame (--units: the unit of its mesh files).")
 
 
 def register(sub) -> None:
     p = fmt.add_command(sub, "props", HELP, DESCRIPTION, EPILOG)
+    from .props_robot import add_robot_arguments
+
     add_source_arguments(p)
     add_format_argument(p, robot=True)
+    add_robot_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -48,8 +59,12 @@ def add_format_argument(p, *, robot: bool = False) -> None:
 
 
 def run(args) -> int:
+    from . import props_robot
     from ._source import load_source
 
+    if props_robot.is_robot_file(args.source):
+        return props_robot.run(args)
+    props_robot.refuse_robot_options(args)
     props, info = load_source(args)
     if args.format in ("urdf", "mjcf", "sdf"):
         from ..robots.writers import inertial_block

@@ -148,6 +148,10 @@ def robot_mass_properties(model, joints=None, *, mesh_units: str = "m", search_p
         notes.append(f"{len(defaults)} SDF link{'s' if len(defaults) > 1 else ''} without <inertial> "
                      f"({', '.join(defaults[:5])}{', ...' if len(defaults) > 5 else ''}) counted with SDF's default "
                      "inertial (1 kg, 1 kg m^2 about each axis), as Gazebo simulates them")
+    invalid = [r.name for r in rows if r.source == "declared" and r.props.check()]
+    if invalid:
+        notes.append(f"the declared inertial of {', '.join(invalid[:5])}{', ...' if len(invalid) > 5 else ''} is not "
+                     "physical (inertia check FILE says why): the totals include it as written")
     total = _sum(rows, frame, f"{model.path}: the robot")
     return RobotMassProperties(model.path, model.format, frame, values, rows, total, notes)
 
