@@ -12,7 +12,11 @@ columns of a proper rotation ``R_body_principal`` (det +1).
 from __future__ import annotations
 
 from . import _format as fmt
+from ._props_text import XYZ, canonical_lines, degenerate_text
 from ._source import DENSITY_NOTE, add_source_arguments
+
+__all__ = ["register", "run", "props_dict", "props_lines", "summary_lines", "inertia_lines", "canonical_lines",
+           "degenerate_text", "validity_lines", "warnings_lines", "XYZ"]
 
 CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass in the body axes, "
                "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
@@ -81,23 +85,6 @@ def run(args) -> int:
 # ---------------------------------------------------------------------------- content
 
 
-def degenerate_text(groups) -> str:
-    """Readable report of repeated principal moments (``groups`` as from principal_frame)."""
-    groups = [tuple(g) for g in groups]
-    if not groups:
-        return "none: three distinct moments, principal axes unique up to sign"
-    out = []
-    for g in groups:
-        names = " = ".join(f"I{k + 1}" for k in g)
-        if len(g) == 3:
-            out.append(f"{names}: every axis through the COM is principal (axes reported as the body axes)")
-        else:
-            other = ({0, 1, 2} - set(g)).pop() + 1
-            out.append(f"{names}: any pair of perpendicular axes normal to axis {other} is principal "
-                       f"(axes {g[0] + 1} and {g[1] + 1} are a deterministic choice)")
-    return "; ".join(out)
-
-
 def props_dict(props, info) -> dict:
     """JSON-ready dict of the mass properties and how they were obtained."""
     pf = props.principal_frame()
@@ -119,9 +106,6 @@ def props_dict(props, info) -> dict:
         "conventions": CONVENTIONS,
     })
     return out
-
-
-XYZ = ("x", "y", "z")
 
 
 def props_lines(props, info, *, title: str | None = None) -> list[str]:
@@ -165,22 +149,6 @@ def inertia_lines(props, *, heading: bool = True) -> list[str]:
     text = "Inertia about the center of mass [kg m^2] (body axes, products negated: L = I w)"
     lines = fmt.heading(text) if heading else ["  " + text[0].lower() + text[1:] + ":"]
     return lines + fmt.matrix_lines(props.inertia_com, row_labels=XYZ, col_labels=XYZ, style="e")
-
-
-def canonical_lines(props, *, title: str = "Principal moments and axes (canonical form)") -> list[str]:
-    """Principal moments (ascending), radii of gyration, repeated-moment report, axes (det +1)."""
-    pf = props.principal_frame()
-    lines = fmt.heading(title)
-    lines += fmt.key_values([
-        ("moments I1 <= I2 <= I3", fmt.vector(pf.moments) + " kg m^2"),
-        ("radii of gyration", fmt.vector(props.radii_of_gyration) + " m"),
-        ("repeated moments", degenerate_text(pf.degenerate)),
-        ("principal frame", "origin at the COM, I_body = R diag(I1, I2, I3) R^T with"),
-        ("axes", "R = R_body_principal (columns = principal axes, proper rotation, det +1):"),
-    ])
-    lines += fmt.matrix_lines(pf.R_body_principal, row_labels=XYZ, col_labels=("axis 1", "axis 2", "axis 3"),
-                              indent=4, style="f")
-    return lines
 
 
 def validity_lines(violations) -> list[str]:

@@ -126,7 +126,7 @@ def robot_dict(result, props, links, subtree=None) -> dict:
 
 
 def robot_lines(result, props, links, subtree=None) -> list[str]:
-    from .props import XYZ, canonical_lines
+    from ._props_text import XYZ, canonical_lines
 
     what = f"the subtree of link {subtree!r} ({len(links)} links)" if subtree else "the whole robot"
     lines = fmt.heading(f"Mass properties of {what}: {result.path}")[1:]

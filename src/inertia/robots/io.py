@@ -117,13 +117,15 @@ def expand_xacro(path, args=None, search_paths=()):
     path = Path(path)
     if not path.is_file():
         raise RobotFileError(f"{path}: file not found")
+    missing: list = []  # packages $(find) did not find (xacro wraps the error we raise)
     try:
-        with _packages(path.resolve(), search_paths):
+        with _packages(path.resolve(), search_paths, missing):
             dom = xacro.process_file(str(path.resolve()), mappings=dict(args or {}))
         text = dom.toprettyxml(indent="  ")
-    except RobotFileError:
-        raise
     except Exception as exc:  # noqa: BLE001 - xacro raises many types; each becomes one message
+        if missing:
+            raise RobotFileError(f"{path}: $(find {missing[0]}): package {missing[0]!r} not found; give the folder "
+                                 "that holds it (or the package folder itself) with --package-path") from None
         raise RobotFileError(f"{path}: xacro could not expand the file: {_xacro_message(exc)}") from None
     doc = parse_xml_bytes(text.encode("utf-8"), Path(f"{path} (as expanded by xacro)"))
     doc.generated_by = "xacro"  # the bytes are xacro's output, not the file's: never written back
@@ -139,8 +141,9 @@ def _xacro_message(exc) -> str:
 
 
 @contextmanager
-def _packages(path: Path, search_paths):
-    """xacro's ``$(find PKG)`` looks in the search folders and the file's own folders first."""
+def _packages(path: Path, search_paths, missing: list):
+    """xacro's ``$(find PKG)`` looks in the search folders and the file's own folders first;
+    a package found nowhere is appended to ``missing``."""
     import xacro.substitution_args as sa
 
     original = sa._eval_find
@@ -157,8 +160,8 @@ def _packages(path: Path, search_paths):
         try:
             return original(pkg)
         except Exception:  # noqa: BLE001 - no ROS (ament_index_python missing) or not indexed
-            raise RobotFileError(f"{path}: $(find {pkg}): package {pkg!r} not found; give the folder that holds "
-                                 "it (or the package folder itself) with --package-path") from None
+            missing.append(pkg)
+            raise
 
     sa._eval_find = find
     try:
