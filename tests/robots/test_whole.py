@@ -76,7 +76,8 @@ def _random_values(m, rng):
 
 
 def _rel(a, b, scale):
-    return float(np.abs(np.asarray(a) - np.asarray(b)).max()) / scale
+    """Largest difference relative to ``scale`` (absolute where the scale is 0)."""
+    return float(np.abs(np.asarray(a) - np.asarray(b)).max()) / (scale or 1.0)
 
 
 def compare_with_mujoco(path, values=None, model=None):
@@ -402,3 +403,20 @@ def test_an_sdf_robot_equals_the_same_urdf_in_pinocchio(tmp_path, rule):
         assert ours.frame == "model 'random'" and {lk.source for lk in ours.links} == {"declared"}
         kin, total = compare_with_pinocchio(urdf, values, ours=ours)
         assert kin < PINOCCHIO_RTOL and total < PINOCCHIO_RTOL
+
+
+@pytest.mark.filterwarnings("ignore:compiler attribute 'settotalmass' is deprecated")
+@pytest.mark.parametrize("compiler", ['boundmass="0.5" boundinertia="0.01"', 'settotalmass="7.5"',
+                                      'balanceinertia="true" boundmass="0.2" settotalmass="3"'])
+def test_mujocos_compiler_mass_options_are_applied(tmp_path, compiler):
+    """boundmass, boundinertia, balanceinertia and settotalmass change what MuJoCo simulates
+    (a massless body lifted by boundmass sits at its own pos, as in MuJoCo)."""
+    path = tmp_path / "c.xml"
+    text = MADE_MJCF.replace('<compiler angle="degree" eulerseq="zyx"/>',
+                             f'<compiler angle="degree" eulerseq="zyx" {compiler}/>')
+    if "balanceinertia" in compiler:  # a hand that breaks the triangle inequality
+        text = text.replace('mass="0.3" fullinertia="0.002 0.003 0.004', 'mass="0.3" fullinertia="0.002 0.003 0.009')
+    path.write_text(text)
+    kin, body, total, _ = compare_with_mujoco(path, {"h2": 0.4})
+    assert kin < KINEMATICS_RTOL and body < INERTIA_RTOL and total < INERTIA_RTOL
+    assert "MuJoCo's compiler options" in robot_mass_properties(path).notes[-1]

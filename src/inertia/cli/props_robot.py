@@ -21,7 +21,7 @@ CONVENTIONS = ("SI units (kg, m, kg m^2); every position and tensor in the root 
 
 SOURCES = {"declared": "the file's inertial", "geometry": "MuJoCo's inertia from the body's geoms",
            "sdf_default": "SDF's default inertial (1 kg, 1 kg m^2), as Gazebo simulates it",
-           "none": "no mass (no inertial)"}
+           "none": "no mass (no inertial)", "bound": "MuJoCo's <compiler boundmass/boundinertia> on a massless body"}
 
 #: mesh-only options and the value each has when not given
 _MESH_OPTIONS = (("--density", "density", None), ("--mass", "mass", None), ("--shell", "shell", False),

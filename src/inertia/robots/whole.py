@@ -11,7 +11,9 @@ Where a link's mass properties come from (``source``):
 * ``sdf_default``: an SDF link without ``<inertial>`` has SDF's default inertial, mass 1 kg
   and inertia 1 kg m^2 about each axis at the link origin, which Gazebo simulates;
 * ``none``: no mass (a URDF link without ``<inertial>``: a frame, as in urdfdom and
-  Pinocchio; an MJCF body with neither inertial nor mass-carrying geoms).
+  Pinocchio; an MJCF body with neither inertial nor mass-carrying geoms);
+* ``bound``: such an MJCF body given mass or inertia by ``<compiler boundmass
+  boundinertia>`` (:func:`mujoco_compiler_adjustments`).
 
 The root frame is MJCF's world, the URDF root link's frame, an SDF model's own frame (or the
 world of an SDF ``<world>``): ``RobotMassProperties.frame`` names it.
@@ -119,6 +121,46 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
     return None, "none"
 
 
+#: ``<compiler>`` attributes that change the bodies' mass properties, and their defaults
+COMPILER_MASS = {"boundmass": "0", "boundinertia": "0", "balanceinertia": "false", "settotalmass": "-1"}
+
+
+def mujoco_compiler_adjustments(model, local: list, notes: list) -> list:
+    """What MuJoCo's compiler does to each body's ``(props, source)`` (link frame) after
+    computing it: ``boundmass`` and ``boundinertia`` (lower bounds on the mass and on each
+    principal moment), ``balanceinertia`` (moments that break the triangle inequality become
+    their mean), then ``settotalmass`` (every body scaled to that total).  A massless body
+    lifted by a bound has MuJoCo's inertial frame: the body's own ``pos`` (not its frames)."""
+    from .urdf_sdf import floats
+
+    attrs = dict(COMPILER_MASS)
+    for el in model.document.root.findall("compiler"):
+        attrs.update({k: el.get(k) for k in COMPILER_MASS if el.get(k) is not None})
+    where = f"{model.path}: <compiler>"
+    bound_m, bound_i, total = (floats(attrs[k], 1, where, k)[0] for k in ("boundmass", "boundinertia", "settotalmass"))
+    balance = attrs["balanceinertia"] == "true"
+    if bound_m <= 0 and bound_i <= 0 and not balance and total <= 0:
+        return local
+    out = []
+    for lk, (props, source) in zip(model.links, local):
+        if props is None:
+            props = MassProperties(0.0, floats(lk.element.get("pos", "0 0 0"), 3, where, "pos"), np.zeros((3, 3)),
+                                   validate=False)
+        w0, V = np.linalg.eigh(props.inertia_com)
+        w = np.maximum(w0, bound_i)
+        if balance and 2 * w.max() > w.sum():
+            w = np.full(3, w.mean())
+        inertia = (V * w) @ V.T if np.any(w != w0) else props.inertia_com
+        props = props._replace(mass=max(props.mass, bound_m), inertia_com=inertia)
+        out.append((props, "bound" if source == "none" and (props.mass > 0 or w.any()) else source))
+    if total > 0:
+        scale = total / sum(p.mass for p, _ in out)
+        out = [(p._replace(mass=p.mass * scale, inertia_com=p.inertia_com * scale), src) for p, src in out]
+    notes.append("MuJoCo's compiler options " + ", ".join(f"{k}={attrs[k]}" for k in COMPILER_MASS
+                                                           if attrs[k] != COMPILER_MASS[k]) + " applied to the bodies")
+    return out
+
+
 def robot_mass_properties(model, joints=None, *, mesh_units: str = "m", search_paths=()) -> RobotMassProperties:
     """The whole robot's mass properties at a configuration, and each link's, in the root frame.
 
@@ -136,8 +178,10 @@ def robot_mass_properties(model, joints=None, *, mesh_units: str = "m", search_p
     poses, values = link_poses(model, joints)
     frame = model.root_frame
     rows, notes = [], []
-    for lk, (R, p) in zip(model.links, poses):
-        props, source = link_mass_properties(model, lk, mesh_units=mesh_units)
+    local = [link_mass_properties(model, lk, mesh_units=mesh_units) for lk in model.links]
+    if model.format == "mjcf":
+        local = mujoco_compiler_adjustments(model, local, notes)
+    for lk, (R, p), (props, source) in zip(model.links, poses, local):
         if props is None:
             props = MassProperties(0.0, p, np.zeros((3, 3)), validate=False)
         else:
