@@ -115,6 +115,17 @@ def test_xacro_errors_are_one_message_naming_the_file(capsys, workspace, change,
     assert code == 1 and not out and message in err and str(path) in err and "Traceback" not in err
 
 
+@pytest.mark.parametrize("how", [["-o", "out.urdf"], ["--in-place"]])
+def test_fix_refuses_a_xacro_file_and_writes_nothing(capsys, workspace, how):
+    path = workspace / "mypkg" / "urdf" / "robot.urdf.xacro"
+    before = path.read_bytes()
+    out = workspace / "out.urdf"
+    code, _, err = _run(capsys, "fix", path, "--package-path", workspace,
+                        *[str(out) if a == "out.urdf" else a for a in how])
+    assert code != 0 and "is a xacro file" in err
+    assert path.read_bytes() == before and not out.exists()
+
+
 def test_xacro_arguments_need_name_and_value(capsys, workspace):
     path = workspace / "mypkg" / "urdf" / "robot.urdf.xacro"
     code, _, err = _run(capsys, "props", path, "--xacro-arg", "prefix=left_")
