@@ -137,3 +137,39 @@ def test_a_urdf_with_two_roots_or_a_second_parent_is_named(capsys, tmp_path):
                     '<joint name="k" type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
     code, _, err = _run(capsys, "props", path)
     assert code == 1 and "joint 'k'" in err and "link 'b' already has a parent joint" in err
+
+
+def test_an_sdf_world_places_its_models_and_nested_models(tmp_path):
+    """Two copies of a model at their world poses, a nested model, a <frame> and a joint named
+    by its scope: the closed form of three spheres."""
+    from inertia.robots.whole import robot_mass_properties
+
+    def ball(name, mass, pose="0 0 0 0 0 0", extra=""):
+        i = 0.4 * mass * 0.1 ** 2
+        return (f'<link name="{name}"><pose {extra}>{pose}</pose><inertial><mass>{mass}</mass><inertia>'
+                f"<ixx>{i}</ixx><iyy>{i}</iyy><izz>{i}</izz></inertia></inertial></link>")
+
+    model = ('<model name="{name}"><pose>{pose}</pose>' + ball("body", 2.0)
+             + '<frame name="tip"><pose relative_to="body">0 0 1 0 0 0</pose></frame>'
+             + ball("end", 1.0, "0 0 0 0 0 0", 'relative_to="tip"')
+             + '<joint name="j" type="revolute"><parent>body</parent><child>end</child><pose>0 0 -1 0 0 0</pose>'
+             + "<axis><xyz>1 0 0</xyz></axis></joint>{nested}</model>")
+    nested = '<model name="inner"><pose>0 5 0 0 0 0</pose>' + ball("pod", 3.0) + "</model>"
+    path = tmp_path / "w.world"
+    path.write_text('<sdf version="1.8"><world name="w">'
+                    + model.format(name="a", pose="1 0 0 0 0 0", nested=nested)
+                    + model.format(name="b", pose="0 0 2 0 0 1.5707963267948966", nested="") + "</world></sdf>")
+    robot = robot_mass_properties(path, {"a::j": np.pi / 2})
+    assert robot.frame == "world" and set(robot.configuration) == {"a::j", "b::j"}
+    # a: body (1,0,0); end 1 above it, turned about x through the body by 90 deg: (1,-1,0);
+    # a::inner::pod (1,5,0); b: body (0,0,2), end (0,0,3)
+    points = {"a::body": [1, 0, 0], "a::end": [1, -1, 0], "a::inner::pod": [1, 5, 0], "b::end": [0, 0, 3]}
+    for name, point in points.items():
+        np.testing.assert_allclose(robot.link(name).com, point, atol=1e-15)
+    np.testing.assert_allclose(robot.subtree("a::body").com, [1, -1 / 3, 0], atol=1e-15)
+    masses, coms = np.array([2, 1, 3, 2, 1.0]), np.array([[1, 0, 0], [1, -1, 0], [1, 5, 0], [0, 0, 2], [0, 0, 3.0]])
+    assert robot.total.mass == 9.0
+    np.testing.assert_allclose(robot.total.com, masses @ coms / 9, atol=1e-15)
+    r = coms - masses @ coms / 9
+    I = sum(0.4 * m * 0.01 * np.eye(3) + m * (x @ x * np.eye(3) - np.outer(x, x)) for m, x in zip(masses, r))
+    np.testing.assert_allclose(robot.total.inertia_com, I, atol=1e-14)

@@ -98,6 +98,8 @@ class Link:
     R_parent_link: np.ndarray = field(default_factory=lambda: np.eye(3))
     p_parent_link: np.ndarray = field(default_factory=lambda: np.zeros(3))
     joints: list = field(default_factory=list)
+    #: the name with its model's scope (SDF worlds and nested models: "model::link"), else None
+    scoped_name: str | None = None
 
 
 @dataclass

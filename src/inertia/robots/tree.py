@@ -241,6 +241,7 @@ def _sdf_tree(model) -> None:
         if name is None:
             raise RobotFileError(f"{doc.where(lk.element)}: link {lk.name!r} is not inside a <model>")
         index[name] = i
+        lk.scoped_name = name if "::" in name else None
         lk.R_parent_link, lk.p_parent_link = frames.pose(name)
     version = _sdf_version(doc)
     for scope, el in frames.joints:

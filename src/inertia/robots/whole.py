@@ -186,7 +186,8 @@ def robot_mass_properties(model, joints=None, *, mesh_units: str = "m", search_p
             props = MassProperties(0.0, p, np.zeros((3, 3)), validate=False)
         else:
             props = props.transformed(R, p)
-        rows.append(LinkMass(lk.name, lk.line, source, props._replace(frame=frame), R, p, lk.parent))
+        rows.append(LinkMass(lk.scoped_name or lk.name, lk.line, source, props._replace(frame=frame), R, p,
+                             lk.parent))
     defaults = [r.name for r in rows if r.source == "sdf_default"]
     if defaults:
         notes.append(f"{len(defaults)} SDF link{'s' if len(defaults) > 1 else ''} without <inertial> "
