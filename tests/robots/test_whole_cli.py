@@ -124,6 +124,9 @@ def test_sdf_links_without_inertial_count_with_sdfs_default(capsys, tmp_path):
     # parallel axes: 0.1 + 1 about x and y, plus 2 * (1/3)^2 + 1 * (2/3)^2 = 2/3
     np.testing.assert_allclose(np.diag(data["inertia_com"]), [1.1 + 2 / 3, 1.1 + 2 / 3, 1.1], rtol=1e-14)
     assert "SDF's default inertial" in data["notes"][0] and "sensor" in data["notes"][0]
+    path.write_text(path.read_text().replace("<inertial>", '<inertial auto="true">'))
+    code, out, _ = _run(capsys, "props", path, "--format", "json")
+    assert code == 0 and "Gazebo computes these from the collision shapes" in json.loads(out)["notes"][1]
 
 
 def test_a_urdf_with_two_roots_or_a_second_parent_is_named(capsys, tmp_path):

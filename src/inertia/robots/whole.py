@@ -193,6 +193,11 @@ def robot_mass_properties(model, joints=None, *, mesh_units: str = "m", search_p
         notes.append(f"{len(defaults)} SDF link{'s' if len(defaults) > 1 else ''} without <inertial> "
                      f"({', '.join(defaults[:5])}{', ...' if len(defaults) > 5 else ''}) counted with SDF's default "
                      "inertial (1 kg, 1 kg m^2 about each axis), as Gazebo simulates them")
+    auto = [lk.name for lk in model.links if model.format == "sdf" and lk.inertial is not None
+            and getattr(lk.inertial.element, "get", lambda k: None)("auto") == "true"]
+    if auto:
+        notes.append(f"<inertial auto=\"true\"> on {', '.join(auto[:5])}: Gazebo computes these from the collision "
+                     "shapes; counted here with the values written in the file")
     invalid = [r.name for r in rows if r.source == "declared" and r.props.check()]
     if invalid:
         notes.append(f"the declared inertial of {', '.join(invalid[:5])}{', ...' if len(invalid) > 5 else ''} is not "
