@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from inertia.cli.main import main
+from inertia.errors import InputError
 from inertia.robots.io import read_robot
 from tests.robots.test_whole import MADE_MJCF, _mujoco_at
 
@@ -176,3 +177,20 @@ def test_an_sdf_world_places_its_models_and_nested_models(tmp_path):
     r = coms - masses @ coms / 9
     I = sum(0.4 * m * 0.01 * np.eye(3) + m * (x @ x * np.eye(3) - np.outer(x, x)) for m, x in zip(masses, r))
     np.testing.assert_allclose(robot.total.inertia_com, I, atol=1e-14)
+
+
+def test_a_chain_of_mimic_joints_follows_the_first(tmp_path):
+    from inertia.robots.kinematics import configuration
+
+    path = tmp_path / "r.urdf"
+    links = "".join(f'<link name="l{i}"/>' for i in range(4))
+    joints = "".join(f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/><child link="l{i}"/>'
+                     f'<limit lower="-1" upper="1" effort="1" velocity="1"/>{mimic}</joint>'
+                     for i, mimic in ((1, ""), (2, '<mimic joint="j1" multiplier="2" offset="0.1"/>'),
+                                      (3, '<mimic joint="j2" multiplier="-1" offset="0.5"/>')))
+    path.write_text(f'<robot name="r">{links}{joints}</robot>')
+    values = configuration(read_robot(path), {"j1": 0.3})
+    assert values == pytest.approx({"j1": 0.3, "j2": 0.7, "j3": -0.2}, abs=1e-15)
+    path.write_text(path.read_text().replace('joint="j1" multiplier="2"', 'joint="j3" multiplier="2"'))
+    with pytest.raises(InputError, match="mimic each other in a cycle"):
+        configuration(read_robot(path))

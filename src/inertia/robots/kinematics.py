@@ -88,9 +88,7 @@ def _mimic_value(model, named: dict, values: dict, name: str) -> float:
         seen.add(master)
         scale, offset = scale * mult, offset + scale * off  # A = scale X + offset, X = mult Y + off
         j = named[master][1]
-        if j.mimic is None:
-            return scale * values.get(master, j.default) + offset
-    return values[name]
+    return scale * values.get(j.name, j.default) + offset
 
 
 def order(model) -> list:
