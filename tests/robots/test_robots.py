@@ -388,6 +388,10 @@ def test_unusable_visual_falls_back_to_the_collision_mesh(tmp_path, robots):
     src = robots.root / "cordless_drill_sdf"
     shutil.copytree(src, tmp_path / "m")
     sdf = tmp_path / "m" / "cordless_drill" / "model.sdf"
+    # a COLLADA file without geometry (the real drill's .dae is a usable mesh)
+    (sdf.parent / "meshes" / "cordless_drill.dae").write_text(
+        '<?xml version="1.0"?>\n<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">\n'
+        "  <asset/>\n</COLLADA>\n")
     link = check_model(read_robot(sdf)).links[0]
     assert not link.errors and not link.warnings
     assert [n.code for n in link.notes] == ["geometry_unusable"]

@@ -15,6 +15,8 @@ from .errors import MissingDependencyError
 #: top-level module -> the extra of ``pyproject.toml`` that installs it
 EXTRA_OF = {
     "trimesh": "mesh",
+    "collada": "mesh",
+    "xacro": "xacro",
     "numba": "fast",
     "sympy": "symbolic",
     "matplotlib": "viz",

@@ -1,5 +1,8 @@
 """``inertia props SOURCE``: mass, center of mass, inertia, principal axes and validity.
 
+SOURCE a robot file (URDF, SDF, MJCF, ``.xacro``): the whole robot and each link
+(:mod:`inertia.cli.props_robot`).
+
 Output (``--format table`` or ``json``) is in SI units; the inertia matrix is about the
 center of mass, in the axes of the mesh file (or primitive), with negated products of
 inertia (``L = I w``).  Principal moments are ascending and the principal axes are the
@@ -9,7 +12,11 @@ columns of a proper rotation ``R_body_principal`` (det +1).
 from __future__ import annotations
 
 from . import _format as fmt
+from ._props_text import XYZ, canonical_lines, degenerate_text
 from ._source import DENSITY_NOTE, add_source_arguments
+
+__all__ = ["register", "run", "props_dict", "props_lines", "summary_lines", "inertia_lines", "canonical_lines",
+           "degenerate_text", "validity_lines", "warnings_lines", "XYZ"]
 
 CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass in the body axes, "
                "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
@@ -20,19 +27,27 @@ examples:
   inertia props box:0.1,0.2,0.4 --mass 2
   inertia props part.stl --units mm --density 2700 --format json
   inertia props sphere:5 --units cm            (water, 1000 kg/m^3, by default)
+  inertia props robot.urdf --joint elbow=0.5   (whole robot and each link, root frame)
+  inertia props scene.xml --subtree gripper --format json
+  inertia props robot.urdf.xacro --xacro-arg prefix:=left_ --package-path ~/ws/src
 
 exit status: 0 on success, 1 on bad input (the message on stderr names the problem), 2 on bad usage."""
 
-HELP = "mass properties of a mesh file or primitive"
+HELP = "mass properties of a mesh file, a primitive or a whole robot"
 DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
                "moments and axes, repeated-moment report and physical validity of a mesh file "
-               "or a primitive shape.  " + DENSITY_NOTE)
+               "or a primitive shape.  " + DENSITY_NOTE + "  For a robot file (URDF, SDF, MJCF, "
+               ".xacro): the whole robot's mass, center of mass and inertia at a joint "
+               "configuration, and each link's, in the root frame (--units: the unit of its mesh files).")
 
 
 def register(sub) -> None:
     p = fmt.add_command(sub, "props", HELP, DESCRIPTION, EPILOG)
+    from .props_robot import add_robot_arguments
+
     add_source_arguments(p)
     add_format_argument(p, robot=True)
+    add_robot_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -48,8 +63,12 @@ def add_format_argument(p, *, robot: bool = False) -> None:
 
 
 def run(args) -> int:
+    from . import props_robot
     from ._source import load_source
 
+    if props_robot.is_robot_file(args.source):
+        return props_robot.run(args)
+    props_robot.refuse_robot_options(args)
     props, info = load_source(args)
     if args.format in ("urdf", "mjcf", "sdf"):
         from ..robots.writers import inertial_block
@@ -64,23 +83,6 @@ def run(args) -> int:
 
 
 # ---------------------------------------------------------------------------- content
-
-
-def degenerate_text(groups) -> str:
-    """Readable report of repeated principal moments (``groups`` as from principal_frame)."""
-    groups = [tuple(g) for g in groups]
-    if not groups:
-        return "none: three distinct moments, principal axes unique up to sign"
-    out = []
-    for g in groups:
-        names = " = ".join(f"I{k + 1}" for k in g)
-        if len(g) == 3:
-            out.append(f"{names}: every axis through the COM is principal (axes reported as the body axes)")
-        else:
-            other = ({0, 1, 2} - set(g)).pop() + 1
-            out.append(f"{names}: any pair of perpendicular axes normal to axis {other} is principal "
-                       f"(axes {g[0] + 1} and {g[1] + 1} are a deterministic choice)")
-    return "; ".join(out)
 
 
 def props_dict(props, info) -> dict:
@@ -104,9 +106,6 @@ def props_dict(props, info) -> dict:
         "conventions": CONVENTIONS,
     })
     return out
-
-
-XYZ = ("x", "y", "z")
 
 
 def props_lines(props, info, *, title: str | None = None) -> list[str]:
@@ -150,22 +149,6 @@ def inertia_lines(props, *, heading: bool = True) -> list[str]:
     text = "Inertia about the center of mass [kg m^2] (body axes, products negated: L = I w)"
     lines = fmt.heading(text) if heading else ["  " + text[0].lower() + text[1:] + ":"]
     return lines + fmt.matrix_lines(props.inertia_com, row_labels=XYZ, col_labels=XYZ, style="e")
-
-
-def canonical_lines(props, *, title: str = "Principal moments and axes (canonical form)") -> list[str]:
-    """Principal moments (ascending), radii of gyration, repeated-moment report, axes (det +1)."""
-    pf = props.principal_frame()
-    lines = fmt.heading(title)
-    lines += fmt.key_values([
-        ("moments I1 <= I2 <= I3", fmt.vector(pf.moments) + " kg m^2"),
-        ("radii of gyration", fmt.vector(props.radii_of_gyration) + " m"),
-        ("repeated moments", degenerate_text(pf.degenerate)),
-        ("principal frame", "origin at the COM, I_body = R diag(I1, I2, I3) R^T with"),
-        ("axes", "R = R_body_principal (columns = principal axes, proper rotation, det +1):"),
-    ])
-    lines += fmt.matrix_lines(pf.R_body_principal, row_labels=XYZ, col_labels=("axis 1", "axis 2", "axis 3"),
-                              indent=4, style="f")
-    return lines
 
 
 def validity_lines(violations) -> list[str]:

@@ -36,7 +36,7 @@ UNITS = LENGTH_UNITS  # name -> metres (one table: inertia._core.units)
 
 #: File extensions read by :func:`load_mesh` -> trimesh file type.
 SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "off",
-                        ".glb": "glb", ".gltf": "gltf"}
+                        ".glb": "glb", ".gltf": "gltf", ".dae": "dae"}
 
 #: Vertices closer than MERGE_RTOL * (bounding-box diagonal) are merged on loading (or
 #: closer than 64 ulps of the largest coordinate, when that is larger).  Far below the
@@ -256,12 +256,38 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | No
     return (vertices, faces) if done else None
 
 
+_COLLADA_UNIT = re.compile(rb"""<unit\b[^>]*?\bmeter\s*=\s*["']([^"']+)["']""")
+
+
+def _collada_unit(p: Path) -> float:
+    """Metres per unit of a COLLADA file: its ``<asset><unit meter=...>`` (1 when absent)."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(65536)
+    except OSError:
+        return 1.0  # the reader names the problem
+    end = head.find(b"</asset>")
+    m = _COLLADA_UNIT.search(head, 0, end if end >= 0 else len(head))
+    if m is None:
+        return 1.0
+    try:
+        meter = float(m.group(1))
+    except ValueError:
+        meter = float("nan")
+    if not (meter > 0 and meter < float("inf")):
+        raise MeshFileError(f"{p}: COLLADA <unit meter={m.group(1).decode('ascii', 'replace')!r}> is not a positive "
+                            "number", code="malformed")
+    return meter
+
+
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
     Parameters
     ----------
-    path : str or os.PathLike, a .stl, .obj, .ply, .off, .glb or .gltf file.
+    path : str or os.PathLike, a .stl, .obj, .ply, .off, .glb, .gltf or .dae (COLLADA) file;
+        COLLADA coordinates are scaled by the file's ``<unit meter>`` (as Gazebo and RViz do),
+        then by ``units``.
     units : str, the length unit of the file's coordinates: one of ``UNITS``
         ("m", "cm", "mm", "um", "in", "ft").
     merge_rtol : float, vertices closer than ``merge_rtol`` x the mesh size are merged
@@ -330,6 +356,9 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
         if ext == ".obj":
             _check_obj_indices(p)
         trimesh = _import_trimesh()
+        if ext == ".dae":  # trimesh reads COLLADA through pycollada
+            require("collada", "reading COLLADA (.dae) meshes")
+            factor *= _collada_unit(p)
         try:
             # trimesh's parsers cast and scale without guarding against overflow or NaN; what
             # they return is checked here (shapes, indices) and by the mesh checks (non-finite

@@ -282,6 +282,9 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     if included:
         raise InputError(f"{path} includes other files ({', '.join(p.name for p in included)}); fix the file "
                          "that holds the inertials instead, so that no change is lost")
+    if getattr(model.document, "generated_by", None) == "xacro":
+        raise InputError(f"{path} is a xacro file: its inertials come from macros and arguments, so no fix can be "
+                         "written back into it; fix its expanded file instead (xacro FILE > robot.urdf)")
     ed = SourceEditor(model.document)
     setter = {"urdf": _set_urdf, "sdf": _set_sdf, "mjcf": _set_mjcf}[model.format]
     report = FixReport(str(output))

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._core.errors import InertiaError
 from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
-from .model import Geometry, Inertial, Link, RobotModel
+from .model import Geometry, Inertial, Joint, Link, RobotModel
 from .resolve import resolve_mesh
 from .urdf_sdf import floats
 from .xmlsafe import RobotFileError, parse_robot_xml, parse_xml
@@ -158,13 +158,12 @@ def _collect_defaults(default_el, parent: dict, out: dict) -> None:
 UNREAD = ("replicate", "attach", "composite", "flexcomp")
 
 
-def _contents(el, comp: _Compiler, doc, childclass: str):
-    """The geoms and child bodies of a body (or worldbody), through any nesting of ``<frame>``.
+def _contents(el, comp: _Compiler, doc, childclass: str, tags=("geom", "body", "joint", "freejoint")):
+    """The geoms, joints and child bodies of a body (or worldbody), through any nesting of ``<frame>``.
 
     Yields ``(kind, element, childclass, R_body_frame, p_body_frame)`` in document order:
-    kind "geom" or "body"; a geom's pose is composed with the frames around it (a body's
-    pose is relative to its parent and does not enter its own check).  Elements this reader
-    does not expand (:data:`UNREAD`) raise RobotFileError naming them.
+    kind one of ``tags``; an element's pose is composed with the frames around it.  Elements
+    this reader does not expand (:data:`UNREAD`) raise RobotFileError naming them.
     """
     stack = [(iter(list(el)), childclass, np.eye(3), np.zeros(3))]
     while stack:
@@ -174,7 +173,7 @@ def _contents(el, comp: _Compiler, doc, childclass: str):
             stack.pop()
             continue
         tag = child.tag
-        if tag in ("geom", "body"):
+        if tag in tags:
             yield tag, child, cc, R, p
         elif tag == "frame":
             where = f"{doc.where(child)}: <frame>"
@@ -187,8 +186,8 @@ def _contents(el, comp: _Compiler, doc, childclass: str):
                                  "check the model after compiling it, e.g. from MuJoCo's saved XML (mj_saveLastXML)")
 
 
-def read_mjcf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_robot_xml(path, "mujoco", "an MJCF")
+def read_mjcf(path, *, search_paths=(), document=None) -> RobotModel:
+    doc = document if document is not None else parse_robot_xml(path, "mujoco", "an MJCF")
     root = doc.root
     base = Path(path).resolve().parent
     _expand_includes(doc, base, set())
@@ -221,21 +220,30 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
         merged.update(el.attrib)
         return merged
 
-    def visit(body, childclass, index):
-        """Read one body (not its children); returns its child bodies with the class each inherits."""
+    def visit(body, childclass, parent, R_pf, p_pf, index):
+        """Read one body (not its children); returns its child bodies with the class each
+        inherits and the pose of the frames around them."""
         cc = body.get("childclass", childclass)
         name = body.get("name") or f"body{index[0]}"
         index[0] += 1
-        link = Link(name, doc.line(body), None, element=body)
-        _orientation(body.attrib, comp, f"{doc.where(body)}: body {name!r}: <body>")  # refuse a degenerate frame
+        link = Link(name, doc.line(body), None, element=body, parent=parent)
+        where = f"{doc.where(body)}: body {name!r}: <body>"
+        R_b = _orientation(body.attrib, comp, where)  # refuses a degenerate frame
+        p_b = np.asarray(floats(body.get("pos", "0 0 0"), 3, where, "pos"))
+        link.R_parent_link, link.p_parent_link = R_pf @ R_b, R_pf @ p_b + p_pf
         inertial = body.find("inertial")
         if inertial is not None:
             where = f"{doc.where(inertial)}: body {name!r}: <inertial>"
             link.inertial = _inertial(attrs_of(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
         children = []
+        me = len(links)
         for kind, el, el_cc, R_f, p_f in _contents(body, comp, doc, cc):
             if kind == "body":
-                children.append((el, el_cc))
+                children.append((el, el_cc, me, R_f, p_f))
+                continue
+            if kind in ("joint", "freejoint"):
+                a = attrs_of(el, "joint", el_cc) if kind == "joint" else dict(el.attrib, type="free")
+                link.joints.append(_joint(doc, a, el, comp, R_f, p_f, name))
                 continue
             geom = _geom(doc, attrs_of(el, "geom", el_cc), el, comp, meshes, link)
             if geom is not None:
@@ -250,12 +258,11 @@ def read_mjcf(path, *, search_paths=()) -> RobotModel:
 
     # depth first, parents before children, without recursion (models nest thousands deep)
     counter = [1]
-    stack = [(el, cc) for world in reversed(worlds)
-             for kind, el, cc, _, _ in reversed(list(_contents(world, comp, doc, "main"))) if kind == "body"]
+    stack = [(el, cc, None, R, p) for world in reversed(worlds)
+             for kind, el, cc, R, p in reversed(list(_contents(world, comp, doc, "main", ("body",))))]
     while stack:
-        body, childclass = stack.pop()
-        stack.extend(reversed(visit(body, childclass, counter)))
-    return RobotModel(Path(path), "mjcf", links, doc)
+        stack.extend(reversed(visit(*stack.pop(), counter)))
+    return RobotModel(Path(path), "mjcf", links, doc, root_frame="world")
 
 
 def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
@@ -273,6 +280,30 @@ def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
     else:
         raise RobotFileError(f"{where} needs diaginertia or fullinertia")
     return Inertial(mass, pos, R, I, line, element)
+
+
+#: MJCF joint types and what they do to the body (hinge and slide move by their value)
+_JOINT_KINDS = {"hinge": "hinge", "slide": "slide", "ball": "ball", "free": "free"}
+
+
+def _joint(doc, a: dict, el, comp: _Compiler, R_f, p_f, body: str) -> Joint:
+    """A ``<joint>`` (or ``<freejoint>``, ``a["type"] == "free"``) from its class-merged
+    attributes, its anchor and axis in the body frame (through the ``<frame>`` around it)."""
+    name = a.get("name")
+    where = f"{doc.where(el)}: body {body!r}: joint {name or '(unnamed)'!r}"
+    kind = a.get("type", "hinge")
+    if kind not in _JOINT_KINDS:
+        raise RobotFileError(f"{where}: type={kind!r} must be one of {', '.join(_JOINT_KINDS)}")
+    pos = np.asarray(floats(a.get("pos", "0 0 0"), 3, where, "pos"))
+    text = a.get("axis", "0 0 1")
+    axis = _unit(floats(text, 3, where, "axis"), where, "axis", text, "the axis") if kind in ("hinge", "slide") \
+        else np.array([0.0, 0.0, 1.0])
+    ref = floats(a.get("ref", "0"), 1, where, "ref")[0]
+    if kind == "hinge":
+        ref = comp.angle(ref)
+    elif kind != "slide":
+        ref = 0.0
+    return Joint(name, _JOINT_KINDS[kind], kind, R_f @ axis, R_f @ pos + p_f, ref, doc.line(el))
 
 
 def _expand_includes(doc, base: Path, seen: set) -> None:

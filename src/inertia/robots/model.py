@@ -53,8 +53,37 @@ class Geometry:
 
 
 @dataclass
+class Joint:
+    """A joint that moves its link relative to the parent link, in the **link frame**.
+
+    ``kind`` is what the motion is: "hinge" (rotation by the value about ``axis`` through
+    ``anchor``), "slide" (translation by the value along ``axis``), or a joint that is kept at
+    its default configuration ("ball", "free", "floating", "planar", ...; ``type`` says which).
+    The link is at its declared pose when the joint's value is ``default`` (MJCF's ``ref``,
+    i.e. ``qpos0``; 0 in URDF and SDF).  ``mimic`` (URDF): ``(joint name, multiplier, offset)``,
+    value = multiplier x that joint's value + offset.
+    """
+
+    name: str | None
+    kind: str
+    type: str
+    axis: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    anchor: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    default: float = 0.0
+    line: int | None = None
+    mimic: tuple | None = None
+
+
+@dataclass
 class Link:
-    """One link (URDF/SDF) or body (MJCF)."""
+    """One link (URDF/SDF) or body (MJCF).
+
+    Kinematics (filled by the MJCF reader, and for URDF and SDF by
+    :func:`inertia.robots.tree.read_tree` when first needed): ``parent`` is the index of the
+    parent link in :attr:`RobotModel.links` (None: attached to the world / the root),
+    ``R_parent_link``/``p_parent_link`` the link's pose in the parent's frame with every joint
+    at its default, ``joints`` the joints between them, applied in order.
+    """
 
     name: str
     line: int | None
@@ -65,6 +94,12 @@ class Link:
     #: MJCF: the simulator takes this body's inertia from its geoms (no <inertial>, or
     #: inertiafromgeom="true"), so the check computes it from them
     inertia_from_geoms: bool = False
+    parent: int | None = None
+    R_parent_link: np.ndarray = field(default_factory=lambda: np.eye(3))
+    p_parent_link: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    joints: list = field(default_factory=list)
+    #: the name with its model's scope (SDF worlds and nested models: "model::link"), else None
+    scoped_name: str | None = None
 
 
 @dataclass
@@ -75,6 +110,9 @@ class RobotModel:
     format: str
     links: list
     document: object = None
+    #: the name of the frame the link poses end in ("world"; URDF: the root link's frame), set
+    #: with the kinematics (None: not read yet)
+    root_frame: str | None = None
 
     def link(self, name: str) -> Link:
         """The link called ``name``; :class:`~inertia.errors.InputError` (also a KeyError) names the

@@ -79,8 +79,9 @@ def _inertia_matrix(ixx, iyy, izz, ixy, ixz, iyz) -> np.ndarray:
 # ------------------------------------------------------------------------------------- URDF
 
 
-def read_urdf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_robot_xml(path, "robot", "a URDF")
+def read_urdf(path, *, search_paths=(), document=None) -> RobotModel:
+    """``document``: the file already parsed (e.g. expanded by xacro); read from ``path`` otherwise."""
+    doc = document if document is not None else parse_robot_xml(path, "robot", "a URDF")
     root = doc.root
     base = Path(path).resolve().parent
     links = []
@@ -186,8 +187,8 @@ def _sdf_pose(doc, parent):
     return rpy_matrix(*vals[3:]), np.array(vals[:3]), rel
 
 
-def read_sdf(path, *, search_paths=()) -> RobotModel:
-    doc = parse_robot_xml(path, "sdf", "an SDF")
+def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
+    doc = document if document is not None else parse_robot_xml(path, "sdf", "an SDF")
     root = doc.root
     base = Path(path).resolve().parent
     search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder

@@ -83,14 +83,14 @@ def parse_xml(path) -> Document:
 
 
 def _relocated_declaration(data: bytes) -> tuple[bytes, bool]:
-    """Blank out an XML declaration that follows leading comments (expat refuses it there).
+    """Blank out an XML declaration after leading comments or blank lines (expat refuses it there).
 
     Some real files (e.g. Gazebo models with a license header) put ``<?xml ...?>`` after a
     comment.  The declaration is replaced by spaces of the same length, so line and column
     numbers stay right, and the original bytes are still written back unchanged.
     """
     m = re.search(rb"<\?xml\s[^>]*\?>", data[:4096])
-    if m is None or m.start() == 0 or not data[: m.start()].strip():
+    if m is None or m.start() == 0:
         return data, False
     before = re.sub(rb"<!--.*?-->", b"", data[: m.start()], flags=re.S)
     if before.strip():
@@ -165,5 +165,6 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     root = builder.close()
     doc = Document(root, path, lines, source=source, starts=starts, ends=ends)
     if relocated:
-        doc.notes.append(f"{path}: the XML declaration follows a comment (not allowed by XML); read anyway")
+        doc.notes.append(f"{path}: the XML declaration follows a comment or blank lines (not allowed by XML); "
+                         "read anyway")
     return doc
