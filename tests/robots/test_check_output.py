@@ -12,6 +12,9 @@ GOOD_LINK = ('  <link name="{name}">\n    <inertial><mass value="1"/>'
              '    <visual><geometry>{geometry}</geometry></visual>\n  </link>\n')
 
 
+FIXED = '  <joint name="j" type="fixed"><parent link="{parent}"/><child link="{child}"/></joint>\n'
+
+
 def _urdf(tmp_path, *links, name="r.urdf"):
     path = tmp_path / name
     path.write_text('<robot name="r">\n' + "".join(links) + "</robot>\n")
@@ -39,7 +42,7 @@ def test_notes_are_summarised_and_listed_with_verbose(tmp_path, capsys):
     box.faces = box.faces[:-1]                       # open
     box.export(tmp_path / "open.stl")
     links = [GOOD_LINK.format(name=f"l{i}", geometry='<mesh filename="open.stl"/>') for i in range(2)]
-    path = _urdf(tmp_path, *links)
+    path = _urdf(tmp_path, *links, FIXED.format(parent="l0", child="l1"))
     code, lines = _check(capsys, path)
     assert code == 0
     assert lines[0].endswith("(URDF, 2 links): 0 errors, 0 warnings, 2 notes")
@@ -52,7 +55,8 @@ def test_notes_are_summarised_and_listed_with_verbose(tmp_path, capsys):
 
 def test_one_missing_mesh_is_one_message_with_the_hint_that_fits(tmp_path, capsys):
     links = [GOOD_LINK.format(name="a", geometry='<mesh filename="meshes/gone.stl"/>'),
-             GOOD_LINK.format(name="b", geometry='<mesh filename="package://pkg/gone.stl"/>')]
+             GOOD_LINK.format(name="b", geometry='<mesh filename="package://pkg/gone.stl"/>'),
+             FIXED.format(parent="a", child="b")]
     code, lines = _check(capsys, _urdf(tmp_path, *links), "--verbose")
     assert code == 0
     found = [line for line in lines if "gone.stl" in line]
@@ -68,7 +72,7 @@ def test_errors_only_and_quiet(tmp_path, capsys):
     bad = ('  <link name="bad">\n    <inertial><mass value="1"/>'
            '<inertia ixx="1" iyy="1" izz="3" ixy="0" ixz="0" iyz="0"/></inertial>\n  </link>\n')
     warn = GOOD_LINK.format(name="w", geometry='<mesh filename="gone.stl"/>')
-    path = _urdf(tmp_path, bad, warn)
+    path = _urdf(tmp_path, bad, warn, FIXED.format(parent="bad", child="w"))
     code, lines = _check(capsys, path)
     assert code == 1 and lines[0].endswith("(URDF, 2 links): 1 error, 1 warning")
     assert any("error triangle_inequality" in line for line in lines)

@@ -13,7 +13,7 @@ The rule (``INERTIA_COMPILED=auto``, the default):
    ``inertia props part.stl`` never pays for numba.  Once the NumPy work of the process passes
    :data:`IMPORT_WORK` (about the import's cost), or one job is that large, numba is imported.
 2. A kernel whose machine code is not in numba's cache is not compiled in the caller's time:
-   the NumPy path runs, and a background process (``python -m inertia._warmup``, detached, at
+   the NumPy path runs, and a background process (``python -m inertia.cli.warmup``, detached, at
    low priority, one at a time) compiles every kernel into the cache.  Later calls, in this
    process or the next, find the cache warm.
 3. Otherwise the compiled kernel runs.
@@ -124,7 +124,7 @@ def start_warmup() -> bool:
         with open(lock, "w") as fh:
             fh.write(str(os.getpid()))
         env = dict(os.environ, INERTIA_WARMUP_CHILD="1", INERTIA_WARMUP_LOCK=lock)
-        subprocess.Popen([sys.executable, "-m", "inertia._warmup"], env=env, stdin=subprocess.DEVNULL,
+        subprocess.Popen([sys.executable, "-m", "inertia.cli.warmup"], env=env, stdin=subprocess.DEVNULL,
                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     except OSError:
         return False

@@ -14,11 +14,15 @@ examples:
   inertia check model.sdf --package-path ~/gazebo_models --format json
   inertia check scene.xml --mesh-units mm --mass-units g
 
-errors (by code): non_positive_mass, not_symmetric, not_positive_definite, triangle_inequality.
+errors (by code): non_positive_mass, not_symmetric, not_positive_definite, triangle_inequality,
+massless_moving_link, below_simulator_floor (a moving body with a mass or moment under 1e-15,
+which MuJoCo refuses), no_links, joints_unreadable.
 warnings: com_outside_geometry, geometry_mismatch (declared vs computed from the link's own shapes at
 the declared mass: principal-moment ratio outside [1/3, 3] or axes over 45 deg apart),
+implausible_inertia (radius of gyration under 1 % of the link's size), legacy_mesh_inertia,
 mesh_not_found, unsupported_geometry, unsupported_pose.  notes: geometry_unusable (comparison skipped).
-Links without an inertial are massless frames, not errors.
+Massless frames (no inertial, or mass 0 and tensor 0, on fixed joints or welded to a body with mass)
+are an idiom, listed in one line; a massless link that moves alone is an error.
 
 JSON: {"file": ..., "links": [{"name": ..., "line": ..., "errors": [{"code": ..., "message": ...}],
        "warnings": [...], "notes": [...]}]}
@@ -102,6 +106,12 @@ def report_lines(report, model, *, detail: str = "default") -> list:
              + (f", {fmt.plural(n_notes, 'note')}" if n_notes else "")]
     if detail == "quiet":
         return lines
+    lines += [f"  error {e.code}: {e.message}" for e in report.errors]
+    if report.massless_frames and detail != "errors":
+        names = report.massless_frames
+        shown = ", ".join(names[:8]) + (f", ... ({len(names) - 8} more)" if len(names) > 8 else "")
+        lines.append(f"  {fmt.plural(len(names), 'massless frame')} (mass 0 on fixed joints, or welded to a body "
+                     f"with mass; an idiom, not errors): {shown}")
     kinds = ["errors"] + (["warnings"] if detail != "errors" else []) + (["notes"] if detail == "verbose" else [])
     for lk in report.links:
         found = [(kind[:-1], f) for kind in kinds for f in getattr(lk, kind)]

@@ -21,6 +21,7 @@ COMMANDS = (
     "batch",
     "check",
     "fix",
+    "warmup",
 )
 
 

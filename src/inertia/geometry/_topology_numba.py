@@ -29,7 +29,7 @@ import numpy as np
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`;
-#: ``python -m inertia._warmup`` compiles them last)
+#: ``python -m inertia.cli.warmup`` compiles them last)
 WARM_PROBE = ("clean_solid", "weld_map")
 
 from ._shell_numba import find_root, union_low, winding_numbers  # noqa: E402,F401 - one module object for the callers

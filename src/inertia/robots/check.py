@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._core.tolerances import SIMULATOR_MIN_VALUE
 from .geometry import geometry_bounds, link_geometry_properties
 
 MOMENT_RATIO_LIMIT = 3.0
@@ -69,17 +70,24 @@ class LinkReport:
 class CheckReport:
     file: str
     links: list
+    #: links with no mass that simulators accept (fixed joints, or welded to a body with mass)
+    massless_frames: list = field(default_factory=list)
+    #: findings about the file as a whole (no links; joints that cannot be read)
+    errors: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
 
     @property
     def n_errors(self) -> int:
-        return sum(len(lk.errors) for lk in self.links)
+        return len(self.errors) + sum(len(lk.errors) for lk in self.links)
 
     @property
     def n_warnings(self) -> int:
         return sum(len(lk.warnings) for lk in self.links)
 
     def to_dict(self) -> dict:
-        return {"file": self.file, "links": [lk.to_dict() for lk in self.links]}
+        return {"file": self.file, "links": [lk.to_dict() for lk in self.links],
+                "massless_frames": list(self.massless_frames), "errors": [e.to_dict() for e in self.errors],
+                "notes": [n.to_dict() for n in self.notes]}
 
 
 def flip_products(inertia) -> np.ndarray:
@@ -109,9 +117,11 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         return rep
     at = f"{inertial_where or where}: link {link.name!r}"  # errors point at the <inertial> itself
     m = inertial.mass
+    if m == 0 and not np.any(inertial.inertia_declared):
+        return rep  # a massless frame: an idiom, unless it moves alone (the tree checks, robots.floors)
     if not (math.isfinite(m) and m > 0):
-        rep.errors.append(Finding("non_positive_mass", f"{at}: mass is {m!r} kg; a body needs a positive mass "
-                                  "(remove the <inertial> for a massless frame)"))
+        rep.errors.append(Finding("non_positive_mass", f"{at}: mass is {m!r} kg with a non-zero tensor; a body "
+                                  "needs a positive mass (a massless frame has mass 0 and a zero tensor)"))
     codes = {"mass_not_positive": None, "not_finite": "not_positive_definite", "not_symmetric": "not_symmetric",
              "not_positive_definite": "not_positive_definite", "triangle_inequality": "triangle_inequality"}
     violations = check_inertia(inertial.inertia_declared)
@@ -259,6 +269,9 @@ def _axes_angle(moments_a, R_a, moments_b, R_b):
 
 
 def check_model(model, *, mesh_units: str = "m") -> CheckReport:
+    """Every link's findings (:func:`check_link`), then those that need the kinematic tree
+    (:mod:`inertia.robots.floors`): moving bodies below the simulators' floor, massless moving
+    links, implausible radii of gyration, and the list of massless frames."""
     links = []
     doc = model.document
     for link in model.links:
@@ -268,4 +281,82 @@ def check_model(model, *, mesh_units: str = "m") -> CheckReport:
         else:
             where = inertial_where = f"{model.path}:{link.line}" if link.line else str(model.path)
         links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where))
-    return CheckReport(str(model.path), links)
+    report = CheckReport(str(model.path), links)
+    if not model.links:
+        report.errors.append(Finding("no_links", f"{model.path}: the file holds no link (body): nothing to simulate "
+                                     "or check (urdfdom and MuJoCo refuse such a robot)"))
+        return report
+    _tree_checks(model, report, mesh_units)
+    return report
+
+
+def _tree_checks(model, report: CheckReport, mesh_units: str) -> None:
+    from .._core.errors import InertiaError
+    from . import floors
+    from .whole import link_mass_properties
+
+    if model.format in ("urdf", "sdf"):
+        from .tree import read_tree
+
+        try:
+            read_tree(model)
+        except InertiaError as exc:
+            report.errors.append(Finding("joints_unreadable", f"{exc} (the checks of moving bodies did not run)"))
+            return
+
+    def props_of(link):
+        try:
+            return link_mass_properties(model, link, mesh_units=mesh_units)[0]
+        except InertiaError:
+            return None
+
+    moving = floors.moving_links(model)
+    for g, members in floors.welded_groups(model, moving).items():
+        rep = report.links[g]
+        if rep.errors:
+            continue
+        mass, moments = floors.group_mass(model, members, props_of)
+        if mass == 0:
+            joint = next((j for j in model.links[g].joints if j.kind != "fixed"), None)
+            how = f"joint {joint.name!r} ({joint.type})" if joint is not None else "a free body"
+            shapes = model.format == "urdf" and any(model.links[i].geometries for i, _, _ in members)
+            rep.errors.append(Finding("massless_moving_link", (
+                f"{_where(model, g)}: link {model.links[g].name!r} moves ({how}) but neither it nor any link welded "
+                "to it has mass: simulators refuse it (MuJoCo: \"mass and inertia of moving bodies must be larger "
+                "than mjMINVAL\"; Pinocchio's mass matrix is singular)"
+                + ("; MuJoCo's URDF import infers a mass from its shapes, Pinocchio and Gazebo do not" if shapes
+                   else "") + "; give it its inertial, or make the joint fixed")))
+        elif not (mass >= SIMULATOR_MIN_VALUE and moments.min() >= SIMULATOR_MIN_VALUE):
+            message = floors.floor_message(model.links[g].name, mass, moments)
+            rep.errors.append(Finding("below_simulator_floor", f"{_where(model, g)}: {message}"))
+    for i, (link, rep) in enumerate(zip(model.links, report.links)):
+        props = props_of(link)
+        if props is None or (props.mass == 0 and not np.any(props.inertia_com)):
+            if not any(e.code == "massless_moving_link" for e in rep.errors):
+                report.massless_frames.append(link.name)
+            continue
+        if model.format == "sdf" and link.inertial is None:
+            rep.notes.append(Finding("sdf_default_inertial", f"{_where(model, i)}: link {link.name!r} has no "
+                                     "<inertial>: Gazebo simulates it with mass 1 kg and moments 1 kg m^2"))
+        if link.inertial is not None and not rep.errors:
+            _gyration(model, i, link, rep, mesh_units, floors)
+
+
+def _where(model, i: int) -> str:
+    link = model.links[i]
+    doc = model.document
+    el = link.inertial.element if link.inertial is not None and link.inertial.element is not None else link.element
+    if doc is not None and el is not None:
+        return doc.where(el)
+    return f"{model.path}:{link.line}" if link.line else str(model.path)
+
+
+def _gyration(model, i: int, link, rep, mesh_units: str, floors) -> None:
+    """Warn when the link's largest radius of gyration is far below any length it spans."""
+    k = floors.radius_of_gyration(link.inertial)
+    size = floors.link_size(model, i, geometry_bounds(link, mesh_units=mesh_units))
+    if math.isfinite(k) and size > 0 and k < floors.GYRATION_RATIO * size:
+        rep.warnings.append(Finding("implausible_inertia", (
+            f"{_where(model, i)}: link {link.name!r}: its largest radius of gyration sqrt(I3 / m) is {k:.3g} m, "
+            f"under {floors.GYRATION_RATIO:g} of the {size:.3g} m the link spans: not the tensor of a body of "
+            "that size (a unit slip, or a placeholder such as 1e-6 kg m^2)")))

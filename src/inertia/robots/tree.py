@@ -98,6 +98,8 @@ def _urdf_tree(model) -> None:
         link.joints = [Joint(el.get("name"), kind, el.get("type"), axis, np.zeros(3), 0.0, doc.line(el),
                              _mimic(doc, el.find("mimic"), where))]
     roots = [lk.name for lk in model.links if lk.parent is None]
+    if not model.links:
+        raise RobotFileError(f"{model.path}: the URDF holds no link")
     if len(roots) != 1:
         raise RobotFileError(f"{model.path}: a URDF has one root link (a link that is no joint's child); "
                              + (f"this one has {len(roots)}: {', '.join(map(repr, roots[:10]))}" if roots

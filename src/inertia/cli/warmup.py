@@ -1,11 +1,10 @@
-"""Compile every numba kernel into numba's cache: ``python -m inertia._warmup``.
+"""``inertia warm-up``: compile every numba kernel into numba's cache ahead of use.
 
-Started in the background, detached and at low priority, by :mod:`inertia._core.compiled` when
-a call finds a kernel's cache cold (a fresh install), so that no call waits for the compiler.
-It runs the library's own entry points on tiny inputs with ``INERTIA_COMPILED=always``, so every
-kernel is compiled with the argument types real calls use.  Run it by hand after installing to
-compile ahead (about half a minute).  It prints nothing and never fails loudly: a kernel it did
-not compile is compiled on first use, as before.
+Also started in the background (``python -m inertia.cli.warmup``: detached, at low priority,
+silent) by :mod:`inertia._core.compiled` when a call finds a kernel's cache cold (a fresh
+install), so that no call waits for the compiler.  It runs the library's own entry points on
+tiny inputs with ``INERTIA_COMPILED=always``, so every kernel is compiled with the argument
+types real calls use.  A kernel it did not compile is compiled on first use, as before.
 """
 
 from __future__ import annotations
@@ -45,27 +44,57 @@ def _steps():
     """Each step exercises a path; the probes' kernels (clean_solid, solid_sums) come last."""
     import numpy as np
 
-    import inertia
-    from inertia.geometry import check_mesh
+    from ..geometry import check_mesh
+    from ..massprops.mesh import mesh_file_properties, mesh_properties
 
     tet_v, tet_f, soup_v, soup_f = _meshes()
     yield lambda: check_mesh(tet_v, tet_f[:3])                              # the full analysis
     yield lambda: check_mesh(np.vstack([tet_v, tet_v * 0.3 + 0.1]),          # nesting: winding numbers
                              np.vstack([tet_f, tet_f[:, ::-1] + 4]))
-    yield lambda: inertia.mesh_properties(tet_v, tet_f, density=1.0, shell=True)
+    yield lambda: mesh_properties(tet_v, tet_f, density=1.0, shell=True)
     with tempfile.TemporaryDirectory() as tmp:
         for path in _files(Path(tmp), tet_v, tet_f):
-            yield lambda path=path: inertia.mesh_file_properties(path, density=1.0)
-    yield lambda: inertia.mesh_properties(soup_v, soup_f, density=1.0)       # weld, then the clean check
-    yield lambda: inertia.mesh_properties(tet_v, tet_f, density=1.0)
+            yield lambda path=path: mesh_file_properties(path, density=1.0)
+    yield lambda: mesh_properties(soup_v, soup_f, density=1.0)       # weld, then the clean check
+    yield lambda: mesh_properties(tet_v, tet_f, density=1.0)
 
 
-def main() -> int:
+HELP = "compile the numba kernels ahead of use (about half a minute, once per install)"
+DESCRIPTION = ("Compile every compiled kernel into numba's cache now, so that no later call waits for the "
+               "compiler.  The first call after an install starts this in the background by itself; run it "
+               "by hand to have it done before you start.")
+EPILOG = """\
+examples:
+  inertia warm-up
+
+exit status: 0 (a kernel that could not be compiled now is compiled on first use)."""
+
+
+def register(sub) -> None:
+    from . import _format as fmt
+
+    p = fmt.add_command(sub, "warm-up", HELP, DESCRIPTION, EPILOG)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import time
+
+    t0 = time.perf_counter()
+    main(background=False)
+    from ._format import emit
+
+    emit(f"compiled kernels ready in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
+def main(background: bool = True) -> int:
     os.environ["INERTIA_COMPILED"] = "always"
-    try:
-        os.nice(10)
-    except (AttributeError, OSError):
-        pass
+    if background:
+        try:
+            os.nice(10)
+        except (AttributeError, OSError):
+            pass
     try:
         for step in _steps():
             try:
