@@ -245,3 +245,15 @@ def test_blank_lines_before_the_xml_declaration_are_tolerated(capsys, tmp_path):
     code, out, _ = _run(capsys, "props", path, "--format", "json")
     assert code == 0 and json.loads(out)["mass"] == 2.0
     assert _run(capsys, "check", path)[0] == 0
+
+
+def test_check_reads_a_xacro_file_with_its_arguments(capsys, workspace):
+    """The check sees the expanded links: a negative arm mass given as an argument is named."""
+    path = workspace / "mypkg" / "urdf" / "robot.urdf.xacro"
+    code, out, _ = _run(capsys, "check", path, "--package-path", workspace, "--xacro-arg", "arm_mass:=2",
+                        "--format", "json")
+    assert code == 0 and [lk["name"] for lk in json.loads(out)["links"]] == ["base", "arm"]
+    code, out, _ = _run(capsys, "check", path, "--package-path", workspace, "--xacro-arg", "arm_mass:=-2",
+                        "--format", "json")
+    errors = [(lk["name"], e["code"]) for lk in json.loads(out)["links"] for e in lk["errors"]]
+    assert code == 1 and ("arm", "non_positive_mass") in errors

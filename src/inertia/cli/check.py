@@ -54,6 +54,8 @@ def register(sub) -> None:
     p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
+    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                   help="an argument of a .xacro file (repeatable)")
     detail = p.add_mutually_exclusive_group()
     detail.add_argument("-q", "--quiet", dest="detail", action="store_const", const="quiet", default="default",
                         help="print only the summary line (the exit status says the rest)")
@@ -81,9 +83,10 @@ def run(args) -> int:
 
     try:
         from ..robots.check import check_model
-        from ..robots.io import read_robot
+        from ..robots.io import parse_xacro_args, read_robot
 
-        model = read_robot(args.file, format=args.robot_format, search_paths=args.package_path)
+        model = read_robot(args.file, format=args.robot_format, search_paths=args.package_path,
+                           xacro_args=parse_xacro_args(args.xacro_arg))
     except RobotFileError as exc:
         print(f"inertia check: error: {exc}", file=sys.stderr)
         return 2
