@@ -23,14 +23,22 @@ code                     meaning
                          count the overlap twice): one's surface runs both inside and
                          outside the other, or their faces cross
                          (:mod:`inertia.geometry.intersections`)
+``self_intersecting``    a closed component passes through itself: two of its faces
+                         cross (:mod:`inertia.geometry.self_crossing`)
+``self_crossing_negligible`` (a note) faces cross, but change the mass properties by
+                         less than ``NEGLIGIBLE_RTOL`` (1e-4) against the solid the surface
+                         bounds once (tiny slivers of real exports)
+``self_crossing_unchecked`` (a note) a shell not star-shaped from its center of mass and
+                         too large for the face-pair search (over ``SEARCH_MAX_FACES``)
 =======================  ===============================================================
 
 Vertices with exactly equal coordinates are welded before the topology checks (OBJ and STL
 files split vertices at texture/normal seams or per face); indices in the report are the
 caller's own, the lowest index of each welded group standing for the group.
 
-Not detected by default: a single closed shell that passes through itself (finding it costs
-far more than the integrals; ``robust=True`` finds and handles it).
+Self-crossing is proved absent in one pass for a shell star-shaped from its center of mass, and
+searched face pair by face pair otherwise, up to ``SEARCH_MAX_FACES`` faces (the search costs
+10-50x the integrals); beyond that the report carries the note ``self_crossing_unchecked``.
 """
 
 from __future__ import annotations
@@ -41,9 +49,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.tolerances import COORDINATE_LIMIT, DEGENERATE_AREA_RTOL
+from .integrals import solid_integrals, solid_sums_moments
 from .intersections import overlapping_components, winding_numbers
 from .mesh_arrays import connected_components, faces_in_range, topology_kernels, validate_inputs, weld_map
 from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
+from .self_crossing import NEGLIGIBLE_RTOL, SEARCH_MAX_FACES, Crossing, crossing_effect, self_crossing
 
 _MAX_CONTAIN_POINTS = 6  # extreme vertices of a component tested for nesting in another
 
@@ -136,10 +146,38 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
             n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
         if kernels.clean_solid(v, np.ascontiguousarray(fw), DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out):
             volume = out[0] / 6.0
-            report = MeshReport((), V, len(faces), n_welded, 1, volume, 0.5 * out[10])
+            com = out[11:14] + (out[1:4] / 24.0) / volume
+            crossing = self_crossing(v, fw, com)
+            if crossing == "unchecked":
+                defects = (_unchecked_note(len(faces)),)
+            elif crossing is None:
+                defects = ()
+            else:
+                effect = crossing_effect(v, fw, (volume, *solid_sums_moments(out)[1:], out[11:14]))
+                if max(effect.values()) > NEGLIGIBLE_RTOL:
+                    return None    # the full analysis names the crossing
+                defects = (_negligible_note(crossing, effect),)
+            report = MeshReport(defects, V, len(faces), n_welded, 1, volume, 0.5 * out[10])
             return MeshAnalysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]),
                                 closed=True, solid_sums=out)
     return None
+
+
+def _negligible_note(crossing, effect: dict) -> Defect:
+    a, b = crossing.faces
+    figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
+    return Defect("self_crossing_negligible", 1,
+                  f"faces {a} and {b} cross near {fmt_point(crossing.point)}, but the crossings change the mass "
+                  f"properties by at most {figures} (relative; under {NEGLIGIBLE_RTOL:g}): the solid is taken as "
+                  "given", {"faces": (a, b), "effect": dict(effect)}, "note")
+
+
+def _unchecked_note(n_faces: int) -> Defect:
+    return Defect("self_crossing_unchecked", 1,
+                  f"not proven free of self-crossings: the shell ({plural(n_faces, 'face')}) is not star-shaped from "
+                  f"its center of mass, and the face-pair search stops at {SEARCH_MAX_FACES} faces (about 1 us a "
+                  "face); inertia.geometry.self_crossing.first_crossing runs it, robust=True integrates any crossing",
+                  {"n_faces": n_faces}, "note")
 
 
 class _Defects(list):
@@ -198,6 +236,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
             if not len(incons):
                 _inverted_pass(vertices, ft, tidx, analysis, defects)
                 _overlap_pass(vertices, ft, tidx, analysis, defects)
+                _self_crossing_pass(vertices, ft, tidx, analysis, defects)
     order_codes = list(SEVERITY)
     defects.sort(key=lambda d: order_codes.index(d.code))
     analysis.report = MeshReport(tuple(defects), V, F, n_welded, int(analysis.n_components), signed_volume,
@@ -421,6 +460,57 @@ def _overlap_pass(vertices, ft, tidx, analysis, defects) -> None:
                     f"{plural(len(found), 'pair')} of closed components overlap (the integrals would count the "
                     f"overlap twice), e.g. components {a} and {b} near {fmt_point(point)}",
                     {"components": (a, b), "point": tuple(float(x) for x in point)})
+
+
+def _self_crossing_pass(vertices, ft, tidx, analysis, defects) -> None:
+    """Closed components that pass through themselves (see :mod:`.self_crossing`): an error,
+    unless the crossings change the mass properties negligibly (a note)."""
+    if len(analysis.inverted_components):
+        return
+    lab, K = analysis.labels_topo, analysis.n_components
+    found, negligible, unchecked = [], [], 0
+    order = np.argsort(lab, kind="stable")
+    starts = np.searchsorted(lab[order], np.arange(K + 1))
+    for k in range(K):
+        rows = order[starts[k]:starts[k + 1]]
+        fk = ft[rows]
+        crossing = self_crossing(vertices, fk, _volume_centroid(vertices, fk))
+        if crossing is None:
+            continue
+        if crossing == "unchecked":
+            unchecked += 1
+            continue
+        a, b = (int(tidx[rows[x]]) for x in crossing.faces)
+        shown = Crossing((a, b), crossing.point)
+        effect = crossing_effect(vertices, fk, solid_integrals(vertices, fk))
+        (negligible if max(effect.values()) <= NEGLIGIBLE_RTOL else found).append((shown, effect))
+    if found:
+        crossing, effect = found[0]
+        a, b = crossing.faces
+        whole = "the closed surface passes" if K == 1 else \
+            f"{plural(len(found), 'closed component')} of {K} {'passes' if len(found) == 1 else 'pass'}"
+        figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
+        defects.add("self_intersecting", len(found),
+                    f"{whole} through itself (the integrals count the region it encloses twice, or negative), e.g. "
+                    f"faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds once the "
+                    f"integrals are off by up to {figures} (relative)",
+                    {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect})
+    elif negligible:
+        note = _negligible_note(*negligible[0])
+        defects.add(note.code, len(negligible), note.message, note.example)
+    if unchecked and not found:
+        note = _unchecked_note(len(ft))
+        defects.add(note.code, unchecked, note.message, note.example)
+
+
+def _volume_centroid(vertices, faces) -> np.ndarray:
+    """Centroid of the solid a closed, outward shell bounds (tetrahedra on its box center)."""
+    tri = vertices[faces]
+    ref = 0.5 * (tri.reshape(-1, 3).min(axis=0) + tri.reshape(-1, 3).max(axis=0))
+    tri = tri - ref
+    det = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))
+    total = det.sum()
+    return ref + (det @ tri.sum(axis=1)) / (4.0 * total) if total > 0 else ref
 
 
 def _component_boxes(vertices, ft, lab, K):

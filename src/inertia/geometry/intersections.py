@@ -42,12 +42,27 @@ def _edge_crosses(p, q, a, b, c, eps):
     return opposite & inside
 
 
+def _straddles(A, B, eps):
+    """The corners of A[i] lie strictly on both sides of B[i]'s plane (row-wise)."""
+    o = np.stack([_orient(B[:, 0], B[:, 1], B[:, 2], A[:, k]) for k in range(3)], axis=1)
+    return (o > eps[:, None]).any(axis=1) & (o < -eps[:, None]).any(axis=1)
+
+
 def crossing(T1, T2) -> np.ndarray:
-    """(N,) bool: triangles T1[i] (N, 3, 3) and T2[i] cross (an edge of one through the other)."""
+    """(N,) bool: triangles T1[i] (N, 3, 3) and T2[i] cross (an edge of one through the other).
+
+    A pair where one triangle's corners do not lie strictly on both sides of the other's
+    plane cannot cross (no edge of the one pierces that plane, and the other's edges lie in
+    it, meeting the one at most on its boundary): rejected first, as the compiled twin does.
+    """
     L = np.maximum(np.linalg.norm(T1.max(axis=1) - T1.min(axis=1), axis=1),
                    np.linalg.norm(T2.max(axis=1) - T2.min(axis=1), axis=1))
     eps = CROSS_RTOL * L**3
     hit = np.zeros(len(T1), dtype=bool)
+    keep = _straddles(T1, T2, eps) & _straddles(T2, T1, eps)
+    if not keep.all():
+        hit[keep] = crossing(T1[keep], T2[keep]) if keep.any() else hit[keep]
+        return hit
     for A, B in ((T1, T2), (T2, T1)):
         for i, j in ((0, 1), (1, 2), (2, 0)):
             hit |= _edge_crosses(A[:, i], A[:, j], B[:, 0], B[:, 1], B[:, 2], eps)

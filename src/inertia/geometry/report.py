@@ -22,6 +22,9 @@ SEVERITY = {
     "inconsistent_winding": "error",
     "inverted": "error",
     "overlapping_shells": "error",
+    "self_intersecting": "error",
+    "self_crossing_unchecked": "note",
+    "self_crossing_negligible": "note",
 }
 
 

@@ -44,7 +44,8 @@ ON_DEFECT = ("raise", "warn")
 # Nothing can be computed with these, whatever the options.
 _FATAL = ("empty", "non_finite", "out_of_range", "bad_index")
 # Defects of the closed-surface topology: they matter for a solid only.
-_SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted", "overlapping_shells"})
+_SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted", "overlapping_shells",
+                         "self_intersecting", "self_crossing_unchecked"})
 _ORIENTATION = frozenset({"inconsistent_winding", "inverted"})
 
 
@@ -64,7 +65,8 @@ _FATAL_FIX = {"empty": "give a mesh with at least one triangle",
 _REPAIR = {"open_edges": "close the holes, or merge near-coincident vertices as inertia.load_mesh does",
            "duplicate_faces": "remove the duplicate faces",
            "non_manifold_edges": "separate parts that share edges",
-           "overlapping_shells": "join the overlapping parts into one closed surface (a boolean union)"}
+           "overlapping_shells": "join the overlapping parts into one closed surface (a boolean union)",
+           "self_intersecting": "resolve the self-intersection (a boolean union of the shell with itself)"}
 
 
 def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
@@ -96,6 +98,8 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
         why = " Duplicate faces count their area twice in a shell."
     elif codes == {"overlapping_shells"}:
         why = " The volume integrals of closed parts that overlap count the overlap twice."
+    elif codes == {"self_intersecting"}:
+        why = " The volume integrals of a surface that passes through itself count what it encloses twice."
     else:
         why = (" The volume integrals of a surface that is not closed and consistently outward-wound "
                "are wrong.")
@@ -127,7 +131,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     report = analysis.report
     if analysis.solid_sums is not None and not shell:   # a clean solid: its sums came with the check
         props = _clean_solid_properties(analysis.solid_sums, v, f, density=density, mass=mass, frame=frame,
-                                        what=what)
+                                        what=what, notes=_note_texts(report, what, shell))
         return (props, report) if with_report else props
     fatal = [d for d in report.defects if d.code in _FATAL]
     if fatal:
@@ -155,9 +159,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     # the shell kernel by its area, so a zero-area face contributes exactly nothing.  The
     # topology checks already skip faces that repeat a vertex and keep zero-area faces with
     # distinct corners, so the closedness verdict stands with them.  Recorded, not raised.
-    for d in report.defects:
-        if d.severity == "note":
-            notes.append(f"{what}: {d.code} ignored (zero area adds nothing to the integrals): {d.message}")
+    notes += _note_texts(report, what, shell)
 
     # integrate over the referenced vertices only (unreferenced ones would move the
     # kernel's reference point and cost precision)
@@ -185,7 +187,20 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     return (props, report) if with_report else props
 
 
-def _clean_solid_properties(sums, v, f, *, density, mass, frame, what):
+def _note_texts(report, what: str, shell: bool) -> list:
+    """The report's notes as recorded warnings (what each means for the result)."""
+    out = []
+    for d in report.defects:
+        if d.severity != "note" or (shell and d.code in _SOLID_ONLY):
+            continue
+        if d.code == "degenerate_faces":
+            out.append(f"{what}: {d.code} ignored (zero area adds nothing to the integrals): {d.message}")
+        else:
+            out.append(f"{what}: {d.code}: {d.message}")
+    return out
+
+
+def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=()):
     """Mass properties from the volume sums of the compiled check (``clean_solid``'s ``out``);
     a lopsided body (see :mod:`inertia.geometry.integrals`, error analysis item 4) is
     integrated again about its COM, as :func:`solid_integrals` does."""
@@ -198,7 +213,7 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what):
         volume, first, second, r = solid_integrals(vc, fc)
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, first, second, r, rho)
-    return MassProperties._computed(m, com, inertia, frame=frame, volume=volume)
+    return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
 
 
 def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, stacklevel):

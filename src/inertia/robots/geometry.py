@@ -135,10 +135,12 @@ def _solid_mesh(p: dict, rho: float, mesh_units: str):
     try:
         return mesh_properties(vertices, faces, density=rho, name=str(path))
     except MeshError as exc:
-        if exc.report is None or set(exc.report.codes) != {"overlapping_shells"}:
+        errors = {d.code for d in exc.report.errors} if exc.report is not None else set()
+        if not errors or not errors <= {"overlapping_shells", "self_intersecting"}:
             raise
-        # closed parts that overlap: the simulator sums them (MuJoCo integrates the signed
-        # volume), so the comparison does too; the caller notes it (SUMMED_OVERLAP)
+        # closed parts that overlap, or a shell through itself: the simulator sums them
+        # (MuJoCo integrates the signed volume), so the comparison does too; the caller notes
+        # it (SUMMED_OVERLAP)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             return mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn")
@@ -193,7 +195,7 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
                                  f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
                 continue
             total = part if total is None else total + part
-            if any("overlapping_shells accepted" in w for w in part.warnings):
+            if any("overlapping_shells accepted" in w or "self_intersecting accepted" in w for w in part.warnings):
                 notes.append((SUMMED_OVERLAP, f"line {g.line}: {r} mesh {g.params.get('path')}: closed parts of "
                               "the mesh overlap; summed as the simulator sums them (the overlap counts twice)"))
         if problems:

@@ -1,0 +1,284 @@
+"""Numba kernels of the self-crossing check of one closed shell (the NumPy twins are in
+:mod:`inertia.geometry.self_crossing`; tests compare them).
+
+* :func:`star_certificate`: every face sees the point ``c`` strictly on its inner side, and a
+  ray from ``c`` crosses the surface exactly once.  Then the radial projection from ``c`` is
+  one-to-one, so no two faces can cross: a proof in one pass over the faces.
+* :func:`first_crossing`: the face-pair search for the shells the certificate cannot prove
+  (a torus, a T-handle): a uniform grid (cells hashed, faces filed per cell by a counting
+  sort), each pair of faces sharing a cell tested once (in the lowest cell their boxes share),
+  pairs that share an edge skipped (they cannot cross), and the exact test of
+  :func:`inertia.geometry.intersections.crossing`: an edge of one face strictly through the
+  interior of the other.
+
+Written as flat scalar arithmetic (see :mod:`._integrals_numba` on why some lines repeat).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+_JIT = dict(cache=True, nogil=True, boundscheck=False)
+
+#: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
+WARM_PROBE = ("star_certificate", "first_crossing")
+
+
+@nb.njit(**_JIT)
+def _ray_hits(vertices, faces, c, ux, uy, uz, rtol):
+    """Faces the ray from c along u crosses (Moller-Trumbore); -1 when a hit is too close to an
+    edge or a vertex to be counted safely."""
+    hits = 0
+    for t in range(faces.shape[0]):
+        ia = faces[t, 0]
+        ib = faces[t, 1]
+        ic = faces[t, 2]
+        ax = vertices[ia, 0] - c[0]
+        ay = vertices[ia, 1] - c[1]
+        az = vertices[ia, 2] - c[2]
+        e1x = vertices[ib, 0] - c[0] - ax
+        e1y = vertices[ib, 1] - c[1] - ay
+        e1z = vertices[ib, 2] - c[2] - az
+        e2x = vertices[ic, 0] - c[0] - ax
+        e2y = vertices[ic, 1] - c[1] - ay
+        e2z = vertices[ic, 2] - c[2] - az
+        px = uy * e2z - uz * e2y
+        py = uz * e2x - ux * e2z
+        pz = ux * e2y - uy * e2x
+        det = e1x * px + e1y * py + e1z * pz
+        if det == 0.0:
+            continue                     # the ray runs parallel to the face (it sees c strictly inside)
+        s = (-ax * px - ay * py - az * pz) / det
+        qx = -ay * e1z + az * e1y
+        qy = -az * e1x + ax * e1z
+        qz = -ax * e1y + ay * e1x
+        w = (ux * qx + uy * qy + uz * qz) / det
+        if s < -rtol or w < -rtol or s + w > 1.0 + rtol:
+            continue
+        if s < rtol or w < rtol or s + w > 1.0 - rtol:
+            return -1                    # through an edge or a vertex, to rounding: not countable
+        dist = (e2x * qx + e2y * qy + e2z * qz) / det
+        if dist > 0.0:
+            hits += 1
+    return hits
+
+
+@nb.njit(**_JIT)
+def star_certificate(vertices, faces, c, rtol):
+    """True when the closed, consistently outward shell is star-shaped from ``c`` with a
+    one-to-one radial projection (see the module docstring): it then cannot cross itself."""
+    for t in range(faces.shape[0]):
+        ia = faces[t, 0]
+        ib = faces[t, 1]
+        ic = faces[t, 2]
+        ax = vertices[ia, 0] - c[0]
+        ay = vertices[ia, 1] - c[1]
+        az = vertices[ia, 2] - c[2]
+        ux = vertices[ib, 0] - vertices[ia, 0]
+        uy = vertices[ib, 1] - vertices[ia, 1]
+        uz = vertices[ib, 2] - vertices[ia, 2]
+        vx = vertices[ic, 0] - vertices[ia, 0]
+        vy = vertices[ic, 1] - vertices[ia, 1]
+        vz = vertices[ic, 2] - vertices[ia, 2]
+        nx = uy * vz - uz * vy
+        ny = uz * vx - ux * vz
+        nz = ux * vy - uy * vx
+        # c strictly on the inner side: its distance to the face's plane above rtol |a|
+        d = ax * nx + ay * ny + az * nz
+        if not (d > rtol * np.sqrt((ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz))):
+            return False
+    # the ray count is the degree of the projection: 1 for an embedded star-shaped surface
+    directions = ((0.2672612419124244, 0.5345224838248488, 0.8017837257372732),
+                  (-0.6396021490668313, 0.42640143271122083, 0.6396021490668313),
+                  (0.5163977794943222, -0.7745966692414834, 0.3651483716701107))
+    for k in range(3):
+        ux, uy, uz = directions[k]
+        n = _ray_hits(vertices, faces, c, ux, uy, uz, 1e-9)
+        if n >= 0:
+            return n == 1
+    return False
+
+
+@nb.njit(**_JIT)
+def _orient(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """Six times the signed volume of the tetrahedron (a, b, c, d)."""
+    ux = bx - ax
+    uy = by - ay
+    uz = bz - az
+    vx = cx - ax
+    vy = cy - ay
+    vz = cz - az
+    wx = dx - ax
+    wy = dy - ay
+    wz = dz - az
+    return (uy * vz - uz * vy) * wx + (uz * vx - ux * vz) * wy + (ux * vy - uy * vx) * wz
+
+
+@nb.njit(**_JIT)
+def _edge_through(V, p, q, a, b, c, eps):
+    """Segment V[p] V[q] passes strictly through the interior of triangle V[a] V[b] V[c]."""
+    sp = _orient(V[a, 0], V[a, 1], V[a, 2], V[b, 0], V[b, 1], V[b, 2], V[c, 0], V[c, 1], V[c, 2],
+                 V[p, 0], V[p, 1], V[p, 2])
+    sq = _orient(V[a, 0], V[a, 1], V[a, 2], V[b, 0], V[b, 1], V[b, 2], V[c, 0], V[c, 1], V[c, 2],
+                 V[q, 0], V[q, 1], V[q, 2])
+    if not ((sp > eps and sq < -eps) or (sp < -eps and sq > eps)):
+        return False
+    u = _orient(V[p, 0], V[p, 1], V[p, 2], V[q, 0], V[q, 1], V[q, 2], V[a, 0], V[a, 1], V[a, 2],
+                V[b, 0], V[b, 1], V[b, 2])
+    v = _orient(V[p, 0], V[p, 1], V[p, 2], V[q, 0], V[q, 1], V[q, 2], V[b, 0], V[b, 1], V[b, 2],
+                V[c, 0], V[c, 1], V[c, 2])
+    w = _orient(V[p, 0], V[p, 1], V[p, 2], V[q, 0], V[q, 1], V[q, 2], V[c, 0], V[c, 1], V[c, 2],
+                V[a, 0], V[a, 1], V[a, 2])
+    return (u > eps and v > eps and w > eps) or (u < -eps and v < -eps and w < -eps)
+
+
+@nb.njit(**_JIT)
+def face_frames(V, F):
+    """Per face: the normal ``n = (b - a) x (c - a)`` (F, 3) and the bounding-box diagonal (F,)."""
+    nf = F.shape[0]
+    N = np.empty((nf, 3))
+    diag = np.empty(nf)
+    for t in range(nf):
+        a = F[t, 0]
+        b = F[t, 1]
+        c = F[t, 2]
+        ux = V[b, 0] - V[a, 0]
+        uy = V[b, 1] - V[a, 1]
+        uz = V[b, 2] - V[a, 2]
+        vx = V[c, 0] - V[a, 0]
+        vy = V[c, 1] - V[a, 1]
+        vz = V[c, 2] - V[a, 2]
+        N[t, 0] = uy * vz - uz * vy
+        N[t, 1] = uz * vx - ux * vz
+        N[t, 2] = ux * vy - uy * vx
+        d0 = max(V[a, 0], V[b, 0], V[c, 0]) - min(V[a, 0], V[b, 0], V[c, 0])
+        d1 = max(V[a, 1], V[b, 1], V[c, 1]) - min(V[a, 1], V[b, 1], V[c, 1])
+        d2 = max(V[a, 2], V[b, 2], V[c, 2]) - min(V[a, 2], V[b, 2], V[c, 2])
+        diag[t] = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    return N, diag
+
+
+@nb.njit(**_JIT)
+def _straddles(V, F, N, i, j, eps):
+    """The corners of face i lie strictly on both sides of face j's plane: the orientation
+    ``n_j . (p - a_j)`` (the same quantity as ``_orient``) of each corner p of face i."""
+    a = F[j, 0]
+    pos = False
+    neg = False
+    for k in range(3):
+        p = F[i, k]
+        o = (N[j, 0] * (V[p, 0] - V[a, 0]) + N[j, 1] * (V[p, 1] - V[a, 1]) + N[j, 2] * (V[p, 2] - V[a, 2]))
+        pos = pos or o > eps
+        neg = neg or o < -eps
+    return pos and neg
+
+
+@nb.njit(**_JIT)
+def faces_cross(V, F, N, diag, i, j, rtol):
+    """Faces i and j cross: an edge of one strictly through the other (tolerance ``rtol`` L^3,
+    L the larger box diagonal of the two).  A face whose corners do not lie strictly on both
+    sides of the other's plane cannot have an edge through it, nor can the other: rejected
+    after three orientation tests each way (normals and diagonals from :func:`face_frames`)."""
+    L = max(diag[i], diag[j])
+    eps = rtol * L * L * L
+    if not (_straddles(V, F, N, i, j, eps) and _straddles(V, F, N, j, i, eps)):
+        return False
+    for k in range(3):
+        if _edge_through(V, F[i, k], F[i, (k + 1) % 3], F[j, 0], F[j, 1], F[j, 2], eps):
+            return True
+        if _edge_through(V, F[j, k], F[j, (k + 1) % 3], F[i, 0], F[i, 1], F[i, 2], eps):
+            return True
+    return False
+
+
+@nb.njit(**_JIT)
+def _shared(F, i, j):
+    n = 0
+    for a in range(3):
+        for b in range(3):
+            if F[i, a] == F[j, b]:
+                n += 1
+    return n
+
+
+@nb.njit(**_JIT)
+def _bucket(x, y, z, mask):
+    h = (x * 73856093) ^ (y * 19349663) ^ (z * 83492791)
+    return h & mask
+
+
+@nb.njit(**_JIT)
+def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
+    """A pair of crossing faces into ``out`` (2,): returns 1, 0 when there is none, -1 when a
+    face spans more than ``max_per_face`` cells (the caller retries with a coarser grid).
+
+    The cells are hashed into buckets (no keys stored: a bucket may hold several cells); the
+    faces are filed per bucket by a counting sort, with their cell ranges beside them; a pair
+    of faces in a bucket is tested only when the lowest cell both cover hashes to it, so each
+    pair is tested once whatever the collisions.
+    """
+    nf = F.shape[0]
+    lo = np.empty((nf, 3), dtype=np.int64)
+    hi = np.empty((nf, 3), dtype=np.int64)
+    n_reg = 0
+    for t in range(nf):
+        span = 1
+        for a in range(3):
+            mn = min(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a])
+            mx = max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a])
+            lo[t, a] = np.int64(np.floor((mn - origin[a]) / cell))
+            hi[t, a] = np.int64(np.floor((mx - origin[a]) / cell))
+            span *= hi[t, a] - lo[t, a] + 1
+        if span > max_per_face:
+            return -1
+        n_reg += span
+    N, diag = face_frames(V, F)
+    cap = 16
+    while cap < n_reg:
+        cap *= 2
+    mask = cap - 1
+    counts = np.zeros(cap + 1, dtype=np.int64)
+    for t in range(nf):
+        for x in range(lo[t, 0], hi[t, 0] + 1):
+            for y in range(lo[t, 1], hi[t, 1] + 1):
+                for z in range(lo[t, 2], hi[t, 2] + 1):
+                    counts[_bucket(x, y, z, mask) + 1] += 1
+    for b in range(cap):
+        counts[b + 1] += counts[b]
+    fill = counts[:-1].copy()
+    rf = np.empty(n_reg, dtype=np.int64)           # face, and its cell range, in bucket order
+    rlo = np.empty((n_reg, 3), dtype=np.int64)
+    rhi = np.empty((n_reg, 3), dtype=np.int64)
+    for t in range(nf):
+        for x in range(lo[t, 0], hi[t, 0] + 1):
+            for y in range(lo[t, 1], hi[t, 1] + 1):
+                for z in range(lo[t, 2], hi[t, 2] + 1):
+                    b = _bucket(x, y, z, mask)
+                    r = fill[b]
+                    fill[b] += 1
+                    rf[r] = t
+                    for a in range(3):
+                        rlo[r, a] = lo[t, a]
+                        rhi[r, a] = hi[t, a]
+    for b in range(cap):
+        c1 = counts[b + 1]
+        for p in range(counts[b], c1):
+            for q in range(p + 1, c1):
+                # the lowest cell both boxes cover: the pair is tested in its bucket only
+                x = max(rlo[p, 0], rlo[q, 0])
+                y = max(rlo[p, 1], rlo[q, 1])
+                z = max(rlo[p, 2], rlo[q, 2])
+                if x > min(rhi[p, 0], rhi[q, 0]) or y > min(rhi[p, 1], rhi[q, 1]) or z > min(rhi[p, 2], rhi[q, 2]):
+                    continue                 # the boxes share no cell
+                if _bucket(x, y, z, mask) != b:
+                    continue                 # tested in another bucket
+                i = rf[p]
+                j = rf[q]
+                if i == j or _shared(F, i, j) >= 2:
+                    continue                 # neighbours across an edge cannot cross
+                if faces_cross(V, F, N, diag, i, j, rtol):
+                    out[0] = min(i, j)
+                    out[1] = max(i, j)
+                    return 1
+    return 0

@@ -1,0 +1,198 @@
+"""Does a closed, consistently wound shell pass through itself?
+
+A closed surface that crosses itself bounds a region twice (or with the wrong sign): the
+divergence-theorem integrals then count it twice, silently (a box whose top is pushed
+through its bottom has signed volume 500 where the solid's is 1000 - 2 x 250).
+:mod:`inertia.geometry.checks` reports it as the defect ``self_intersecting``.
+
+Two steps, cheapest first:
+
+1. **A certificate** (:func:`star_certificate`), O(F): every face sees the body's center of
+   mass strictly on its inner side, and a ray from the center crosses the surface once.  The
+   radial projection from the center is then one-to-one, so no two faces can cross (a
+   transversal crossing would put two faces on the rays near it).  Spheres, boxes,
+   cylinders, ellipsoids and most compact parts pass here, at a few percent of the integrals'
+   cost.
+2. **The search** (:func:`first_crossing`) for the rest (a torus, a T-handle, an L-bracket):
+   every pair of faces whose boxes share a cell of a uniform grid (cells about one edge long)
+   is tested once with the exact edge-through-triangle test of
+   :func:`inertia.geometry.intersections.crossing`; pairs that share an edge cannot cross and
+   are skipped.  Touching faces (a shared vertex, coplanar contact) are not crossings.
+
+A crossing is then weighed (:func:`crossing_effect`): real exports carry tiny local ones
+(wingnut.obj: one face poking 1e-3 of its size through three others, changing the volume by
+3e-6) that no mass-properties user should be refused for.  The exact integrals are compared
+with those of the solid the surface bounds once (the robust path, winding number >= 1/2, with
+its error bound): below :data:`NEGLIGIBLE_RTOL` in volume, COM and inertia the crossing is a
+note (``self_crossing_negligible``, with the figures), otherwise the defect
+``self_intersecting``.
+
+Compiled kernels (:mod:`._selfcross_numba`) with NumPy twins here; tests compare them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .intersections import CROSS_RTOL, _candidate_pairs, crossing
+
+#: the center must be farther than this times |a| from every face's plane (a the face's first
+#: corner seen from the center): a face nearly edge-on to the center does not certify
+STAR_RTOL = 1e-9
+#: a face spanning more grid cells than this makes the grid twice as coarse
+MAX_CELLS_PER_FACE = 64
+#: a shell the certificate cannot prove is searched face pair by face pair up to this many
+#: faces (the search costs ~1 us a face, 10-50x the mass properties); larger ones get the
+#: note ``self_crossing_unchecked``
+SEARCH_MAX_FACES = 200_000
+#: crossings that change the volume, the COM and the inertia by less than this (relative; see
+#: :func:`crossing_effect`) are a note (``self_crossing_negligible``), not an error
+NEGLIGIBLE_RTOL = 1e-4
+#: the robust solid's error bound asked for when weighing a crossing
+EFFECT_TOL = 1e-5
+#: pairs tested per chunk on the NumPy path
+_CHUNK = 200_000
+#: ray directions of the certificate (unit; irrational-looking, so rarely through an edge)
+_DIRECTIONS = np.array([[1.0, 2.0, 3.0], [-3.0, 2.0, 3.0], [4.0, -6.0, 2.83]])
+_DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
+
+
+def _kernels(work: int):
+    from .mesh_arrays import _topology_state
+
+    if _topology_state is False:      # tests: "as if numba were not installed"
+        return None
+    from .._core.compiled import kernels
+
+    return kernels("inertia.geometry._selfcross_numba", work=work)
+
+
+def star_certificate(vertices, faces, center) -> bool:
+    """True when the closed, consistently outward shell ``faces`` is star-shaped from
+    ``center`` with a one-to-one radial projection: it then cannot cross itself."""
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64)
+    c = np.asarray(center, dtype=np.float64)
+    k = _kernels(len(f))
+    if k is not None:
+        return bool(k.star_certificate(v, f, c, STAR_RTOL))
+    a = v[f[:, 0]] - c
+    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    d = np.einsum("ij,ij->i", a, n)
+    if not np.all(d > STAR_RTOL * np.linalg.norm(a, axis=1) * np.linalg.norm(n, axis=1)):
+        return False
+    for u in _DIRECTIONS:
+        hits = _ray_hits(v, f, c, u)
+        if hits >= 0:
+            return hits == 1
+    return False
+
+
+def _ray_hits(v, f, c, u, rtol: float = 1e-9) -> int:
+    """Faces the ray from ``c`` along ``u`` crosses, or -1 when a hit is within rounding of an
+    edge (Moller-Trumbore, the twin of the compiled ``_ray_hits``)."""
+    a = v[f[:, 0]] - c
+    e1 = v[f[:, 1]] - c - a
+    e2 = v[f[:, 2]] - c - a
+    p = np.cross(u, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = det != 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.einsum("ij,ij->i", -a, p) / det
+        q = np.cross(-a, e1)
+        w = (q @ u) / det
+        dist = np.einsum("ij,ij->i", e2, q) / det
+    inside = ok & (s >= -rtol) & (w >= -rtol) & (s + w <= 1.0 + rtol)
+    near = inside & ((s < rtol) | (w < rtol) | (s + w > 1.0 - rtol))
+    if near.any():
+        return -1
+    return int(np.count_nonzero(inside & (dist > 0.0)))
+
+
+def _cell(vertices, faces) -> float:
+    """The grid's cell: the median of the faces' longest edges (scaled so none overflows)."""
+    tri = vertices[faces]
+    e = np.stack([tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2]], axis=1)
+    longest = np.sqrt(np.max(np.einsum("fek,fek->fe", e, e), axis=1))
+    cell = float(np.median(longest))
+    return cell if cell > 0 and np.isfinite(cell) else 1.0
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Two faces of the shell that cross (``faces``), near ``point``."""
+
+    faces: tuple
+    point: np.ndarray
+
+
+def first_crossing(vertices, faces) -> Crossing | None:
+    """The first pair of faces found crossing, or None."""
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64)
+    if len(f) < 2:
+        return None
+    cell = _cell(v, f)
+    k = _kernels(len(f))
+    if k is not None:
+        out = np.zeros(2, dtype=np.int64)
+        origin = v[np.unique(f)].min(axis=0)
+        while True:
+            found = k.first_crossing(v, f, origin, cell, MAX_CELLS_PER_FACE, CROSS_RTOL, out)
+            if found >= 0:
+                break
+            cell *= 2.0
+        if not found:
+            return None
+        i, j = int(out[0]), int(out[1])
+        return Crossing((i, j), v[f[i]].mean(axis=0))
+    pairs = _candidate_pairs(v, f, cell, MAX_CELLS_PER_FACE)
+    shared = (f[pairs[:, 0], :, None] == f[pairs[:, 1], None, :]).sum(axis=(1, 2))
+    pairs = pairs[shared < 2]
+    for s in range(0, len(pairs), _CHUNK):
+        p = pairs[s:s + _CHUNK]
+        hit = crossing(v[f[p[:, 0]]], v[f[p[:, 1]]])
+        if hit.any():
+            i, j = (int(x) for x in p[np.argmax(hit)])
+            return Crossing((i, j), v[f[i]].mean(axis=0))
+    return None
+
+
+def crossing_effect(vertices, faces, exact) -> dict:
+    """How much the crossings of a closed shell can change its mass properties: the
+    integrals of the exact kernel (``exact`` = volume, first, second, reference) against
+    those of the solid the surface bounds once (:func:`inertia.geometry.robust.robust_integrals`,
+    the points of winding number >= 1/2), plus that solid's error bound.  Relative to natural
+    scales: ``volume`` / V, ``com`` / radius of gyration, ``inertia`` (Frobenius) / |I|."""
+    from .robust import derived_bounds, robust_integrals
+
+    res = robust_integrals(vertices, faces, tol=EFFECT_TOL)
+    vol, first, second, ref = exact
+    d = ref - res.reference                      # exact integrals moved to the robust reference
+    first_r = first + vol * d
+    second_r = second + np.multiply.outer(first, d) + np.multiply.outer(d, first) + vol * np.multiply.outer(d, d)
+    mine = derived_bounds(vol, first_r, second_r, 0.0, np.zeros(3), np.zeros((3, 3)))
+    theirs = res.derived
+    V = abs(res.volume)
+    C_e, C_r = mine["central_second"], theirs["central_second"]
+    I_e, I_r = np.trace(C_e) * np.eye(3) - C_e, np.trace(C_r) * np.eye(3) - C_r
+    k = np.sqrt(max(float(np.trace(C_r)), 0.0) / V) if V > 0 else np.inf
+    rel = res.relative_bounds
+    with np.errstate(all="ignore"):
+        return {"volume": abs(vol - res.volume) / V + rel["volume"],
+                "com": float(np.linalg.norm(first_r / vol - res.first / res.volume)) / k + rel["com"],
+                "inertia": float(np.linalg.norm(I_e - I_r) / np.linalg.norm(I_r)) + rel["inertia"]}
+
+
+def self_crossing(vertices, faces, center, *, max_faces: int | None = SEARCH_MAX_FACES):
+    """Whether the closed, consistently outward shell ``faces`` crosses itself: ``None`` (it
+    does not: certified or searched), a :class:`Crossing`, or the string ``"unchecked"`` (not
+    star-shaped from ``center`` and over ``max_faces`` faces; None: no limit).  ``center`` is
+    a point well inside, the COM, for the certificate."""
+    if star_certificate(vertices, faces, center):
+        return None
+    if max_faces is not None and len(faces) > max_faces:
+        return "unchecked"
+    return first_crossing(vertices, faces)

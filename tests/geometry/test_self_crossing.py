@@ -1,0 +1,154 @@
+"""A closed shell that passes through itself: found (certificate, then face-pair search), named,
+weighed against the solid it bounds once, and the compiled kernels equal their NumPy twins.
+
+Truth: closed forms of the solids (a box with a column pushed through its floor), the star
+property of meshes built star-shaped, and the robust path's solid for the weighing."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import inertia
+from inertia.geometry import mesh_arrays, self_crossing as sc
+from inertia.geometry.checks import check_mesh
+
+trimesh = pytest.importorskip("trimesh")
+
+
+@pytest.fixture(params=["compiled", "numpy"])
+def backend(request, monkeypatch):
+    if request.param == "numpy":
+        monkeypatch.setattr(mesh_arrays, "_topology_state", False)
+    else:
+        pytest.importorskip("numba")
+    return request.param
+
+
+def _grid_box(n: int, size: float = 9.0):
+    """A closed box [-size/2, size/2]^3 whose faces are n x n grids (triangulated), outward."""
+    m = trimesh.creation.box(extents=(size, size, size))
+    v, f = m.vertices, m.faces
+    for _ in range(n):
+        v, f = trimesh.remesh.subdivide(v, f)
+    return np.array(v, float), np.array(f, dtype=np.int64)
+
+
+def _pushed_box():
+    """The box with the 3 x 3 middle vertices of its top (a 4 x 4 grid) pushed down to z = -9,
+    through the floor at z = -4.5: the top is a height field z_top(x, y) over the square."""
+    v, f = _grid_box(2)
+    top = (np.abs(v[:, 2] - 4.5) < 1e-12) & (np.abs(v[:, 0]) < 2.3) & (np.abs(v[:, 1]) < 2.3)
+    v = v.copy()
+    v[top, 2] = -9.0
+    return v, f
+
+
+def _height_field_volumes(v, f, n=1200):
+    """(solid, signed) volumes of the pushed box by the midpoint rule over the square: the solid
+    it bounds once is {-4.5 < z < z_top} where z_top > -4.5; the signed integral counts the
+    part below the floor negative."""
+    mtri = pytest.importorskip("matplotlib.tri")
+    was_top = np.all(np.abs(_grid_box(2)[0][f][:, :, 2] - 4.5) < 1e-12, axis=1)
+    tri = mtri.Triangulation(v[:, 0], v[:, 1], f[was_top])
+    x = (np.arange(n) + 0.5) / n * 9.0 - 4.5
+    X, Y = np.meshgrid(x, x)
+    h = mtri.LinearTriInterpolator(tri, v[:, 2])(X, Y).filled(np.nan) + 4.5
+    cell = (9.0 / n) ** 2
+    return float(np.maximum(h, 0).sum() * cell), float(h.sum() * cell)
+
+
+def _star_mesh(rng, n_sub=3):
+    """A sphere with radii varied smoothly: star-shaped from the origin by construction."""
+    m = trimesh.creation.icosphere(subdivisions=n_sub)
+    d = m.vertices
+    r = 1.0 + 0.3 * np.sin(3 * d[:, 0] + rng.uniform(0, 6)) * np.cos(2 * d[:, 1]) + 0.2 * d[:, 2] ** 2
+    return np.array(d * r[:, None]), np.array(m.faces, dtype=np.int64)
+
+
+def test_the_certificate_proves_star_shaped_meshes_and_not_a_torus(backend):
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        v, f = _star_mesh(rng)
+        assert sc.star_certificate(v, f, np.zeros(3))                 # the origin sees every face
+        assert sc.first_crossing(v, f) is None                        # and the search agrees
+    torus = trimesh.creation.torus(1.0, 0.3, major_sections=40, minor_sections=16)
+    tv, tf = np.array(torus.vertices), np.array(torus.faces, dtype=np.int64)
+    assert not sc.star_certificate(tv, tf, np.zeros(3))               # the hole: not star-shaped
+    assert sc.first_crossing(tv, tf) is None                          # yet embedded
+    # a center outside the body certifies nothing
+    v, f = _star_mesh(rng)
+    assert not sc.star_certificate(v, f, np.array([5.0, 0.0, 0.0]))
+
+
+def test_a_box_pushed_through_its_floor_is_refused_by_name(backend):
+    v, f = _pushed_box()
+    r = check_mesh(v, f)
+    assert r.codes == ("self_intersecting",) and r.watertight and r.winding_consistent
+    assert "cross near" in r.defects[0].message
+    with pytest.raises(inertia.MeshError, match="self_intersecting") as err:
+        inertia.mesh_properties(v, f, density=1.0)
+    assert "robust=True" in str(err.value)
+    # what the refusal protects from: the signed volume (what trimesh returns) is not the solid's
+    solid, signed = _height_field_volumes(v, f)
+    assert trimesh.Trimesh(v, f, process=False).volume == pytest.approx(signed, rel=1e-4)
+    assert signed < 0.9 * solid
+    with pytest.warns(inertia.MeshDefectWarning, match="self_intersecting"):
+        robust = inertia.mesh_properties(v, f, density=1.0, robust=True, robust_tol=1e-3)
+    assert robust.mass == pytest.approx(solid, rel=2e-3)
+
+
+def test_compiled_and_numpy_searches_agree(monkeypatch):
+    pytest.importorskip("numba")
+    rng = np.random.default_rng(4)
+    cases = [_pushed_box(), _grid_box(1)]
+    for _ in range(6):                     # random tori, some with a vertex pulled through the other side
+        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=24, minor_sections=10)
+        v = np.array(m.vertices)
+        if rng.random() < 0.5:
+            k = rng.integers(len(v))
+            v[k] = -v[k] * rng.uniform(0.8, 1.2)
+        cases.append((v, np.array(m.faces, dtype=np.int64)))
+    for v, f in cases:
+        c = v.mean(axis=0)
+        compiled = (sc.star_certificate(v, f, c), sc.first_crossing(v, f) is not None)
+        monkeypatch.setattr(mesh_arrays, "_topology_state", False)
+        numpy = (sc.star_certificate(v, f, c), sc.first_crossing(v, f) is not None)
+        monkeypatch.setattr(mesh_arrays, "_topology_state", None)
+        assert compiled == numpy
+
+
+def test_a_found_crossing_is_a_real_crossing():
+    """The pair the search names does cross: an exact test in rational arithmetic."""
+    from fractions import Fraction
+
+    v, f = _pushed_box()
+    found = sc.first_crossing(v, f)
+    A, B = (v[f[i]] for i in found.faces)
+
+    def orient(a, b, c, d):
+        a, b, c, d = ([Fraction(x) for x in p] for p in (a, b, c, d))
+        u = [b[i] - a[i] for i in range(3)]
+        w = [c[i] - a[i] for i in range(3)]
+        z = [d[i] - a[i] for i in range(3)]
+        return ((u[1] * w[2] - u[2] * w[1]) * z[0] + (u[2] * w[0] - u[0] * w[2]) * z[1]
+                + (u[0] * w[1] - u[1] * w[0]) * z[2])
+
+    def edge_through(p, q, T):
+        sp, sq = orient(*T, p), orient(*T, q)
+        s = [orient(p, q, T[k], T[(k + 1) % 3]) for k in range(3)]
+        return sp * sq < 0 and (all(x > 0 for x in s) or all(x < 0 for x in s))
+
+    assert any(edge_through(P[k], P[(k + 1) % 3], Q) for P, Q in ((A, B), (B, A)) for k in range(3))
+
+
+def test_large_unproven_shells_carry_a_note(monkeypatch):
+    monkeypatch.setattr(sc, "SEARCH_MAX_FACES", 100)
+    import inertia.geometry.checks as checks
+
+    monkeypatch.setattr(checks, "self_crossing",
+                        lambda v, f, c: sc.self_crossing(v, f, c, max_faces=100))
+    torus = trimesh.creation.torus(1.0, 0.3, major_sections=40, minor_sections=16)
+    p = inertia.mesh_properties(np.array(torus.vertices), np.array(torus.faces), density=1.0)
+    assert len(p.warnings) == 1 and "self_crossing_unchecked" in p.warnings[0]
+    assert p.mass == pytest.approx(torus.volume, rel=1e-12)           # the number is unchanged
