@@ -191,3 +191,23 @@ def test_report_page_in_the_browser(browser, report):
     page.click("#theme")                               # back to light for the next reader
     assert w.problems == []
     w.close()
+
+
+@pytest.mark.parametrize("argv", [[], ["--translation", "--gravity", "--sequence", "ZXZ"]], ids=["zyx", "zxz-6dof"])
+def test_equations_page_typesets_without_errors(browser, tmp_path, argv):
+    """``inertia lagrangian --format html``: KaTeX typesets every block offline, no error."""
+    from inertia.cli.main import main
+
+    out = tmp_path / "eom.html"
+    assert main(["lagrangian", "--format", "html", "-o", str(out), *argv]) == 0
+    w = Watched(browser, viewport={"width": 1100, "height": 800})
+    w.page.goto(out.as_uri())
+    w.page.wait_for_function("window.katexDone === true", timeout=30_000)
+    assert w.page.evaluate("window.katexErrors") == []
+    blocks = w.page.locator("section").count()
+    assert blocks == 6 and w.page.locator(".math .katex-display").count() == blocks
+    assert w.page.locator(".katex-error, .error").count() == 0
+    # the KaTeX fonts came from the page itself (data: URLs), not from a network
+    assert w.page.evaluate("document.fonts.check('16px KaTeX_Main')")
+    assert w.problems == []
+    w.close()
