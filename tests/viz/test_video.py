@@ -23,6 +23,7 @@ from inertia.viz.animation import (  # noqa: E402
     VIDEO_SIZE,
     FlipRenderer,
     FlipScene,
+    film_span,
     playback_times,
     render_flip,
     video_format,
@@ -58,7 +59,7 @@ def _silhouette(camera, vertices_world, faces, size, top, bottom):
 def test_each_frame_shows_the_body_at_the_exact_attitude(scene):
     """The body's pixels in a frame match the outline of the mesh turned by the exact solution at
     that frame's time (dynamics.exact, called here), and not the outline a moment later."""
-    t, speed = playback_times(float(scene.study.t[-1]), VIDEO_FPS)
+    t, speed = playback_times(film_span(scene.study), VIDEO_FPS)
     r = FlipRenderer(scene, t, speed)
     m = scene.mesh
     for k in (20, 90, 200):   # away from the flip banners
@@ -82,7 +83,7 @@ def _amber(frame):
 
 
 def test_the_model_view_draws_the_six_points(scene):
-    t, speed = playback_times(float(scene.study.t[-1]), VIDEO_FPS)
+    t, speed = playback_times(film_span(scene.study), VIDEO_FPS)
     r = FlipRenderer(scene, t[:3], speed, view="model")
     frame = r.frame(0)
     R = quat_to_matrix(exact_solution(scene.study.moments, scene.study.omega0_body, 0.0)[0])
@@ -101,8 +102,10 @@ def test_video_has_the_frames_and_duration_it_states(report):
     frames = _read_frames(path)
     assert len(frames) == claim["frames"] and frames[0].shape == (VIDEO_SIZE, VIDEO_SIZE, 3)
     assert claim["width"] == claim["height"] == VIDEO_SIZE
-    # real time: the film lasts the study's span, 3.5 flips of the T-handle
+    # real time: the film lasts three flip intervals of the T-handle (three flips, each mid-film)
+    T = json.loads((report / "report.json").read_text())["flip_interval"]
     assert claim["duration_s"] == pytest.approx(claim["frames"] / claim["fps"])
+    assert claim["frames"] == round(3 * T * claim["fps"])
     assert claim["speed"] == 1.0 and claim["t_end"] == pytest.approx(claim["duration_s"], abs=2 / claim["fps"])
     if path.suffix == ".mp4":
         import imageio_ffmpeg

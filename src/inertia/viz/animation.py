@@ -21,6 +21,9 @@ import numpy as np
 #: the video's size (square, pixels) and frame rate
 VIDEO_SIZE = 720
 VIDEO_FPS = 30
+#: the most faces the video draws (the painter's algorithm costs per face and frame); the
+#: display mesh is decimated further for it when larger
+VIDEO_MAX_FACES = 3000
 #: GIF frame delays are whole centiseconds, so the GIF runs at 25 fps (40 ms a frame)
 GIF_FPS = 25
 #: the video lasts the study's time span in real time, squeezed or stretched into these bounds [s]
@@ -46,6 +49,13 @@ def video_format() -> str:
     except Exception:  # noqa: BLE001 - missing package or binary: the GIF needs neither
         return "gif"
     return "mp4"
+
+
+def film_span(study) -> float:
+    """The body time the film covers [s]: three flips and half an interval after the last
+    (``3 T_flip``), or the whole study when it is shorter."""
+    T = float(study.flip_interval)
+    return min(float(study.t[-1]), 3.0 * T) if np.isfinite(T) and T > 0 else float(study.t[-1])
 
 
 def playback_times(t_end: float, fps: float) -> tuple[np.ndarray, float]:
@@ -121,10 +131,16 @@ class FlipRenderer:
         self.top = int(round(size * TITLE_BAND))                    # the 3D view: rows top .. bottom
         self.bottom = int(round(size * (1 - STRIP)))
         h3d = self.bottom - self.top
+        self.view_h = h3d - int(0.045 * size)                          # above the legend line
         self.camera = Camera.looking_at_origin(self.L, center=(size / 2, 0.52 * h3d),
                                                scale=0.30 * self.bottom / scene.radius)
         if scene.mesh is not None:
-            self.face_rgb = np.array(PART_RGB)[scene.mesh.part % len(PART_RGB)]
+            from .display_mesh import cluster_decimate, face_parts
+
+            V, F = cluster_decimate(scene.mesh.vertices, scene.mesh.faces, VIDEO_MAX_FACES)
+            self.vertices, self.faces = V, F
+            self.part = scene.mesh.part if len(F) == len(scene.mesh.faces) else face_parts(len(V), F)
+            self.face_rgb = np.array(PART_RGB)[self.part % len(PART_RGB)]
         self.flips = np.asarray([x for x in study.flip_times if x <= self.t[-1] + 1e-9], float)
         self.fonts = {k: font(max(8, int(round(size * f))), bold=b) for k, f, b in
                       (("title", 0.031, True), ("text", 0.022, False), ("small", 0.018, False),
@@ -132,7 +148,7 @@ class FlipRenderer:
         self.base = self._static()
 
     def _static(self):
-        """The background: title, legend and the angular-velocity strip (the view goes between)."""
+        """The background: title, legends and the angular-velocity strip (the view goes between)."""
         from PIL import Image, ImageDraw
 
         from .strip import draw_strip
@@ -148,6 +164,8 @@ class FlipRenderer:
         speed = "real time" if abs(self.speed - 1) < 1e-6 else f"{self.speed:.3g}x real time"
         d.text((size - pad - d.textlength(speed, font=f["small"]), pad + int(0.045 * size)), speed,
                font=f["small"], fill=MUTED)
+        d.text((pad, self.bottom - int(0.04 * size)), "amber arrow: angular momentum L, fixed in space",
+               font=f["small"], fill=ACCENT)
         box = (pad, self.bottom, size - pad, size - pad // 2)
         self.strip = draw_strip(img, box, self.scene.study.t, self.scene.study.omega_exact, self.flips, self.t[-1],
                                 fonts=f, colors=AXIS_RGB, muted=MUTED, text=TEXT, accent=ACCENT)
@@ -155,34 +173,43 @@ class FlipRenderer:
 
     def frame(self, k: int) -> np.ndarray:
         """Frame ``k`` as an (size, size, 3) uint8 array."""
+        import dataclasses
+
         from PIL import Image, ImageDraw
 
         from .raster import SUPERSAMPLE, Overlay, paint
 
         R, s = self.R[k], SUPERSAMPLE
-        canvas = Image.new("RGB", (self.size * s, (self.bottom - self.top) * s), BACKGROUND)
         overlay = Overlay()
         r = self.scene.radius
         overlay.arrow(-0.2 * r * self.L, 1.45 * r * self.L, ACCENT, 4.0, 22.0, self.camera, pieces=40)
         if self.view == "body":
-            m = self.scene.mesh
-            paint(canvas, self.camera, m.vertices @ R.T, m.faces, self.face_rgb, overlay, face_part=m.part)
+            V = self.vertices @ R.T
         else:
             _model_overlay(self.scene, R, overlay)
-            paint(canvas, self.camera, overlay=overlay)
+            V = np.array([p for line in overlay.lines for p in line[:2]] + [d[0] for d in overlay.discs])
+        # draw only the box around what moves: its corner (x0, y0) in view pixels
+        xy, _ = self.camera.project(np.vstack([V, 1.55 * r * self.L, -0.2 * r * self.L]))
+        x0, y0 = np.floor(xy.min(axis=0) / s - 12).astype(int)
+        x1, y1 = np.ceil(xy.max(axis=0) / s + 12).astype(int)
+        x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, self.size), min(y1, self.view_h)
+        camera = dataclasses.replace(self.camera, center=(self.camera.center[0] - x0, self.camera.center[1] - y0))
+        canvas = Image.new("RGB", ((x1 - x0) * s, (y1 - y0) * s), BACKGROUND)
+        if self.view == "body":
+            paint(canvas, camera, V, self.faces, self.face_rgb, overlay, face_part=self.part)
+        else:
+            paint(canvas, camera, overlay=overlay)
         img = self.base.copy()
-        img.paste(canvas.reduce(s), (0, self.top))
+        img.paste(canvas.reduce(s), (int(x0), self.top + int(y0)))
         self._annotate(ImageDraw.Draw(img), k)
         return np.asarray(img)
 
     def _annotate(self, d, k: int) -> None:
-        """The clock, the legend of L, the strip's cursor, and the flip banner near a flip."""
+        """The clock, the strip's cursor, and the flip banner near a flip."""
         t, size, f = float(self.t[k]), self.size, self.fonts
         pad = int(0.022 * size)
         clock = f"t = {t:5.2f} s"
         d.text((size - pad - d.textlength(clock, font=f["text"]), pad), clock, font=f["text"], fill=TEXT)
-        d.text((pad, self.bottom - int(0.04 * size)), "yellow arrow: angular momentum L, fixed in space",
-               font=f["small"], fill=ACCENT)
         self.strip.cursor(d, t)
         near = np.flatnonzero(np.abs(self.flips - t) < 0.12 * self.scene.study.flip_interval)
         if len(near):
@@ -200,7 +227,7 @@ def render_flip(scene: FlipScene, path, *, size: int = VIDEO_SIZE, view: str = "
     speed, t_end).  ``poster``: also write the frame nearest the first flip there (PNG)."""
     path = Path(path)
     fps = fps or (GIF_FPS if path.suffix.lower() == ".gif" else VIDEO_FPS)
-    t, speed = playback_times(float(scene.study.t[-1]), fps)
+    t, speed = playback_times(film_span(scene.study), fps)
     r = FlipRenderer(scene, t, speed, size=size, view=view)
     info = write_animation((r.frame(k) for k in range(len(t))), path, fps=fps)
     info.update({"view": r.view, "speed": speed, "t_end": float(t[-1])})

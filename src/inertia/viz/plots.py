@@ -153,7 +153,7 @@ def body_plot(props, six, out_dir, stem: str = "body", display=None) -> dict:
     fig = plt.figure(figsize=(5.6, 5.4))
     ax = fig.add_subplot(projection="3d")
     if display is not None:
-        V, F = cluster_decimate(display.vertices, display.faces, 3000)
+        V, F = cluster_decimate(display.vertices, display.faces, 1500)
         _draw_mesh(ax, f * (V @ R.T + c), F)
     box = equivalent_box(props)
     corners, edges = box_wire(np.asarray(box.size) / 2)

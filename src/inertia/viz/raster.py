@@ -97,24 +97,30 @@ def face_normals(vertices, faces) -> np.ndarray:
 
 
 def hidden(points, vertices_world, faces, camera: Camera) -> np.ndarray:
-    """Whether each world point is behind a face, seen from the camera (ray cast toward the
-    viewer, Moller-Trumbore against every face)."""
+    """Whether each world point is behind a face, seen from the camera: a ray cast toward the
+    viewer (Moller-Trumbore) against the faces whose screen box holds the point."""
     P = np.asarray(points, float).reshape(-1, 3)
     if vertices_world is None or not len(faces) or not len(P):
         return np.zeros(len(P), bool)
-    A, B, C = (vertices_world[faces[:, i]] for i in range(3))
+    xy, _ = camera.project(vertices_world)
+    tri = xy[faces]                                   # (F, 3, 2)
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    pxy, _ = camera.project(P)
+    pi, fi = np.nonzero(np.all((lo[None] <= pxy[:, None]) & (pxy[:, None] <= hi[None]), axis=2))
+    A, B, C = (vertices_world[faces[fi, i]] for i in range(3))
     e1, e2 = B - A, C - A
     d = camera.toward
     h = np.cross(d, e2)
     det = np.einsum("ij,ij->i", e1, h)
     ok = np.abs(det) > 1e-300
     inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-    s = P[:, None, :] - A[None]
-    u = np.einsum("pfj,fj->pf", s, h) * inv
-    q = np.cross(s, e1[None])
-    v = (q @ d) * inv
-    t = np.einsum("pfj,fj->pf", q, e2) * inv
-    return ((u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0) & ok).any(axis=1)
+    sv = P[pi] - A
+    u = np.einsum("ij,ij->i", sv, h) * inv
+    qv = np.cross(sv, e1)
+    v = (qv @ d) * inv
+    t = np.einsum("ij,ij->i", qv, e2) * inv
+    hit = (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0) & ok
+    return np.bincount(pi[hit], minlength=len(P)) > 0
 
 
 def part_order(vertices_world, faces, face_part, visible, camera: Camera, *, samples: int = 48) -> np.ndarray:
@@ -156,14 +162,18 @@ def paint(image, camera: Camera, vertices_world=None, faces=None, face_rgb=None,
     s = SUPERSAMPLE
     overlay = overlay or Overlay()
     items, where = [], []     # (kind, payload), world point deciding visibility and order
-    for p0, p1, rgb, w in overlay.lines:
-        xy, _ = camera.project(np.array([p0, p1]))
-        items.append((1, (xy.ravel().tolist(), rgb, int(round(w * s)))))
-        where.append(0.5 * (np.asarray(p0) + np.asarray(p1)))
-    for p, r, rgb in overlay.discs:
-        xy, _ = camera.project(p)
-        items.append((2, (xy.tolist(), r * s, rgb)))
-        where.append(np.asarray(p, float))
+    if overlay.lines:
+        ends = np.array([(p0, p1) for p0, p1, _, _ in overlay.lines], float)      # (n, 2, 3)
+        xy, _ = camera.project(ends)
+        for (_, _, rgb, w), seg in zip(overlay.lines, xy.reshape(-1, 4).tolist()):
+            items.append((1, (seg, rgb, int(round(w * s)))))
+        where += list(ends.mean(axis=1))
+    if overlay.discs:
+        centers = np.array([p for p, _, _ in overlay.discs], float)
+        xy, _ = camera.project(centers)
+        for (_, r, rgb), c in zip(overlay.discs, xy.tolist()):
+            items.append((2, (c, r * s, rgb)))
+        where += list(centers)
     for pts, rgb in overlay.polys:
         xy, _ = camera.project(pts)
         items.append((0, (xy.ravel().tolist(), rgb)))
