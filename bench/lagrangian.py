@@ -26,7 +26,7 @@ def ours(inertia: str):
     t0 = time.perf_counter()
     eom = derive("ZYX", inertia=inertia)
     t1 = time.perf_counter()
-    eom.python_code(), eom.c_code(), eom.latex()
+    eom.python_code(), eom.c_code(), eom.cse_latex()
     t2 = time.perf_counter()
     import sympy as sp
 

@@ -19,10 +19,11 @@ def _run(capsys, *argv):
     return code, out.out, out.err
 
 
-def test_default_is_zyx_latex(capsys):
+def test_default_is_zyx_readable_latex(capsys):
     code, out, _ = _run(capsys)
     assert code == 0
-    assert out.startswith("\\begin{align*}") and r"R_{Z}(\psi)\, R_{Y}(\theta)\, R_{X}(\phi)" in out
+    assert out.startswith("% Equations of motion in Euler angles") and r"R = R_{Z}(\psi)\,R_{Y}(\theta)\,R_{X}(\phi)" in out
+    assert out.count("\\begin{align*}") == out.count("\\end{align*}") == 6
 
 
 def test_json_describes_the_model(capsys):

@@ -59,8 +59,12 @@ def register(sub) -> None:
                    help=f"report folder (default: ./{DEFAULT_OUT}); a folder inertia did not create is refused "
                         "unless --force")
     r.add_argument("--no-video", action="store_true", help="skip the animation (the slowest part)")
-    r.add_argument("--video-format", choices=("gif", "mp4"), default="gif",
-                   help="animation format: gif (Pillow, default) or mp4 (the ffmpeg of imageio-ffmpeg)")
+    r.add_argument("--video-format", choices=("auto", "mp4", "gif"), default="auto",
+                   help="animation format: mp4 (720 px, 30 fps, the ffmpeg of imageio-ffmpeg) or gif (Pillow, 25 fps); "
+                        "default auto: mp4 where imageio-ffmpeg is installed, else gif")
+    r.add_argument("--video-view", choices=("body", "model"), default="body",
+                   help="what the video shows: the body itself (default) or its equivalent box, six point masses "
+                        "and principal axes")
     r.add_argument("--no-report", action="store_true", help="print the tables only; write no files")
     r.add_argument("--force", action="store_true", help="write the report into an existing foreign folder")
     p.set_defaults(func=run)
@@ -106,10 +110,12 @@ def run(args) -> int:
     props, info, display_mesh, body = demo_body(args)
     bundled = body is not None
     report = build_report(props)
-    title = body.name if bundled else str(info.source)
+    import os
+
+    title = body.name if bundled else os.path.basename(str(info.source))
     files = None
     if not args.no_report:
-        files = _write_report(args, props, title, display_mesh)
+        files = _write_report(args, props, title, display_mesh, _describe(info, body))
     if files is not None:
         study = files["study"]
     else:  # --no-report, or the plotting libraries are missing: the tables still come
@@ -135,7 +141,14 @@ def run(args) -> int:
 REPORT_STEPS = ("simulating the flip", "plotting", "animating", "writing the 3D page")
 
 
-def _write_report(args, props, title, display_mesh):
+def _describe(info, body) -> str:
+    """One line about the body for the report's header."""
+    if body is not None:
+        return f"{body.description}; {info.density:g} kg/m\u00b3 ({info.density_source})"
+    return f"mesh {info.source} (lengths in {info.units})"
+
+
+def _write_report(args, props, title, display_mesh, description):
     """The report folder, or None (with a note) when the plotting libraries are missing."""
     import sys
 
@@ -159,8 +172,9 @@ def _write_report(args, props, title, display_mesh):
 
     bar = StepProgress(REPORT_STEPS)
     try:
-        return build_folder(args.out, props, title=f"inertia demo: {title}", mesh=mesh, video=not args.no_video,
-                            force=args.force, progress=bar, animation_format=args.video_format)
+        return build_folder(args.out, props, title=title, description=description, mesh=mesh,
+                            video=not args.no_video, force=args.force, progress=bar,
+                            animation_format=args.video_format, video_view=args.video_view)
     finally:
         bar.clear()
 
