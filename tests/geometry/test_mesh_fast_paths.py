@@ -287,7 +287,7 @@ def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
     rng = np.random.default_rng(5)
     v = np.ascontiguousarray(m.vertices * [1.0, 2.0, 0.5] + rng.normal(size=3) * 1e3)
     f = np.ascontiguousarray(m.faces, dtype=np.int64)
-    out = np.empty(14)
+    out = np.empty(15)
     assert nbk.clean_solid(v, f, 1e-14, 1e60, out)
     ref = np.empty(10)
     assert nbi.solid_sums(v, f, out[11:14].copy(), ref) == -1

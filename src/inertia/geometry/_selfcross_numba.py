@@ -67,7 +67,15 @@ def _ray_hits(vertices, faces, c, ux, uy, uz, rtol):
 @nb.njit(**_JIT)
 def star_certificate(vertices, faces, c, rtol):
     """True when the closed, consistently outward shell is star-shaped from ``c`` with a
-    one-to-one radial projection (see the module docstring): it then cannot cross itself."""
+    one-to-one radial projection (see the module docstring): it then cannot cross itself.
+
+    One pass: each face's distance from ``c`` (strictly inside its plane, compared squared, so
+    no square root) and the ray test along the first direction (divisions only for the faces
+    the ray can hit); the other directions only when the first grazes an edge."""
+    ux, uy, uz = 0.2672612419124244, 0.5345224838248488, 0.8017837257372732
+    r2 = rtol * rtol
+    hits = 0
+    grazed = False
     for t in range(faces.shape[0]):
         ia = faces[t, 0]
         ib = faces[t, 1]
@@ -75,26 +83,47 @@ def star_certificate(vertices, faces, c, rtol):
         ax = vertices[ia, 0] - c[0]
         ay = vertices[ia, 1] - c[1]
         az = vertices[ia, 2] - c[2]
-        ux = vertices[ib, 0] - vertices[ia, 0]
-        uy = vertices[ib, 1] - vertices[ia, 1]
-        uz = vertices[ib, 2] - vertices[ia, 2]
-        vx = vertices[ic, 0] - vertices[ia, 0]
-        vy = vertices[ic, 1] - vertices[ia, 1]
-        vz = vertices[ic, 2] - vertices[ia, 2]
-        nx = uy * vz - uz * vy
-        ny = uz * vx - ux * vz
-        nz = ux * vy - uy * vx
-        # c strictly on the inner side: its distance to the face's plane above rtol |a|
+        e1x = vertices[ib, 0] - vertices[ia, 0]
+        e1y = vertices[ib, 1] - vertices[ia, 1]
+        e1z = vertices[ib, 2] - vertices[ia, 2]
+        e2x = vertices[ic, 0] - vertices[ia, 0]
+        e2y = vertices[ic, 1] - vertices[ia, 1]
+        e2z = vertices[ic, 2] - vertices[ia, 2]
+        nx = e1y * e2z - e1z * e2y
+        ny = e1z * e2x - e1x * e2z
+        nz = e1x * e2y - e1y * e2x
         d = ax * nx + ay * ny + az * nz
-        if not (d > rtol * np.sqrt((ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz))):
+        if not (d > 0.0 and d * d > r2 * (ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz)):
             return False
-    # the ray count is the degree of the projection: 1 for an embedded star-shaped surface
-    directions = ((0.2672612419124244, 0.5345224838248488, 0.8017837257372732),
-                  (-0.6396021490668313, 0.42640143271122083, 0.6396021490668313),
+        # the ray leaves through faces whose normal points along it: u . n > 0 (Moller-Trumbore
+        # determinant e1 . (u x e2) = -(u . n))
+        un = ux * nx + uy * ny + uz * nz
+        if grazed or un <= 0.0:
+            continue
+        px = uy * e2z - uz * e2y
+        py = uz * e2x - ux * e2z
+        pz = ux * e2y - uy * e2x
+        det = -un
+        sv = (-ax * px - ay * py - az * pz) / det
+        if sv < -1e-9 or sv > 1.0 + 1e-9:
+            continue
+        qx = -ay * e1z + az * e1y
+        qy = -az * e1x + ax * e1z
+        qz = -ax * e1y + ay * e1x
+        wv = (ux * qx + uy * qy + uz * qz) / det
+        if wv < -1e-9 or sv + wv > 1.0 + 1e-9:
+            continue
+        if sv < 1e-9 or wv < 1e-9 or sv + wv > 1.0 - 1e-9:
+            grazed = True                 # through an edge or a vertex, to rounding: count again
+            continue
+        hits += 1                         # u . n > 0 and c inside: the hit is in front of c
+    if not grazed:
+        return hits == 1
+    directions = ((-0.6396021490668313, 0.42640143271122083, 0.6396021490668313),
                   (0.5163977794943222, -0.7745966692414834, 0.3651483716701107))
-    for k in range(3):
-        ux, uy, uz = directions[k]
-        n = _ray_hits(vertices, faces, c, ux, uy, uz, 1e-9)
+    for k in range(2):
+        vx, vy, vz = directions[k]
+        n = _ray_hits(vertices, faces, c, vx, vy, vz, 1e-9)
         if n >= 0:
             return n == 1
     return False

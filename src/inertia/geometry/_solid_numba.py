@@ -74,9 +74,47 @@ def _bbox(vertices, used, limit, box):
     return True
 
 
+#: the certificate's ray (the first direction of ``_selfcross_numba.star_certificate``)
+STAR_RAY = (0.2672612419124244, 0.5345224838248488, 0.8017837257372732)
+#: the certificate's tolerances (``self_crossing.STAR_RTOL`` and the ray's edge margin)
+STAR_RTOL = 1e-9
+
+
 @nb.njit(**_JIT)
-def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums):
-    """Per face: area check, the chunk's volume sums, the half-edge filing.
+def _star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, d, star):
+    """One face of the star certificate from p (a = corner - p, e1, e2 the edges, n = e1 x e2,
+    d = a . n): p strictly inside its plane, and whether the ray leaves through it."""
+    if not (d > 0.0 and d * d > STAR_RTOL * STAR_RTOL * (ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz)):
+        star[1] = 1
+        return
+    ux, uy, uz = STAR_RAY
+    un = ux * nx + uy * ny + uz * nz
+    if un <= 0.0:
+        return                            # the ray cannot leave through a face turned away
+    # Moller-Trumbore with det = -un < 0: barycentrics s = ns / det, w = nw / det, no division
+    px = uy * e2z - uz * e2y
+    py = uz * e2x - ux * e2z
+    pz = ux * e2y - uy * e2x
+    ns = ax * px + ay * py + az * pz      # = (-a . p) * -1: s = ns / un
+    qx = -ay * e1z + az * e1y
+    qy = -az * e1x + ax * e1z
+    qz = -ax * e1y + ay * e1x
+    nw = -(ux * qx + uy * qy + uz * qz)   # w = nw / un
+    m = 1e-9 * un
+    if ns < -m or nw < -m or ns + nw > un + m:
+        return
+    if ns < m or nw < m or ns + nw > un - m:
+        star[1] = 2                       # through an edge or a vertex, to rounding
+        return
+    star[0] += 1
+
+
+@nb.njit(**_JIT)
+def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums, star):
+    """Per face: area check, the chunk's volume sums, the half-edge filing, and the star
+    certificate from ``p`` (:func:`inertia.geometry._selfcross_numba.star_certificate`'s test,
+    without division): ``star[0]`` counts the faces the ray from p along STAR_RAY leaves
+    through, ``star[1]`` is 1 once a face does not see p strictly inside, 2 if the ray grazes.
 
     ``sums`` (n_chunks, 11): per chunk the 10 sums of ``solid_sums`` and twice the area.
     """
@@ -133,6 +171,8 @@ def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums):
                     return False
                 area += a2
                 d = ax * nx + ay * ny + az * nz
+                if star[1] == 0:
+                    _star_face(ax, ay, az, ux, uy, uz, vx, vy, vz, nx, ny, nz, d, star)
                 sx = ax + bx + cx
                 sy = ay + by + cy
                 sz = az + bz + cz
@@ -237,9 +277,12 @@ def clean_solid(vertices, faces, area_rtol, limit, out):
     ``faces`` index distinct positions (welded), or at least form a closed surface as given;
     every coordinate must be finite and within +-``limit``, every face's area above
     ``area_rtol`` x its longest edge squared.
-    On True, ``out`` (14,) holds the 10 sums of ``solid_sums`` about ``p`` (``out[0] = sum
-    det``, i.e. 6 x the signed volume), twice the total area at ``out[10]`` and ``p``, the
-    bounding-box center of the used vertices, at ``out[11:14]``.  (See the module docstring.)
+    On True, ``out`` (15,) holds the 10 sums of ``solid_sums`` about ``p`` (``out[0] = sum
+    det``, i.e. 6 x the signed volume), twice the total area at ``out[10]``, ``p``, the
+    bounding-box center of the used vertices, at ``out[11:14]``, and ``out[14]`` 1 when the
+    shell is proved star-shaped from ``p`` with a one-to-one radial projection (it then
+    cannot cross itself; :mod:`inertia.geometry.self_crossing`), else 0.  (See the module
+    docstring.)
     """
     nv = vertices.shape[0]
     nf = faces.shape[0]
@@ -271,9 +314,10 @@ def clean_solid(vertices, faces, area_rtol, limit, out):
     n_chunks = (nf + CHUNK - 1) // CHUNK
     sums = np.empty((n_chunks, 11))
     fill = start[:-1].copy()
-    if not _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums):
+    star = np.zeros(2, dtype=np.int64)
+    if not _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums, star):
         return False
-    for j in range(14):
+    for j in range(15):
         out[j] = 0.0
     for c in range(n_chunks):                     # chunk order, as solid_sums adds them
         for j in range(11):
@@ -289,6 +333,7 @@ def clean_solid(vertices, faces, area_rtol, limit, out):
     out[11] = p[0]
     out[12] = p[1]
     out[13] = p[2]
+    out[14] = 1.0 if star[1] == 0 and star[0] == 1 else 0.0
     return True
 
 
@@ -296,7 +341,7 @@ def clean_solid(vertices, faces, area_rtol, limit, out):
 def closed_single_shell(vertices, faces, area_rtol, out):
     """:func:`clean_solid`'s verdict (no coordinate limit); on True ``out[0]`` is the total area
     and ``out[1]`` the signed volume (about the bounding-box center of the used vertices)."""
-    full = np.empty(14)
+    full = np.empty(15)
     if not clean_solid(vertices, faces, area_rtol, np.inf, full):
         return False
     out[0] = 0.5 * full[10]

@@ -130,7 +130,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
     if kernels is None or V == 0 or len(faces) == 0:
         return None
     v = np.ascontiguousarray(vertices)
-    out = np.empty(14)
+    out = np.empty(15)
     tries = [] if weld_first or welded else [faces]
     if welded:
         tries.append(faces)
@@ -147,7 +147,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         if kernels.clean_solid(v, np.ascontiguousarray(fw), DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out):
             volume = out[0] / 6.0
             com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = self_crossing(v, fw, com)
+            crossing = None if out[14] == 1.0 else self_crossing(v, fw, com)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:
