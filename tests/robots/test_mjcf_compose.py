@@ -21,14 +21,20 @@ CUBE_OBJ = "\n".join(
     [f"v {0.02 + x * 0.05} {y * 0.05} {0.01 + z * 0.05}" for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
     + ["f 1 3 4 2", "f 5 6 8 7", "f 1 2 6 5", "f 3 7 8 4", "f 1 5 7 3", "f 2 4 8 6"]) + "\n"
 
-#: a model meant to be attached: its own defaults, degrees (MuJoCo's default unit), fixed-axis
-#: euler sequence, mesh folder, mass bound and world geom
-CHILD = """<mujoco model="kid">
-  <compiler meshdir="parts" eulerseq="XYZ" boundmass="0.05"/>
+#: a model's defaults, in a file it includes (relative to its own folder)
+CHILD_DEFAULTS = """<mujoco>
   <default>
     <geom density="700" type="box" size="0.02 0.03 0.04"/>
     <default class="heavy"><geom density="3000"/></default>
   </default>
+</mujoco>
+"""
+
+#: a model meant to be attached: its own defaults, degrees (MuJoCo's default unit), fixed-axis
+#: euler sequence, mesh folder, mass bound and world geom
+CHILD = """<mujoco model="kid">
+  <compiler meshdir="parts" eulerseq="XYZ" boundmass="0.05"/>
+  <include file="defaults.xml"/>
   <asset><mesh name="cube" file="cube.obj" scale="1 1 2"/></asset>
   <worldbody>
     <geom name="world_ball" type="sphere" size="0.05" pos="0 0 0.3"/>
@@ -40,7 +46,7 @@ CHILD = """<mujoco model="kid">
         <body name="tip"/>
       </body>
     </body>
-    <frame name="F" pos="0 0 1" euler="0 0 90">
+    <frame name="F" pos="0 0 1" euler="0 0 90" childclass="heavy">
       <body name="fb" pos="0.1 0 0"><joint name="jf" type="slide"/><geom/></body>
     </frame>
   </worldbody>
@@ -62,6 +68,7 @@ PARENT = """<mujoco model="parent">
       <attach model="kid" frame="F" prefix="f_"/>
     </body>
     <attach model="kid" body="hand" prefix="h_"/>
+    <attach model="kid" body="fb" prefix="b_"/>
   </worldbody>
 </mujoco>
 """
@@ -87,18 +94,21 @@ def _agrees_with_mujoco(path, n_bodies: int, seeds=(0, 1)):
     return read_robot(path)
 
 
-@pytest.fixture
-def attached(tmp_path):
-    return _write(tmp_path, {"parent.xml": PARENT, "sub/child.xml": CHILD, "sub/parts/cube.obj": CUBE_OBJ})
+@pytest.fixture(params=["named", "by its model name"])
+def attached(tmp_path, request):
+    parent = PARENT if request.param == "named" else PARENT.replace('<model name="kid"', "<model")
+    return _write(tmp_path, {"parent.xml": parent, "sub/child.xml": CHILD, "sub/defaults.xml": CHILD_DEFAULTS,
+                             "sub/parts/cube.obj": CUBE_OBJ})
 
 
 def test_attached_bodies_keep_their_models_meaning(attached):
-    """Child defaults and classes, degrees against the parent's radians, XYZ euler, meshdir
-    under the child's folder, the child's boundmass (not the parent's density default), the
-    world body's geoms joining the attaching body, a frame attached at its own pose."""
-    model = _agrees_with_mujoco(attached, 11)
+    """Child defaults (from a file it includes) and classes (inherited from a frame around the
+    attached body), degrees against the parent's radians, XYZ euler, meshdir under the
+    child's folder, the child's boundmass (not the parent's density default), the world
+    body's geoms joining the attaching body, a frame attached at its own pose."""
+    model = _agrees_with_mujoco(attached, 12)
     assert [lk.name for lk in model.links] == ["base", "a_arm", "a_hand", "a_tip", "w_arm", "w_hand", "w_tip",
-                                               "w_fb", "f_fb", "h_hand", "h_tip"]
+                                               "w_fb", "f_fb", "h_hand", "h_tip", "b_fb"]
     joints = {j.name for lk in model.links for j in lk.joints}
     assert {"s", "a_j1", "a_j2", "w_j1", "w_jf", "f_jf", "h_j2"} <= joints
     base = model.link("base")
@@ -112,10 +122,10 @@ def test_messages_in_attached_models_point_into_their_file(attached):
     child.write_text(CHILD.replace('<geom class="main"', '<geom class="nope"'))
     with pytest.raises(RobotFileError) as ei:
         read_robot(attached)
-    assert f"{child}:14: <geom> uses undefined default class 'nope'" in str(ei.value)
+    assert f"{child}:11: <geom> uses undefined default class 'nope'" in str(ei.value)
     child.write_text(CHILD)
     model = read_robot(attached)
-    assert model.document.where(model.link("a_hand").element) == f"{child}:14"
+    assert model.document.where(model.link("a_hand").element) == f"{child}:11"
 
 
 REPLICATED = """<mujoco>
