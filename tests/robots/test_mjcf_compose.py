@@ -185,6 +185,41 @@ def test_attach_inside_replicate_and_self_attach(attached):
     assert [lk.name for lk in model.links][3:7] == ["s_a", "s_a2", "r_arm0", "r_hand0"]
 
 
+def test_a_replicate_inside_an_attached_frame_uses_the_attached_models_units(tmp_path):
+    """A frame inside a body of the child (its geoms join the attaching body), holding a
+    replicate whose euler is in the child's degrees and zyx sequence, under a parent in radians."""
+    child = """<mujoco model="c3">
+  <compiler eulerseq="zyx"/>
+  <worldbody>
+    <body name="holder" pos="0 0 1" euler="0 0 20">
+      <geom size="0.01"/>
+      <frame name="G" pos="0.1 0.2 0" euler="30 0 10">
+        <geom type="box" size="0.1 0.02 0.03" pos="0.1 0 0"/>
+        <replicate count="4" euler="0 0 30" offset="0.1 0 0">
+          <body name="r" pos="0 0.05 0"><joint name="rj"/><geom type="capsule" size="0.01 0.04"/></body>
+        </replicate>
+      </frame>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+    parent = """<mujoco>
+  <compiler angle="radian"/>
+  <asset><model name="c" file="c3.xml"/></asset>
+  <worldbody>
+    <body name="top" pos="0 0 1" euler="0.1 0.2 0.3">
+      <joint name="tj"/>
+      <geom size="0.02"/>
+      <attach model="c" frame="G" prefix="g_"/>
+      <frame euler="0.5 0 0"><attach model="c" body="holder" prefix="h_"/></frame>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+    model = _agrees_with_mujoco(_write(tmp_path, {"p.xml": parent, "c3.xml": child}), 10)
+    assert len(model.link("top").geometries) == 2 and model.link("g_r3").joints[0].name == "g_rj3"
+
+
 @pytest.mark.parametrize("body, message", [
     ('<body name="a"><geom size="0.1"/><body name="a2"><attach body="a" prefix="s_"/></body></body>',
      "body 'a' (FILE:3) holds this <attach>"),

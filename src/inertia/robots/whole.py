@@ -110,7 +110,8 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
         props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units,
                                                       simulator=True)
         if props is None and problems:
-            raise InertiaError(f"{model.path}: body {link.name!r} (line {link.line}): MuJoCo takes its inertia from "
+            where = model.document.where(link.element) if link.element is not None else f"{model.path}:{link.line}"
+            raise InertiaError(f"{where}: body {link.name!r}: MuJoCo takes its inertia from "
                                "its geoms, which cannot be used: " + "; ".join(m for _, m in problems))
         return props, "geometry" if props is not None else "none"
     if link.inertial is not None:
