@@ -1,6 +1,6 @@
 """MJCF ``<frame>`` is read as MuJoCo reads it; what this reader does not expand
-(``<replicate>``, ``<attach>``, ``<composite>``, ``<flexcomp>``, SDF ``<include>``) is an error
-naming the element and line, never a silent "0 links, 0 errors".
+(``<composite>``, ``<flexcomp>``, SDF ``<include>``), and an ``<attach>`` of a model that is not
+there, is an error naming the element and line, never a silent "0 links, 0 errors".
 
 Truth: MuJoCo's own compiler (body mass, COM and inertia) on the same file.
 """
@@ -55,7 +55,6 @@ def test_geoms_in_nested_frames_give_mujocos_body_inertia(tmp_path):
 
 
 @pytest.mark.parametrize("element", [
-    '<replicate count="3" offset="0.1 0 0"><body name="r"><geom type="sphere" size="0.1"/></body></replicate>',
     '<attach model="other" body="b" prefix="x_"/>',
     '<composite type="particle" count="2 2 2" spacing="0.1"><geom size="0.01"/></composite>',
     '<flexcomp name="f" type="grid" count="2 2 1" spacing="0.1 0.1 0.1"/>',

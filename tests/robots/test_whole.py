@@ -182,12 +182,10 @@ def _shared_mjcf_files() -> list:
 
 
 #: files where we knowingly differ from MuJoCo, and why
-_ATTACH = pytest.mark.xfail(strict=True, reason="<attach> is not read yet (refused by name)")
 _OBJ_QUAD = pytest.mark.xfail(strict=True, reason="link_finger_base_v.obj has one quad: MuJoCo splits it along the "
                                                   "shorter diagonal, our OBJ reading from its first vertex (6.7e-4 in "
                                                   "the finger bodies' mass)")
-KNOWN = {"menagerie/iit_softfoot/scene.xml": ("all", _ATTACH),
-         "menagerie/google_robot/robot.xml": ("mass", _OBJ_QUAD),
+KNOWN = {"menagerie/google_robot/robot.xml": ("mass", _OBJ_QUAD),
          "menagerie/google_robot/scene.xml": ("mass", _OBJ_QUAD)}
 SHARED_MJCF = _shared_mjcf_files()
 

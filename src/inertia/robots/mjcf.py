@@ -16,7 +16,9 @@ Supported, following MuJoCo's compiler:
   ``shellinertia`` primitives; primitives fitted to a mesh (``mesh`` on a primitive geom,
   ``<compiler fitaabb>``, ``fitscale``): see :mod:`inertia.robots.mujoco_inertia` for what
   the compiler computes from them.  Planes, height fields and SDF geoms carry no volume and
-  are skipped.
+  are skipped;
+* ``<include>``, ``<frame>``, ``<replicate>`` and ``<attach>`` (models from ``<asset><model>``,
+  each read with its own compiler, defaults and meshes): see :mod:`inertia.robots.mjcf_compose`.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 
 from .._core.errors import InertiaError
 from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
+from .mjcf_compose import MAX_ELEMENTS, Composer, Names
 from .model import Geometry, Inertial, Joint, Link, RobotModel
 from .resolve import resolve_mesh
 from .urdf_sdf import floats
@@ -97,6 +100,15 @@ def _unit(v, where: str, attr: str, text: str, part: str) -> np.ndarray:
     return u / n
 
 
+def _euler_matrix(angles, comp: _Compiler) -> np.ndarray:
+    """Rotation of MJCF ``euler`` angles (in the compiler's unit, about its ``eulerseq`` axes)."""
+    R = np.eye(3)
+    for ch, a in zip(comp.eulerseq, angles):
+        Ri = _axis_rot(_AXES[ch.lower()], comp.angle(a))
+        R = R @ Ri if ch.islower() else Ri @ R  # intrinsic (moving) vs extrinsic (fixed) axes
+    return R
+
+
 def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
     """Rotation matrix of the element's orientation attributes; ``where`` names the element."""
     if "quat" in attrs:
@@ -108,12 +120,7 @@ def _orientation(attrs: dict, comp: _Compiler, where: str) -> np.ndarray:
         return _axis_angle_matrix(_unit(v[:3], where, "axisangle", attrs["axisangle"], "the axis"),
                                   comp.angle(v[3]))
     if "euler" in attrs:
-        v = [comp.angle(x) for x in floats(attrs["euler"], 3, where, "euler")]
-        R = np.eye(3)
-        for ch, a in zip(comp.eulerseq, v):
-            Ri = _axis_rot(_AXES[ch.lower()], a)
-            R = R @ Ri if ch.islower() else Ri @ R  # intrinsic (moving) vs extrinsic (fixed) axes
-        return R
+        return _euler_matrix(floats(attrs["euler"], 3, where, "euler"), comp)
     if "xyaxes" in attrs:
         v = floats(attrs["xyaxes"], 6, where, "xyaxes")
         x = _unit(v[:3], where, "xyaxes", attrs["xyaxes"], "the x axis")
@@ -153,116 +160,142 @@ def _collect_defaults(default_el, parent: dict, out: dict) -> None:
         stack.extend((child, mine) for child in reversed(el.findall("default")))
 
 
-#: MJCF elements that add bodies or mass this reader does not expand: refused by name (a
-#: check that skipped them would call an incomplete model valid)
-UNREAD = ("replicate", "attach", "composite", "flexcomp")
+class _Scope:
+    """One MJCF model's own meaning: its compiler, default classes, mesh and model assets.
 
-
-def _contents(el, comp: _Compiler, doc, childclass: str, tags=("geom", "body", "joint", "freejoint")):
-    """The geoms, joints and child bodies of a body (or worldbody), through any nesting of ``<frame>``.
-
-    Yields ``(kind, element, childclass, R_body_frame, p_body_frame)`` in document order:
-    kind one of ``tags``; an element's pose is composed with the frames around it.  Elements
-    this reader does not expand (:data:`UNREAD`) raise RobotFileError naming them.
+    The main file has one; so has each model an ``<attach>`` brings in (MuJoCo compiles the
+    attached elements with their own model's settings).  ``models`` is shared by all the
+    scopes of a reading: resolved path -> scope, each file read once; the main document
+    adopts the lines of the files it attaches (messages point into them) and lists them in
+    ``included`` (``fix`` refuses such models, as for ``<include>``).
     """
-    stack = [(iter(list(el)), childclass, np.eye(3), np.zeros(3))]
-    while stack:
-        children, cc, R, p = stack[-1]
-        child = next(children, None)
-        if child is None:
-            stack.pop()
-            continue
-        tag = child.tag
-        if tag in tags:
-            yield tag, child, cc, R, p
-        elif tag == "frame":
-            where = f"{doc.where(child)}: <frame>"
-            R_f = _orientation(child.attrib, comp, where)
-            p_f = np.asarray(floats(child.get("pos", "0 0 0"), 3, where, "frame pos"))
-            stack.append((iter(list(child)), child.get("childclass", cc), R @ R_f, R @ p_f + p))
-        elif tag in UNREAD:
-            raise RobotFileError(f"{doc.where(child)}: <{tag}> is not read by this version of inertia (MuJoCo "
-                                 "expands it into bodies and geoms whose mass properties would go unchecked); "
-                                 "check the model after compiling it, e.g. from MuJoCo's saved XML (mj_saveLastXML)")
+
+    def __init__(self, doc, path, search_paths, models: dict, main_doc=None):
+        self.doc, self.path = doc, Path(path)
+        self.base = self.path.resolve().parent
+        self.search_paths, self.models = search_paths, models
+        self.main_doc = main_doc if main_doc is not None else doc
+        models[self.path.resolve()] = self
+        _expand_includes(doc, self.base, set())
+        root = doc.root
+        comp_el = root.find("compiler")
+        self.comp = _Compiler(comp_el, doc.where(comp_el) if comp_el is not None else str(path))
+        self.compilers = root.findall("compiler")
+        self.defaults: dict = {}
+        for d in root.findall("default"):
+            _collect_defaults(d, {}, self.defaults)
+        self.defaults.setdefault("main", {})
+        mesh_dir = self.base / (self.comp.meshdir or self.comp.assetdir or "")
+        self.meshes = {}
+        self.assets = [m for asset in root.findall("asset") for m in asset.findall("model")]
+        for asset in root.findall("asset"):
+            for m in asset.findall("mesh"):
+                attrs = dict(self.defaults.get(m.get("class", "main"), {}).get("mesh", {}))
+                attrs.update(m.attrib)
+                name, params = _mesh_asset(doc, m, attrs, mesh_dir, search_paths)
+                if name is not None:
+                    self.meshes[name] = params
+
+    def attrs(self, el, tag: str, childclass: str) -> dict:
+        """``el``'s attributes over those of its default class (``class``, else ``childclass``)."""
+        cls = el.get("class", childclass)
+        if cls not in self.defaults:
+            raise RobotFileError(f"{self.doc.where(el)}: <{tag}> uses undefined default class {cls!r}")
+        merged = dict(self.defaults[cls].get(tag, {}))
+        merged.update(el.attrib)
+        return merged
+
+    def orientation(self, attrs: dict, where: str) -> np.ndarray:
+        return _orientation(attrs, self.comp, where)
+
+    def euler(self, angles) -> np.ndarray:
+        return _euler_matrix(angles, self.comp)
+
+    def model(self, name: str, where: str) -> "_Scope":
+        """The scope of the model asset ``name`` (``<asset><model name file>``; without a name,
+        the file's ``<mujoco model>``), read on first use."""
+        for el in self.assets:
+            named = el.get("name")
+            if named == name or (named is None and self._file_scope(el).doc.root.get("model") == name):
+                return self._file_scope(el)
+        known = ", ".join(repr(el.get("name") or el.get("file")) for el in self.assets)
+        raise RobotFileError(f"{where}: model {name!r} is not a model asset of {self.path} (<asset><model name=... "
+                             f"file=.../>); {'the model assets are ' + known if known else 'it has none'}")
+
+    def _file_scope(self, el) -> "_Scope":
+        """The scope of a ``<model file>`` asset (relative to this model's folder, as in MuJoCo)."""
+        where, target, exists = _file_named(self.doc, el, self.base)
+        if target in self.models:
+            return self.models[target]
+        if not exists:
+            raise RobotFileError(f"{where}: model file not found (relative to {self.base})")
+        sub = parse_robot_xml(target, "mujoco", "an MJCF")
+        scope = _Scope(sub, target, self.search_paths, self.models, self.main_doc)
+        self.main_doc.merge(sub)
+        self.main_doc.included = [*getattr(self.main_doc, "included", []), target, *getattr(sub, "included", [])]
+        return scope
 
 
 def read_mjcf(path, *, search_paths=(), document=None) -> RobotModel:
     doc = document if document is not None else parse_robot_xml(path, "mujoco", "an MJCF")
-    root = doc.root
-    base = Path(path).resolve().parent
-    _expand_includes(doc, base, set())
-    comp_el = root.find("compiler")
-    comp = _Compiler(comp_el, doc.where(comp_el) if comp_el is not None else str(path))
-    defaults: dict = {}
-    for d in root.findall("default"):
-        _collect_defaults(d, {}, defaults)
-    defaults.setdefault("main", {})
-    mesh_dir = base / (comp.meshdir or comp.assetdir or "")
-    meshes = {}
-    for asset in root.findall("asset"):
-        for m in asset.findall("mesh"):
-            attrs = dict(defaults.get(m.get("class", "main"), {}).get("mesh", {}))
-            attrs.update(m.attrib)
-            name, params = _mesh_asset(doc, m, attrs, mesh_dir, search_paths)
-            if name is not None:
-                meshes[name] = params
-
+    main = _Scope(doc, path, search_paths, {})
     links = []
-    worlds = root.findall("worldbody")  # MuJoCo merges them all (includes often add one each)
+    worlds = doc.root.findall("worldbody")  # MuJoCo merges them all (includes often add one each)
     if not worlds:
         return RobotModel(Path(path), "mjcf", links, doc)
+    composer = Composer(limit=MAX_ELEMENTS)
 
-    def attrs_of(el, tag, childclass):
-        cls = el.get("class", childclass)
-        if cls not in defaults:
-            raise RobotFileError(f"{doc.where(el)}: <{tag}> uses undefined default class {cls!r}")
-        merged = dict(defaults[cls].get(tag, {}))
-        merged.update(el.attrib)
-        return merged
-
-    def visit(body, childclass, parent, R_pf, p_pf, index):
-        """Read one body (not its children); returns its child bodies with the class each
-        inherits and the pose of the frames around them."""
+    def visit(body, scope, names, childclass, parent, R_pf, p_pf):
+        """Read one body (not its children); returns its child bodies with what each inherits
+        and the pose of the frames around them."""
         cc = body.get("childclass", childclass)
-        name = body.get("name") or f"body{index[0]}"
-        index[0] += 1
+        name = names(body.get("name")) or f"body{len(links) + 1}"
         link = Link(name, doc.line(body), None, element=body, parent=parent)
-        where = f"{doc.where(body)}: body {name!r}: <body>"
-        R_b = _orientation(body.attrib, comp, where)  # refuses a degenerate frame
+        where = f"{scope.doc.where(body)}: body {name!r}: <body>"
+        R_b = scope.orientation(body.attrib, where)  # refuses a degenerate frame
         p_b = np.asarray(floats(body.get("pos", "0 0 0"), 3, where, "pos"))
         link.R_parent_link, link.p_parent_link = R_pf @ R_b, R_pf @ p_b + p_pf
+        comp = scope.comp
         inertial = body.find("inertial")
         if inertial is not None:
-            where = f"{doc.where(inertial)}: body {name!r}: <inertial>"
-            link.inertial = _inertial(attrs_of(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
+            where = f"{scope.doc.where(inertial)}: body {name!r}: <inertial>"
+            link.inertial = _inertial(scope.attrs(inertial, "inertial", cc), comp, where, doc.line(inertial), inertial)
         children = []
         me = len(links)
-        for kind, el, el_cc, R_f, p_f in _contents(body, comp, doc, cc):
-            if kind == "body":
-                children.append((el, el_cc, me, R_f, p_f))
-                continue
-            if kind in ("joint", "freejoint"):
-                a = attrs_of(el, "joint", el_cc) if kind == "joint" else dict(el.attrib, type="free")
-                link.joints.append(_joint(doc, a, el, comp, R_f, p_f, name))
-                continue
-            geom = _geom(doc, attrs_of(el, "geom", el_cc), el, comp, meshes, link)
-            if geom is not None:
-                geom.R_link_geom = R_f @ geom.R_link_geom
-                geom.p_link_geom = R_f @ geom.p_link_geom + p_f
-                link.geometries.append(geom)
+        for it in composer.contents(body, scope, names, cc):
+            if it.kind == "body":
+                children.append((it.element, it.scope, it.names, it.childclass, me, it.R, it.p))
+            elif it.kind in ("joint", "freejoint"):
+                a = it.scope.attrs(it.element, "joint", it.childclass) if it.kind == "joint" else \
+                    dict(it.element.attrib, type="free")
+                a["name"] = it.names(a.get("name"))
+                link.joints.append(_joint(it.scope.doc, a, it.element, it.scope.comp, it.R, it.p, name))
+            else:
+                _add_geom(link, it)
         has_mass_geoms = any(g.role == "collision" for g in link.geometries)
         link.inertia_from_geoms = has_mass_geoms and (
             comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and link.inertial is None))
+        if scope is not main:
+            link.mjcf_compilers = scope.compilers  # an attached model's own mass bounds
         links.append(link)
         return children
 
     # depth first, parents before children, without recursion (models nest thousands deep)
-    counter = [1]
-    stack = [(el, cc, None, R, p) for world in reversed(worlds)
-             for kind, el, cc, R, p in reversed(list(_contents(world, comp, doc, "main", ("body",))))]
+    stack = [(it.element, it.scope, it.names, it.childclass, None, it.R, it.p) for world in reversed(worlds)
+             for it in reversed(list(composer.contents(world, main, Names(), "main", ("body",))))]
     while stack:
-        stack.extend(reversed(visit(*stack.pop(), counter)))
+        stack.extend(reversed(visit(*stack.pop())))
     return RobotModel(Path(path), "mjcf", links, doc, root_frame="world")
+
+
+def _add_geom(link, it) -> None:
+    """Add the geom of contents item ``it`` to ``link`` (posed in the body frame)."""
+    scope = it.scope
+    geom = _geom(scope.doc, scope.attrs(it.element, "geom", it.childclass), it.element, scope.comp, scope.meshes, link)
+    if geom is not None:
+        geom.R_link_geom = it.R @ geom.R_link_geom
+        geom.p_link_geom = it.R @ geom.p_link_geom + it.p
+        link.geometries.append(geom)
 
 
 def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
@@ -337,35 +370,37 @@ def _expand_includes(doc, base: Path, seen: set) -> None:
         pending.extend(reversed(found))
 
 
-#: most elements an MJCF model may hold once its includes are expanded (a guard)
-MAX_ELEMENTS = 1_000_000
-
-
 def _includes_in(el, parent=None) -> list:
     """``(parent, include)`` for ``el`` and every ``<include>`` inside it, in document order."""
     parents = {id(c): p for p in el.iter() for c in p}
     return [(parents.get(id(c), parent), c) for c in el.iter() if c.tag == "include"]
 
 
-def _included(doc, child, base: Path, first: dict):
-    """``(path, Document)`` of the file an ``<include>`` names, refused if already included."""
-    file = child.get("file")
-    where = f"{doc.where(child)}: <include file={file!r}>"
+def _file_named(doc, el, base: Path):
+    """``(where, resolved path, whether it is a file)`` of the ``file`` an ``<include>`` or
+    ``<model>`` names, relative to ``base``; RobotFileError when it has none or cannot be looked up."""
+    file = el.get("file")
+    where = f"{doc.where(el)}: <{el.tag} file={file!r}>"
     if not file:
-        raise RobotFileError(f"{doc.where(child)}: <include> needs a file attribute")
+        raise RobotFileError(f"{doc.where(el)}: <{el.tag}> needs a file attribute")
     try:
         target = (base / file).resolve()
-        exists = target.is_file()
+        return where, target, target.is_file()
     except (OSError, ValueError) as exc:
         raise RobotFileError(f"{where}: the file name cannot be looked up "
                              f"({getattr(exc, 'strerror', None) or exc})") from None
+
+
+def _included(doc, child, base: Path, first: dict):
+    """``(path, Document)`` of the file an ``<include>`` names, refused if already included."""
+    where, target, exists = _file_named(doc, child, base)
     if target in first:
         before = ("is the file being read (a cycle)" if first[target] is None
                   else f"was already included at {first[target]}")
         raise RobotFileError(f"{where}: {target} {before}; a file may be included only once (MuJoCo refuses "
                              "it twice too)")
     if not exists:
-        raise RobotFileError(f"{where}: included file {file!r} not found (relative to {base})")
+        raise RobotFileError(f"{where}: included file {child.get('file')!r} not found (relative to {base})")
     sub = parse_xml(target)
     if sub.root.tag != "mujoco":
         raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "

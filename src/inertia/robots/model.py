@@ -100,6 +100,9 @@ class Link:
     joints: list = field(default_factory=list)
     #: the name with its model's scope (SDF worlds and nested models: "model::link"), else None
     scoped_name: str | None = None
+    #: MJCF: the ``<compiler>`` elements whose mass bounds apply to this body when they are not
+    #: the file's own (a body an ``<attach>`` brings from another model), else None
+    mjcf_compilers: list | None = None
 
 
 @dataclass

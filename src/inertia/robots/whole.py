@@ -110,7 +110,8 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
         props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units,
                                                       simulator=True)
         if props is None and problems:
-            raise InertiaError(f"{model.path}: body {link.name!r} (line {link.line}): MuJoCo takes its inertia from "
+            where = model.document.where(link.element) if link.element is not None else f"{model.path}:{link.line}"
+            raise InertiaError(f"{where}: body {link.name!r}: MuJoCo takes its inertia from "
                                "its geoms, which cannot be used: " + "; ".join(m for _, m in problems))
         return props, "geometry" if props is not None else "none"
     if link.inertial is not None:
@@ -125,30 +126,48 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
 COMPILER_MASS = {"boundmass": "0", "boundinertia": "0", "balanceinertia": "false", "settotalmass": "-1"}
 
 
+def _compiler_mass_attrs(compilers) -> dict:
+    """:data:`COMPILER_MASS` as the ``<compiler>`` elements set them (later ones override)."""
+    attrs = dict(COMPILER_MASS)
+    for el in compilers:
+        attrs.update({k: el.get(k) for k in COMPILER_MASS if el.get(k) is not None})
+    return attrs
+
+
+def _active(attrs: dict, key: str, where: str) -> bool:
+    """Whether option ``key`` of ``attrs`` changes anything."""
+    from .urdf_sdf import floats
+
+    return attrs[key] == "true" if key == "balanceinertia" else floats(attrs[key], 1, where, key)[0] > 0
+
+
 def mujoco_compiler_adjustments(model, local: list, notes: list) -> list:
     """What MuJoCo's compiler does to each body's ``(props, source)`` (link frame) after
     computing it: ``boundmass`` and ``boundinertia`` (lower bounds on the mass and on each
     principal moment), ``balanceinertia`` (moments that break the triangle inequality become
     their mean), then ``settotalmass`` (every body scaled to that total).  A massless body
-    lifted by a bound has MuJoCo's inertial frame: the body's own ``pos`` (not its frames)."""
+    lifted by a bound has MuJoCo's inertial frame: the body's own ``pos`` (not its frames).
+    A body attached from another model (``<attach>``) has that model's bounds; ``settotalmass``
+    is the main file's."""
     from .urdf_sdf import floats
 
-    attrs = dict(COMPILER_MASS)
-    for el in model.document.root.findall("compiler"):
-        attrs.update({k: el.get(k) for k in COMPILER_MASS if el.get(k) is not None})
     where = f"{model.path}: <compiler>"
-    bound_m, bound_i, total = (floats(attrs[k], 1, where, k)[0] for k in ("boundmass", "boundinertia", "settotalmass"))
-    balance = attrs["balanceinertia"] == "true"
-    if bound_m <= 0 and bound_i <= 0 and not balance and total <= 0:
+    main = _compiler_mass_attrs(model.document.root.findall("compiler"))
+    per_link = [main if lk.mjcf_compilers is None else _compiler_mass_attrs(lk.mjcf_compilers) for lk in model.links]
+    total = floats(main["settotalmass"], 1, where, "settotalmass")[0]
+    changed = list(dict.fromkeys(f"{k}={a[k]}" for k in COMPILER_MASS for a in [main, *per_link]
+                                 if (k != "settotalmass" or a is main) and _active(a, k, where)))
+    if not changed:
         return local
     out = []
-    for lk, (props, source) in zip(model.links, local):
+    for lk, (props, source), attrs in zip(model.links, local, per_link):
+        bound_m, bound_i = (floats(attrs[k], 1, where, k)[0] for k in ("boundmass", "boundinertia"))
         if props is None:
             props = MassProperties(0.0, floats(lk.element.get("pos", "0 0 0"), 3, where, "pos"), np.zeros((3, 3)),
                                    validate=False)
         w0, V = np.linalg.eigh(props.inertia_com)
         w = np.maximum(w0, bound_i)
-        if balance and 2 * w.max() > w.sum():
+        if attrs["balanceinertia"] == "true" and 2 * w.max() > w.sum():
             w = np.full(3, w.mean())
         inertia = (V * w) @ V.T if np.any(w != w0) else props.inertia_com
         props = props._replace(mass=max(props.mass, bound_m), inertia_com=inertia)
@@ -156,8 +175,7 @@ def mujoco_compiler_adjustments(model, local: list, notes: list) -> list:
     if total > 0:
         scale = total / sum(p.mass for p, _ in out)
         out = [(p._replace(mass=p.mass * scale, inertia_com=p.inertia_com * scale), src) for p, src in out]
-    notes.append("MuJoCo's compiler options " + ", ".join(f"{k}={attrs[k]}" for k in COMPILER_MASS
-                                                           if attrs[k] != COMPILER_MASS[k]) + " applied to the bodies")
+    notes.append("MuJoCo's compiler options " + ", ".join(changed) + " applied to the bodies")
     return out
 
 
