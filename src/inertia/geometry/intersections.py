@@ -69,7 +69,7 @@ def crossing(T1, T2) -> np.ndarray:
     return hit
 
 
-def _candidate_pairs(vertices, faces, cell: float, max_cells_per_face: int = 64):
+def candidate_pairs(vertices, faces, cell: float, max_cells_per_face: int = 64):
     """Pairs (i < j) of faces whose bounding boxes share a grid cell (a superset of the crossings)."""
     tri = vertices[faces]
     lo = np.floor((tri.min(axis=1) - vertices.min(axis=0)) / cell).astype(np.int64)
@@ -77,7 +77,7 @@ def _candidate_pairs(vertices, faces, cell: float, max_cells_per_face: int = 64)
     span = hi - lo + 1
     n_cells = span.prod(axis=1)
     if n_cells.max(initial=0) > max_cells_per_face:   # a few huge faces: coarser grid
-        return _candidate_pairs(vertices, faces, cell * 2.0, max_cells_per_face)
+        return candidate_pairs(vertices, faces, cell * 2.0, max_cells_per_face)
     face = np.repeat(np.arange(len(faces)), n_cells)
     k = np.arange(len(face)) - np.repeat(np.cumsum(n_cells) - n_cells, n_cells)
     sx, sy = np.repeat(span[:, 0], n_cells), np.repeat(span[:, 1], n_cells)
@@ -223,7 +223,7 @@ def _first_crossing(tri_a, tri_b, lo, hi):
     cell = 2.0 * float(np.mean(np.linalg.norm(both[:, [1, 2, 0]] - both, axis=2)))
     if not cell > 0:
         return None
-    pairs = _candidate_pairs(verts, faces, cell)
+    pairs = candidate_pairs(verts, faces, cell)
     pairs = pairs[(pairs[:, 0] < len(A)) & (pairs[:, 1] >= len(A))]
     for s in range(0, len(pairs), _CHUNK):
         p = pairs[s:s + _CHUNK]

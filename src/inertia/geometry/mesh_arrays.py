@@ -69,19 +69,24 @@ def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
 _topology_state = None
 
 
-def topology_kernels(work: int = 0):
-    """The numba welding/topology kernels (:mod:`._topology_numba`), or None for the NumPy path.
-
-    ``work`` is the job's size in faces: whether the compiled kernels run is decided by
-    :func:`inertia._core.compiled.kernels` (numba missing, a small job in a process without
-    numba, a cold cache: the NumPy path).  They give the same answers as the NumPy code here, in
-    O(n) hash passes instead of sorts; tests compare the two.
-    """
+def compiled_kernels(module_name: str, work: int = 0):
+    """The compiled kernel module ``module_name`` of this layer, or None for the NumPy path:
+    None when ``_topology_state`` is False (tests run "as if numba were not installed"),
+    else as :func:`inertia._core.compiled.kernels` decides (numba missing, a small job in a
+    process without numba, a cold cache)."""
     if _topology_state is False:
         return None
     from .._core.compiled import kernels
 
-    return kernels("inertia.geometry._topology_numba", work=work)
+    return kernels(module_name, work=work)
+
+
+def topology_kernels(work: int = 0):
+    """The numba welding/topology kernels (:mod:`._topology_numba`), or None for the NumPy path
+    (:func:`compiled_kernels`; ``work`` is the job's size in faces).  They give the same answers
+    as the NumPy code here, in O(n) hash passes instead of sorts; tests compare the two.
+    """
+    return compiled_kernels("inertia.geometry._topology_numba", work)
 
 
 # ---------------------------------------------------------------------------------- welding

@@ -60,8 +60,8 @@ import numpy as np
 from .._core.errors import InputError
 from ._robust_caps import Caps, cap_region_bound, dedupe_faces
 from ._robust_pieces import Pieces, tetra_sums
-from .checks import validate_inputs
 from .integrals import reference_point
+from .mesh_arrays import validate_inputs
 
 __all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", "robust_integrals"]
 

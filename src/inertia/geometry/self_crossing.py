@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .intersections import CROSS_RTOL, _candidate_pairs, crossing
+from .intersections import CROSS_RTOL, candidate_pairs, crossing
 
 #: the center must be farther than this times |a| from every face's plane (a the face's first
 #: corner seen from the center): a face nearly edge-on to the center does not certify
@@ -60,13 +60,9 @@ _DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
 
 
 def _kernels(work: int):
-    from .mesh_arrays import _topology_state
+    from .mesh_arrays import compiled_kernels
 
-    if _topology_state is False:      # tests: "as if numba were not installed"
-        return None
-    from .._core.compiled import kernels
-
-    return kernels("inertia.geometry._selfcross_numba", work=work)
+    return compiled_kernels("inertia.geometry._selfcross_numba", work)
 
 
 def star_certificate(vertices, faces, center) -> bool:
@@ -148,7 +144,7 @@ def first_crossing(vertices, faces) -> Crossing | None:
             return None
         i, j = int(out[0]), int(out[1])
         return Crossing((i, j), v[f[i]].mean(axis=0))
-    pairs = _candidate_pairs(v, f, cell, MAX_CELLS_PER_FACE)
+    pairs = candidate_pairs(v, f, cell, MAX_CELLS_PER_FACE)
     shared = (f[pairs[:, 0], :, None] == f[pairs[:, 1], None, :]).sum(axis=(1, 2))
     pairs = pairs[shared < 2]
     for s in range(0, len(pairs), _CHUNK):
