@@ -195,3 +195,19 @@ def test_flip_products_that_finds_nothing_says_so_and_fails(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "nothing changed" in err and "still fails the check (1 link)" in err and "triangle inequality" in err
     assert "0 inertials changed" not in err
+
+
+def test_a_replicated_inertial_is_fixed_once_for_every_copy(tmp_path):
+    """MJCF <replicate> makes three bodies of one <inertial> element: one edit fixes all three,
+    and MuJoCo loads the result (it refused the input)."""
+    mujoco = pytest.importorskip("mujoco")
+    src = tmp_path / "rep.xml"
+    src.write_text('<mujoco>\n  <worldbody>\n    <replicate count="3" offset="1 0 0">\n      <body name="b">\n'
+                   '        <joint type="hinge"/>\n        <inertial pos="0 0 0" mass="1" diaginertia="1.01 1.11 100.11"/>\n'
+                   '      </body>\n    </replicate>\n  </worldbody>\n</mujoco>\n')
+    out = tmp_path / "out.xml"
+    report = fix_file(src, out)
+    assert len(report.changed) == 1 and report.remaining == {}
+    model = mujoco.MjModel.from_xml_path(str(out))
+    for k in (1, 2, 3):
+        np.testing.assert_allclose(np.sort(model.body_inertia[k]), np.linalg.eigvalsh(BAD_NEAREST), rtol=1e-12)

@@ -280,7 +280,7 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     model = read_robot(path, search_paths=search_paths)
     included = getattr(model.document, "included", [])
     if included:
-        raise InputError(f"{path} includes other files ({', '.join(p.name for p in included)}); fix the file "
+        raise InputError(f"{path} includes or attaches other files ({', '.join(p.name for p in included)}); fix the file "
                          "that holds the inertials instead, so that no change is lost")
     if getattr(model.document, "generated_by", None) == "xacro":
         raise InputError(f"{path} is a xacro file: its inertials come from macros and arguments, so no fix can be "
@@ -288,10 +288,12 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     ed = SourceEditor(model.document)
     setter = {"urdf": _set_urdf, "sdf": _set_sdf, "mjcf": _set_mjcf}[model.format]
     report = FixReport(str(output))
+    edited: set = set()
     for link in model.links:
         inertial = link.inertial
-        if inertial is None:
-            continue
+        if inertial is None or id(inertial.element) in edited:
+            continue    # an MJCF <replicate> copies one <inertial>: it is fixed once, for every copy
+        edited.add(id(inertial.element))
         own, mass = inertial.inertia_declared * mass_scale, inertial.mass * mass_scale
         if mode == "flip":
             final = _fix_flip(ed, model.format, inertial, own, mass_scale, report, link.name)
