@@ -252,16 +252,16 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     hi = np.empty((nf, 3), dtype=np.int64)
     n_reg = 0
     for t in range(nf):
-        span = 1
+        span = 1.0                    # in floats: a face 1e20 cells long must not overflow int64
         for a in range(3):
-            mn = min(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a])
-            mx = max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a])
-            lo[t, a] = np.int64(np.floor((mn - origin[a]) / cell))
-            hi[t, a] = np.int64(np.floor((mx - origin[a]) / cell))
-            span *= hi[t, a] - lo[t, a] + 1
-        if span > max_per_face:
-            return -1
-        n_reg += span
+            mn = np.floor((min(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell)
+            mx = np.floor((max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell)
+            span *= mx - mn + 1.0
+            if span > max_per_face or mx > 4.0e18:   # too many cells, or cell numbers beyond int64
+                return -1
+            lo[t, a] = np.int64(mn)
+            hi[t, a] = np.int64(mx)
+        n_reg += np.int64(span)
     N, diag = face_frames(V, F)
     cap = 16
     while cap < n_reg:

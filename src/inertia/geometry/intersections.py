@@ -72,12 +72,16 @@ def crossing(T1, T2) -> np.ndarray:
 def candidate_pairs(vertices, faces, cell: float, max_cells_per_face: int = 64):
     """Pairs (i < j) of faces whose bounding boxes share a grid cell (a superset of the crossings)."""
     tri = vertices[faces]
-    lo = np.floor((tri.min(axis=1) - vertices.min(axis=0)) / cell).astype(np.int64)
-    hi = np.floor((tri.max(axis=1) - vertices.min(axis=0)) / cell).astype(np.int64)
+    origin = vertices.min(axis=0)
+    while True:   # cell ranges in floats first: a face 1e20 cells long must not overflow int64
+        lo_f = np.floor((tri.min(axis=1) - origin) / cell)
+        hi_f = np.floor((tri.max(axis=1) - origin) / cell)
+        if not len(tri) or ((hi_f - lo_f + 1).prod(axis=1).max() <= max_cells_per_face and hi_f.max() < 4e18):
+            break
+        cell *= 2.0                                   # a few huge faces: coarser grid
+    lo, hi = lo_f.astype(np.int64), hi_f.astype(np.int64)
     span = hi - lo + 1
     n_cells = span.prod(axis=1)
-    if n_cells.max(initial=0) > max_cells_per_face:   # a few huge faces: coarser grid
-        return candidate_pairs(vertices, faces, cell * 2.0, max_cells_per_face)
     face = np.repeat(np.arange(len(faces)), n_cells)
     k = np.arange(len(face)) - np.repeat(np.cumsum(n_cells) - n_cells, n_cells)
     sx, sy = np.repeat(span[:, 0], n_cells), np.repeat(span[:, 1], n_cells)
