@@ -10,8 +10,9 @@ choice is only about time.  Three costs decide it:
 The rule (``INERTIA_COMPILED=auto``, the default):
 
 1. A process that has not imported numba yet runs small jobs on the NumPy path: a one-shot
-   ``inertia props part.stl`` never pays for numba.  Once the NumPy work of the process passes
-   :data:`IMPORT_WORK` (about the import's cost), or one job is that large, numba is imported.
+   ``inertia props part.stl`` never pays for numba.  Once the process has spent
+   :data:`IMPORT_SECONDS` of CPU time since its first NumPy-path job (about the import's
+   cost), or one job is larger than :data:`IMPORT_WORK`, numba is imported.
 2. A kernel whose machine code is not in numba's cache is not compiled in the caller's time:
    the NumPy path runs, and a background process (``python -m inertia.cli.warmup``, detached, at
    low priority, one at a time) compiles every kernel into the cache.  Later calls, in this
@@ -29,12 +30,14 @@ import os
 import sys
 import time
 
-#: NumPy work (faces, or body-steps) a process does before importing numba pays off: the NumPy
-#: path costs ~0.6 us a face, numba's import and a cache load ~0.25 s.
+#: one job this large (faces, or body-steps; callers scale it by their NumPy cost) goes
+#: compiled at once: the NumPy path costs ~0.6 us a face, numba's import and a load ~0.25 s
 IMPORT_WORK = 400_000
+#: CPU seconds a process spends after its first NumPy-path job before numba pays for itself
+IMPORT_SECONDS = 0.3
 
 _MODES = ("auto", "always", "never")
-_numpy_work = 0            # work done on the NumPy path by this process while numba was not imported
+_numpy_since = None        # process CPU time at the first NumPy-path job (numba not imported)
 _checked: dict = {}        # module name -> (time of the last cache check, module or None)
 _RECHECK_S = 5.0           # a cold cache is looked at again after this long (the warm-up may be done)
 _warmup_started = False
@@ -62,13 +65,15 @@ def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
     cached machine code shows that the module is warm (default: every kernel the module's
     ``WARM_PROBE`` names).  See the module docstring for the rule.
     """
-    global _numpy_work
+    global _numpy_since
     m = mode()
     if m == "never":
         return None
     if m == "auto" and "numba" not in sys.modules:
-        if work < IMPORT_WORK and _numpy_work + work < IMPORT_WORK:
-            _numpy_work += work
+        now = time.process_time()
+        if _numpy_since is None:
+            _numpy_since = now
+        if work < IMPORT_WORK and now - _numpy_since < IMPORT_SECONDS:
             return None
     try:
         module = importlib.import_module(module_name)

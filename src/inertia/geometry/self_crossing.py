@@ -62,7 +62,8 @@ _DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
 def _kernels(work: int):
     from .mesh_arrays import compiled_kernels
 
-    return compiled_kernels("inertia.geometry._selfcross_numba", work)
+    # the NumPy search costs ~30x the mass properties a face: weigh the job so
+    return compiled_kernels("inertia.geometry._selfcross_numba", 30 * work)
 
 
 def star_certificate(vertices, faces, center) -> bool:
