@@ -280,8 +280,9 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     model = read_robot(path, search_paths=search_paths)
     included = getattr(model.document, "included", [])
     if included:
-        raise InputError(f"{path} includes or attaches other files ({', '.join(p.name for p in included)}); fix the file "
-                         "that holds the inertials instead, so that no change is lost")
+        names = ", ".join(p.name for p in included)
+        raise InputError(f"{path} includes or attaches other files ({names}); fix the file that holds the "
+                         "inertials instead, so that no change is lost")
     if getattr(model.document, "generated_by", None) == "xacro":
         raise InputError(f"{path} is a xacro file: its inertials come from macros and arguments, so no fix can be "
                          "written back into it; fix its expanded file instead (xacro FILE > robot.urdf)")
