@@ -9,18 +9,17 @@ Everything works in the principal frame P of the body, with the body angular mom
 ``m = I w`` as the rotational state (as :func:`~inertia.dynamics.integrators.integrate`; the
 NumPy rollout converts ``w -> m -> w`` at every step, a difference of one rounding).
 
-Layout: bodies are processed in chunks of ``CHUNK`` (parallel over chunks with ``prange``);
-inside a chunk the state lives in a flat structure-of-arrays buffer with fixed row offsets,
-allocated once per chunk, and every time step is a loop over the chunk that LLVM vectorises
-(the explicit methods: their sin and cos are the branch-free :func:`._steps_numba.sincos`).
-The implicit methods' Newton loops stay scalar inside the same layout.  Left-over bodies (all
-of them for a single body) run one at a time with the state in registers.
-``error_model="numpy"`` is required: Python's ZeroDivisionError check on every division
-would keep the loops scalar.
+Layout: bodies are processed in chunks of ``CHUNK``; inside a chunk the state lives in a flat
+structure-of-arrays buffer with fixed row offsets, allocated once per range of chunks, and
+every time step is a loop over the chunk that LLVM vectorises (the explicit methods: their
+sin and cos are the branch-free :func:`._steps_numba.sincos`; the implicit methods' Newton
+loops stay scalar in the same layout).  Left-over bodies (all of them for a single body) run
+one at a time with the state in registers.  ``error_model="numpy"`` is required: Python's
+ZeroDivisionError check on every division would keep the loops scalar.
 
-One pair of entry points per method (``rollout_<method>``, parallel over chunks, and
-``serial_<method>``, one body at a time on the calling thread) so that a method compiles only
-when first used: numba caches functions whose arguments are arrays, not functions.
+One entry point per method (``range_<method>``, for a range of bodies; it releases the GIL,
+and :mod:`.rollouts` runs disjoint ranges on threads) so that a method compiles only when
+first used.
 """
 
 from __future__ import annotations
@@ -42,6 +41,12 @@ _ROWS = 23
 _I_ROW = 13
 _U_ROW = 16
 _M_ROW = 22
+
+
+#: LLVM may fuse a multiply and an add (FMA) and divide by multiplying with a reciprocal in
+#: the loops over a chunk (a rounding apart from the NumPy kernels, like the sin and cos):
+#: 2x for splitting, 1.3x for rk4 on AVX-512.  The one-body path keeps IEEE order exactly.
+_CHUNK_MATH = {"contract", "arcp"}
 
 
 # ============================================================================ one body, one step
@@ -88,8 +93,10 @@ def _translate(body_force, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, hw, hx, hy, h
 # an entry point that names a global one: no function value is passed at run time (numba's
 # first-class functions defeat its cache and, nested, its compiler).
 @njit(cache=True, inline="always", error_model="numpy")
-def _chunk_step(step, body_force, b, g0, g1, g2, h):
-    """One time step of the CHUNK bodies of the buffer ``b``, in place; the first failed body or CHUNK."""
+def _chunk_step(step, b, g0, g1, g2, h):
+    """One time step of the CHUNK bodies of the buffer ``b`` under world forces, in place;
+    returns the first failed body or CHUNK.  (Body-frame forces take the one-body path: a
+    second, half step per step would double the compiled code for a rarer case.)"""
     C = CHUNK
     bad = C
     for i in range(C):
@@ -98,12 +105,8 @@ def _chunk_step(step, body_force, b, g0, g1, g2, h):
         I0, I1, I2 = b[13 * C + i], b[14 * C + i], b[15 * C + i]
         t0, t1, t2 = b[19 * C + i], b[20 * C + i], b[21 * C + i]
         nw, nx, ny, nz, n0, n1, n2, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, True)
-        hw, hx, hy, hz = qw, qx, qy, qz
-        if body_force:                                 # the attitude at h/2, for Simpson's rule
-            hw, hx, hy, hz, _, _, _, ok_half = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, 0.5 * h, True)
-            ok = ok and ok_half
-        r = _translate(body_force, b[i], b[C + i], b[2 * C + i], b[3 * C + i], b[4 * C + i], b[5 * C + i],
-                       qw, qx, qy, qz, hw, hx, hy, hz, nw, nx, ny, nz, b[16 * C + i], b[17 * C + i], b[18 * C + i],
+        r = _translate(False, b[i], b[C + i], b[2 * C + i], b[3 * C + i], b[4 * C + i], b[5 * C + i],
+                       qw, qx, qy, qz, qw, qx, qy, qz, nw, nx, ny, nz, b[16 * C + i], b[17 * C + i], b[18 * C + i],
                        b[22 * C + i], g0, g1, g2, h)
         b[i], b[C + i], b[2 * C + i], b[3 * C + i], b[4 * C + i], b[5 * C + i] = r[0], r[1], r[2], r[3], r[4], r[5]
         b[6 * C + i], b[7 * C + i], b[8 * C + i], b[9 * C + i] = nw, nx, ny, nz
@@ -185,7 +188,7 @@ def _load_inputs(b, b0, u, t):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _run_chunks(chunk, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps, save_every, body_force, out, status):
+def _run_chunks(chunk, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps, save_every, out, status):
     """Bodies ``lo .. hi - 1`` (whole chunks) a chunk at a time: load, ``chunk`` n_steps times, save."""
     g0, g1, g2 = gravity[0], gravity[1], gravity[2]
     b = np.empty(_ROWS * CHUNK)                       # the chunk's buffer, allocated once
@@ -196,7 +199,7 @@ def _run_chunks(chunk, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
         for t in range(n_steps):
             if t == 0 or u.shape[0] > 1:
                 _load_inputs(b, b0, u, t)
-            bad = chunk(b, g0, g1, g2, h, body_force)
+            bad = chunk(b, g0, g1, g2, h)
             if bad < CHUNK:
                 status[b0 + bad] = t
                 break
@@ -250,8 +253,8 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
 # ============================================================================ rollout
 # The entry points, one per method: ``range_<method>(lo, hi, x0, u, moments, mass, frame,
 # gravity, h, n_steps, save_every, body_force, out, status)`` rolls bodies lo .. hi - 1 forward
-# ``n_steps`` steps (whole chunks first, the rest one at a time) and writes their saved states
-# to ``out``.  They release the GIL: the caller runs
+# ``n_steps`` steps (world forces: whole chunks first, the rest one at a time; body forces: one
+# at a time) and writes their saved states to ``out``.  They release the GIL: the caller runs
 # disjoint ranges on several threads.  Each names its step directly in its chunk loop, so
 # numba inlines the step there and LLVM vectorises the loop over the chunk (a step passed
 # down as an argument stays an opaque call); a method compiles only when first used.
@@ -269,101 +272,87 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
 #     failed, for the first such body of a chunk (that chunk then stops).
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_euler_explicit(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_euler_explicit, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_euler_explicit, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_euler_explicit(b, g0, g1, g2, h):
+    return _chunk_step(st.step_euler_explicit, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_euler_explicit(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_euler_explicit, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_euler_explicit, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_euler_explicit, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_euler_implicit(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_euler_implicit, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_euler_implicit, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_euler_implicit(b, g0, g1, g2, h):
+    return _chunk_step(st.step_euler_implicit, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_euler_implicit(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_euler_implicit, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_euler_implicit, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_euler_implicit, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_rk4(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_rk4, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_rk4, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_rk4(b, g0, g1, g2, h):
+    return _chunk_step(st.step_rk4, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_rk4(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_rk4, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_rk4, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_rk4, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_splitting(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_splitting, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_splitting, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_splitting(b, g0, g1, g2, h):
+    return _chunk_step(st.step_splitting, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_splitting(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_splitting, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_splitting, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_splitting, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_dmv(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_dmv, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_dmv, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_dmv(b, g0, g1, g2, h):
+    return _chunk_step(st.step_dmv, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_dmv(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_dmv, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_dmv, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_dmv, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_dmv4(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_dmv4, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_dmv4, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_dmv4(b, g0, g1, g2, h):
+    return _chunk_step(st.step_dmv4, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_dmv4(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_dmv4, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_dmv4, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_dmv4, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
-@njit(cache=True, error_model="numpy")
-def _chunk_midpoint(b, g0, g1, g2, h, body_force):
-    if body_force:
-        return _chunk_step(st.step_midpoint, True, b, g0, g1, g2, h)
-    return _chunk_step(st.step_midpoint, False, b, g0, g1, g2, h)
+@njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
+def _chunk_midpoint(b, g0, g1, g2, h):
+    return _chunk_step(st.step_midpoint, b, g0, g1, g2, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def range_midpoint(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
-    mid = lo + (hi - lo) // CHUNK * CHUNK
-    _run_chunks(_chunk_midpoint, lo, mid, x, u, I, ms, fr, g, h, n, every, bf, out, status)
+    mid = lo if bf else lo + (hi - lo) // CHUNK * CHUNK
+    _run_chunks(_chunk_midpoint, lo, mid, x, u, I, ms, fr, g, h, n, every, out, status)
     _run_singles(st.step_midpoint, mid, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status)
 
 
