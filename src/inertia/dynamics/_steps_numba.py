@@ -27,6 +27,7 @@ import math
 
 from numba import njit
 
+from .equations import solve3_components
 from .integrator_kernels import NEWTON_FAIL_RTOL, NEWTON_MAX_ITER, NEWTON_RTOL
 
 #: Method ids of the compiled kernels (they dispatch on these integers).
@@ -129,22 +130,8 @@ def exp_step(qw, qx, qy, qz, w0, w1, w2, h, vec):
     return normalize(rw, rx, ry, rz)
 
 
-@njit(**_OPTS)
-def solve3(a00, a01, a02, a10, a11, a12, a20, a21, a22, b0, b1, b2):
-    """``a x = b`` by the adjugate   (equations.solve3_components)."""
-    c00 = a11 * a22 - a12 * a21
-    c01 = a12 * a20 - a10 * a22
-    c02 = a10 * a21 - a11 * a20
-    c10 = a02 * a21 - a01 * a22
-    c11 = a00 * a22 - a02 * a20
-    c12 = a01 * a20 - a00 * a21
-    c20 = a01 * a12 - a02 * a11
-    c21 = a02 * a10 - a00 * a12
-    c22 = a00 * a11 - a01 * a10
-    inv_det = 1.0 / (a00 * c00 + a01 * c01 + a02 * c02)
-    return ((c00 * b0 + c10 * b1 + c20 * b2) * inv_det,
-            (c01 * b0 + c11 * b1 + c21 * b2) * inv_det,
-            (c02 * b0 + c12 * b1 + c22 * b2) * inv_det)
+#: ``a x = b`` by the adjugate: the NumPy kernels' own function, compiled (a: rows of three)
+solve3 = njit(**_OPTS)(solve3_components)
 
 
 @njit(cache=True, error_model="numpy")
@@ -165,12 +152,12 @@ def solve_quadratic(ch0, ch1, ch2, f0, f1, f2, with_alpha):
         r1 = c1 - beta * ch1 - f1 * c2 * c0
         r2 = c2 - beta * ch2 - f2 * c0 * c1
         if with_alpha:
-            e0, e1, e2 = solve3(1.0 - d0 * c0, -d0 * c1 - f0 * c2, -d0 * c2 - f0 * c1,
-                                -d1 * c0 - f1 * c2, 1.0 - d1 * c1, -d1 * c2 - f1 * c0,
-                                -d2 * c0 - f2 * c1, -d2 * c1 - f2 * c0, 1.0 - d2 * c2, r0, r1, r2)
+            e0, e1, e2 = solve3(((1.0 - d0 * c0, -d0 * c1 - f0 * c2, -d0 * c2 - f0 * c1),
+                                 (-d1 * c0 - f1 * c2, 1.0 - d1 * c1, -d1 * c2 - f1 * c0),
+                                 (-d2 * c0 - f2 * c1, -d2 * c1 - f2 * c0, 1.0 - d2 * c2)), (r0, r1, r2))
         else:
-            e0, e1, e2 = solve3(1.0, -f0 * c2, -f0 * c1, -f1 * c2, 1.0, -f1 * c0, -f2 * c1, -f2 * c0, 1.0,
-                                r0, r1, r2)
+            e0, e1, e2 = solve3(((1.0, -f0 * c2, -f0 * c1), (-f1 * c2, 1.0, -f1 * c0), (-f2 * c1, -f2 * c0, 1.0)),
+                                (r0, r1, r2))
         c0 = c0 - e0
         c1 = c1 - e1
         c2 = c2 - e2
@@ -210,8 +197,8 @@ def step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, v
     f0 = (m1 * w2 - m2 * w1) + t0
     f1 = (m2 * w0 - m0 * w2) + t1
     f2 = (m0 * w1 - m1 * w0) + t2
-    d0, d1, d2 = solve3(I0, -g0 * w2, -g0 * w1, -g1 * w2, I1, -g1 * w0, -g2 * w1, -g2 * w0, I2,
-                        h * f0, h * f1, h * f2)
+    d0, d1, d2 = solve3(((I0, -g0 * w2, -g0 * w1), (-g1 * w2, I1, -g1 * w0), (-g2 * w1, -g2 * w0, I2)),
+                        (h * f0, h * f1, h * f2))
     n0 = w0 + d0
     n1 = w1 + d1
     n2 = w2 + d2
