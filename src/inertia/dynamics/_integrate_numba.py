@@ -32,12 +32,14 @@ def _segments(step, q, m, moments, torque, counts, hs, slots, qs, ws, failure):
         qw, qx, qy, qz = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
         m0, m1, m2 = m[b, 0], m[b, 1], m[b, 2]
         I0, I1, I2 = moments[b, 0], moments[b, 1], moments[b, 2]
+        W0, W1, W2 = 1.0 / I0, 1.0 / I1, 1.0 / I2
         t0, t1, t2 = torque[b, 0], torque[b, 1], torque[b, 2]
         done = 0
         for k in range(counts.shape[0]):
             h = hs[k]
             for _ in range(counts[k]):
-                nw, nx, ny, nz, n0, n1, n2, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, False)
+                nw, nx, ny, nz, n0, n1, n2, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2,
+                                                      t0, t1, t2, h, False)
                 if not (ok and math.isfinite(n0) and math.isfinite(n1) and math.isfinite(n2)):
                     q[b, 0], q[b, 1], q[b, 2], q[b, 3] = qw, qx, qy, qz
                     m[b, 0], m[b, 1], m[b, 2] = m0, m1, m2

@@ -33,14 +33,16 @@ from . import _steps_numba as st
 #: (23 x CHUNK doubles, 23.5 kB) stays in L1.
 CHUNK = 128
 
-# Buffer rows (each CHUNK long): p 0-2, v 3-5, q 6-9, m 10-12, moments 13-15, input 16-21
-# (force 16-18, torque 19-21), mass 22.  Fixed offsets let LLVM prove that the rows do not
+# Buffer rows (each CHUNK long): p 0-2, v 3-5, q 6-9, m 10-12, moments I 13-15, W = 1/I
+# 16-18, the acceleration F/mass + g of the held world force 19-21, torque 22-24 (I, W per
+# chunk, the inputs when they change).  Fixed offsets let LLVM prove that the rows do not
 # overlap, so the loop over the chunk vectorises (with runtime alias checks between separate
 # arrays it does not).
-_ROWS = 23
+_ROWS = 25
 _I_ROW = 13
-_U_ROW = 16
-_M_ROW = 22
+_W_ROW = 16
+_A_ROW = 19
+_T_ROW = 22
 
 
 #: LLVM may fuse a multiply and an add (FMA) and divide by multiplying with a reciprocal in
@@ -93,22 +95,25 @@ def _translate(body_force, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, hw, hx, hy, h
 # an entry point that names a global one: no function value is passed at run time (numba's
 # first-class functions defeat its cache and, nested, its compiler).
 @njit(cache=True, inline="always", error_model="numpy")
-def _chunk_step(step, b, g0, g1, g2, h):
+def _chunk_step(step, b, h):
     """One time step of the CHUNK bodies of the buffer ``b`` under world forces, in place;
     returns the first failed body or CHUNK.  (Body-frame forces take the one-body path: a
     second, half step per step would double the compiled code for a rarer case.)"""
     C = CHUNK
     bad = C
+    hh = 0.5 * h * h
     for i in range(C):
-        qw, qx, qy, qz = b[6 * C + i], b[7 * C + i], b[8 * C + i], b[9 * C + i]
-        m0, m1, m2 = b[10 * C + i], b[11 * C + i], b[12 * C + i]
-        I0, I1, I2 = b[13 * C + i], b[14 * C + i], b[15 * C + i]
-        t0, t1, t2 = b[19 * C + i], b[20 * C + i], b[21 * C + i]
-        nw, nx, ny, nz, n0, n1, n2, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, True)
-        r = _translate(False, b[i], b[C + i], b[2 * C + i], b[3 * C + i], b[4 * C + i], b[5 * C + i],
-                       qw, qx, qy, qz, qw, qx, qy, qz, nw, nx, ny, nz, b[16 * C + i], b[17 * C + i], b[18 * C + i],
-                       b[22 * C + i], g0, g1, g2, h)
-        b[i], b[C + i], b[2 * C + i], b[3 * C + i], b[4 * C + i], b[5 * C + i] = r[0], r[1], r[2], r[3], r[4], r[5]
+        nw, nx, ny, nz, n0, n1, n2, ok = step(b[6 * C + i], b[7 * C + i], b[8 * C + i], b[9 * C + i],
+                                              b[10 * C + i], b[11 * C + i], b[12 * C + i],
+                                              b[13 * C + i], b[14 * C + i], b[15 * C + i],
+                                              b[16 * C + i], b[17 * C + i], b[18 * C + i],
+                                              b[22 * C + i], b[23 * C + i], b[24 * C + i], h, True)
+        # exact for the held world force: p += v h + a h^2/2, v += a h   (transition._translate)
+        for k in range(3):
+            a = b[(19 + k) * C + i]
+            v = b[(3 + k) * C + i]
+            b[k * C + i] = b[k * C + i] + v * h + a * hh
+            b[(3 + k) * C + i] = v + a * h
         b[6 * C + i], b[7 * C + i], b[8 * C + i], b[9 * C + i] = nw, nx, ny, nz
         b[10 * C + i], b[11 * C + i], b[12 * C + i] = n0, n1, n2
         if not ok:
@@ -163,7 +168,7 @@ def _save_chunk(out, r, b0, b, frame):
 
 
 @njit(cache=True, error_model="numpy")
-def _load_chunk(b, b0, x0, moments, mass):
+def _load_chunk(b, b0, x0, moments):
     C = CHUNK
     Nb = moments.shape[0]
     for i in range(C):
@@ -172,34 +177,37 @@ def _load_chunk(b, b0, x0, moments, mass):
             b[k * C + i] = x0[b0 + i, k]
         for k in range(3):
             b[(_I_ROW + k) * C + i] = moments[bb, k]
+            b[(_W_ROW + k) * C + i] = 1.0 / moments[bb, k]
             b[(10 + k) * C + i] = moments[bb, k] * x0[b0 + i, 10 + k]
-        b[_M_ROW * C + i] = mass[bb]
 
 
 @njit(cache=True, error_model="numpy")
-def _load_inputs(b, b0, u, t):
+def _load_inputs(b, b0, u, t, mass, gravity):
+    """Inputs of step t: the acceleration ``F / mass + g`` of the world force, and the torque."""
     C = CHUNK
     tt = t if u.shape[0] > 1 else 0
     Nu = u.shape[1]
+    Nb = mass.shape[0]
     for i in range(C):
         bu = b0 + i if Nu > 1 else 0
-        for k in range(6):
-            b[(_U_ROW + k) * C + i] = u[tt, bu, k]
+        m = mass[b0 + i if Nb > 1 else 0]
+        for k in range(3):
+            b[(_A_ROW + k) * C + i] = u[tt, bu, k] / m + gravity[k]
+            b[(_T_ROW + k) * C + i] = u[tt, bu, 3 + k]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _run_chunks(chunk, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps, save_every, out, status):
     """Bodies ``lo .. hi - 1`` (whole chunks) a chunk at a time: load, ``chunk`` n_steps times, save."""
-    g0, g1, g2 = gravity[0], gravity[1], gravity[2]
     b = np.empty(_ROWS * CHUNK)                       # the chunk's buffer, allocated once
     for b0 in range(lo, hi, CHUNK):
-        _load_chunk(b, b0, x0, moments, mass)
+        _load_chunk(b, b0, x0, moments)
         if save_every > 0:
             _save_chunk(out, 0, b0, b, frame)
         for t in range(n_steps):
             if t == 0 or u.shape[0] > 1:
-                _load_inputs(b, b0, u, t)
-            bad = chunk(b, g0, g1, g2, h)
+                _load_inputs(b, b0, u, t, mass, gravity)
+            bad = chunk(b, h)
             if bad < CHUNK:
                 status[b0 + bad] = t
                 break
@@ -220,6 +228,7 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
         bu = bi if u.shape[1] > 1 else 0
         bf = bi if frame.shape[0] > 1 else 0
         I0, I1, I2, m = moments[bb, 0], moments[bb, 1], moments[bb, 2], mass[bb]
+        W0, W1, W2 = 1.0 / I0, 1.0 / I1, 1.0 / I2
         p0, p1, p2 = x0[bi, 0], x0[bi, 1], x0[bi, 2]
         v0, v1, v2 = x0[bi, 3], x0[bi, 4], x0[bi, 5]
         qw, qx, qy, qz = x0[bi, 6], x0[bi, 7], x0[bi, 8], x0[bi, 9]
@@ -231,11 +240,12 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
             if T > 1:
                 F0, F1, F2 = u[t, bu, 0], u[t, bu, 1], u[t, bu, 2]
                 t0, t1, t2 = u[t, bu, 3], u[t, bu, 4], u[t, bu, 5]
-            nw, nx, ny, nz, m0n, m1n, m2n, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, False)
+            nw, nx, ny, nz, m0n, m1n, m2n, ok = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2,
+                                                     h, False)
             hw, hx, hy, hz = qw, qx, qy, qz
             if body_force:
-                hw, hx, hy, hz, _, _, _, ok_half = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, 0.5 * h,
-                                                        False)
+                hw, hx, hy, hz, _, _, _, ok_half = step(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2,
+                                                        t0, t1, t2, 0.5 * h, False)
                 ok = ok and ok_half
             p0, p1, p2, v0, v1, v2 = _translate(body_force, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, hw, hx, hy, hz,
                                                 nw, nx, ny, nz, F0, F1, F2, m, g0, g1, g2, h)
@@ -273,8 +283,8 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_euler_explicit(b, g0, g1, g2, h):
-    return _chunk_step(st.step_euler_explicit, b, g0, g1, g2, h)
+def _chunk_euler_explicit(b, h):
+    return _chunk_step(st.step_euler_explicit, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -285,8 +295,8 @@ def range_euler_explicit(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, statu
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_euler_implicit(b, g0, g1, g2, h):
-    return _chunk_step(st.step_euler_implicit, b, g0, g1, g2, h)
+def _chunk_euler_implicit(b, h):
+    return _chunk_step(st.step_euler_implicit, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -297,8 +307,8 @@ def range_euler_implicit(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, statu
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_rk4(b, g0, g1, g2, h):
-    return _chunk_step(st.step_rk4, b, g0, g1, g2, h)
+def _chunk_rk4(b, h):
+    return _chunk_step(st.step_rk4, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -309,8 +319,8 @@ def range_rk4(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_splitting(b, g0, g1, g2, h):
-    return _chunk_step(st.step_splitting, b, g0, g1, g2, h)
+def _chunk_splitting(b, h):
+    return _chunk_step(st.step_splitting, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -321,8 +331,8 @@ def range_splitting(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_dmv(b, g0, g1, g2, h):
-    return _chunk_step(st.step_dmv, b, g0, g1, g2, h)
+def _chunk_dmv(b, h):
+    return _chunk_step(st.step_dmv, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -333,8 +343,8 @@ def range_dmv(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_dmv4(b, g0, g1, g2, h):
-    return _chunk_step(st.step_dmv4, b, g0, g1, g2, h)
+def _chunk_dmv4(b, h):
+    return _chunk_step(st.step_dmv4, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -345,8 +355,8 @@ def range_dmv4(lo, hi, x, u, I, ms, fr, g, h, n, every, bf, out, status):
 
 
 @njit(cache=True, error_model="numpy", fastmath=_CHUNK_MATH)
-def _chunk_midpoint(b, g0, g1, g2, h):
-    return _chunk_step(st.step_midpoint, b, g0, g1, g2, h)
+def _chunk_midpoint(b, h):
+    return _chunk_step(st.step_midpoint, b, h)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

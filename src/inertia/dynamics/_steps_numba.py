@@ -6,7 +6,7 @@ the compiled backend (through :mod:`._integrate_numba` and :mod:`._rollout_numba
 
 Each ``step_<method>`` is a line-by-line transcription of ``kernel_<method>`` in
 :mod:`.integrator_kernels` on scalars: the body angular momentum ``m = I w`` is the state,
-``(q, m, I, tau, h) -> (q+, m+, ok)``, the same formulas in the same order of operations, so
+``(q, m, I, W = 1/I, tau, h, vec) -> (q+, m+, ok)``, the same formulas in the same order of operations, so
 the compiled and NumPy paths agree to a few ulps per step.  ``ok`` is False when an implicit
 method's Newton iteration did not converge (the NumPy kernel raises there).  Two deliberate
 differences, both at the level of one rounding:
@@ -104,6 +104,15 @@ def trig(x, vec):
 
 # ============================================================================ helpers
 @njit(**_OPTS)
+def over(m, I, W, vec):
+    """``m / I``: the NumPy kernels' division on one body; ``m * W`` (``W = 1 / I``, held by
+    the caller) in the loops over a chunk, where divisions would bound the speed."""
+    if vec:
+        return m * W
+    return m / I
+
+
+@njit(**_OPTS)
 def normalize(qw, qx, qy, qz):
     n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     return qw / n, qx / n, qy / n, qz / n
@@ -175,22 +184,23 @@ def solve_quadratic(ch0, ch1, ch2, f0, f1, f2, with_alpha):
 
 # ============================================================================ the steps
 @njit(**_OPTS)
-def step_euler_explicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
-    w0 = m0 / I0
-    w1 = m1 / I1
-    w2 = m2 / I2
+def step_euler_explicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
+    w0 = over(m0, I0, W0, vec)
+    w1 = over(m1, I1, W1, vec)
+    w2 = over(m2, I2, W2, vec)
     n0 = m0 + h * ((m1 * w2 - m2 * w1) + t0)
     n1 = m1 + h * ((m2 * w0 - m0 * w2) + t1)
     n2 = m2 + h * ((m0 * w1 - m1 * w0) + t2)
-    rw, rx, ry, rz = exp_step(qw, qx, qy, qz, n0 / I0, n1 / I1, n2 / I2, h, vec)
+    rw, rx, ry, rz = exp_step(qw, qx, qy, qz, over(n0, I0, W0, vec), over(n1, I1, W1, vec),
+                              over(n2, I2, W2, vec), h, vec)
     return rw, rx, ry, rz, n0, n1, n2, True
 
 
 @njit(**_OPTS)
-def step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
-    w0 = m0 / I0
-    w1 = m1 / I1
-    w2 = m2 / I2
+def step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
+    w0 = over(m0, I0, W0, vec)
+    w1 = over(m1, I1, W1, vec)
+    w2 = over(m2, I2, W2, vec)
     g0 = (I1 - I2) * h
     g1 = (I2 - I0) * h
     g2 = (I0 - I1) * h
@@ -207,11 +217,11 @@ def step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, v
 
 
 @njit(**_OPTS)
-def _rk4_rate(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2):
+def _rk4_rate(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, vec):
     # (dq/dt, dm/dt) = (1/2 q (x) (0, w), m x w + tau), w = m / I
-    a = m0 / I0
-    b = m1 / I1
-    c = m2 / I2
+    a = over(m0, I0, W0, vec)
+    b = over(m1, I1, W1, vec)
+    c = over(m2, I2, W2, vec)
     return (0.5 * (-qx * a - qy * b - qz * c),
             0.5 * (qw * a + qy * c - qz * b),
             0.5 * (qw * b - qx * c + qz * a),
@@ -222,15 +232,18 @@ def _rk4_rate(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2):
 
 
 @njit(**_OPTS)
-def step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     h2 = 0.5 * h
-    aw, ax, ay, az, a0, a1, a2 = _rk4_rate(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2)
+    aw, ax, ay, az, a0, a1, a2 = _rk4_rate(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, vec)
     bw, bx, by, bz, b0, b1, b2 = _rk4_rate(qw + h2 * aw, qx + h2 * ax, qy + h2 * ay, qz + h2 * az,
-                                           m0 + h2 * a0, m1 + h2 * a1, m2 + h2 * a2, I0, I1, I2, t0, t1, t2)
+                                           m0 + h2 * a0, m1 + h2 * a1, m2 + h2 * a2,
+                                           I0, I1, I2, W0, W1, W2, t0, t1, t2, vec)
     cw, cx, cy, cz, c0, c1, c2 = _rk4_rate(qw + h2 * bw, qx + h2 * bx, qy + h2 * by, qz + h2 * bz,
-                                           m0 + h2 * b0, m1 + h2 * b1, m2 + h2 * b2, I0, I1, I2, t0, t1, t2)
+                                           m0 + h2 * b0, m1 + h2 * b1, m2 + h2 * b2,
+                                           I0, I1, I2, W0, W1, W2, t0, t1, t2, vec)
     dw, dx, dy, dz, d0, d1, d2 = _rk4_rate(qw + h * cw, qx + h * cx, qy + h * cy, qz + h * cz,
-                                           m0 + h * c0, m1 + h * c1, m2 + h * c2, I0, I1, I2, t0, t1, t2)
+                                           m0 + h * c0, m1 + h * c1, m2 + h * c2,
+                                           I0, I1, I2, W0, W1, W2, t0, t1, t2, vec)
     h6 = h / 6.0
     rw, rx, ry, rz = normalize(qw + h6 * (aw + 2.0 * (bw + cw) + dw), qx + h6 * (ax + 2.0 * (bx + cx) + dx),
                                qy + h6 * (ay + 2.0 * (by + cy) + dy), qz + h6 * (az + 2.0 * (bz + cz) + dz))
@@ -239,9 +252,9 @@ def step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
 
 
 @njit(**_OPTS)
-def _rotor(q0, qj, qk, ql, mj, mk, ml, Ij, dt, vec):
+def _rotor(q0, qj, qk, ql, mj, mk, ml, Ij, Wj, dt, vec):
     # exact flow of H_j = m_j^2 / (2 I_j) over dt   (integrator_kernels._rotate_about_axis)
-    sh, ch = trig((0.5 * dt) * mj / Ij, vec)
+    sh, ch = trig(over((0.5 * dt) * mj, Ij, Wj, vec), vec)
     s = 2.0 * sh * ch
     c = 1.0 - 2.0 * sh * sh
     return (q0 * ch - qj * sh, qj * ch + q0 * sh, qk * ch + ql * sh, ql * ch - qk * sh,
@@ -249,18 +262,18 @@ def _rotor(q0, qj, qk, ql, mj, mk, ml, Ij, dt, vec):
 
 
 @njit(**_OPTS)
-def step_splitting(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step_splitting(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     # kick, R1(h/2) R2(h/2) R3(h) R2(h/2) R1(h/2), kick
     m0 = m0 + (0.5 * h) * t0
     m1 = m1 + (0.5 * h) * t1
     m2 = m2 + (0.5 * h) * t2
     dt = 0.5 * h
     # axis 0: (j, k, l) = (0, 1, 2), q components (w, x | y, z); axis 1: (1, 2, 0); axis 2: (2, 0, 1)
-    qw, qx, qy, qz, m1, m2 = _rotor(qw, qx, qy, qz, m0, m1, m2, I0, dt, vec)
-    qw, qy, qz, qx, m2, m0 = _rotor(qw, qy, qz, qx, m1, m2, m0, I1, dt, vec)
-    qw, qz, qx, qy, m0, m1 = _rotor(qw, qz, qx, qy, m2, m0, m1, I2, 1.0 * h, vec)
-    qw, qy, qz, qx, m2, m0 = _rotor(qw, qy, qz, qx, m1, m2, m0, I1, dt, vec)
-    qw, qx, qy, qz, m1, m2 = _rotor(qw, qx, qy, qz, m0, m1, m2, I0, dt, vec)
+    qw, qx, qy, qz, m1, m2 = _rotor(qw, qx, qy, qz, m0, m1, m2, I0, W0, dt, vec)
+    qw, qy, qz, qx, m2, m0 = _rotor(qw, qy, qz, qx, m1, m2, m0, I1, W1, dt, vec)
+    qw, qz, qx, qy, m0, m1 = _rotor(qw, qz, qx, qy, m2, m0, m1, I2, W2, 1.0 * h, vec)
+    qw, qy, qz, qx, m2, m0 = _rotor(qw, qy, qz, qx, m1, m2, m0, I1, W1, dt, vec)
+    qw, qx, qy, qz, m1, m2 = _rotor(qw, qx, qy, qz, m0, m1, m2, I0, W0, dt, vec)
     m0 = m0 + (0.5 * h) * t0
     m1 = m1 + (0.5 * h) * t1
     m2 = m2 + (0.5 * h) * t2
@@ -292,23 +305,23 @@ def _dmv_core(qw, qx, qy, qz, m0, m1, m2, W0, W1, W2, h):
 
 
 @njit(cache=True, error_model="numpy")
-def step_dmv(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step_dmv(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     m0 = m0 + (0.5 * h) * t0
     m1 = m1 + (0.5 * h) * t1
     m2 = m2 + (0.5 * h) * t2
-    qw, qx, qy, qz, m0, m1, m2, ok = _dmv_core(qw, qx, qy, qz, m0, m1, m2, 1.0 / I0, 1.0 / I1, 1.0 / I2, h)
+    qw, qx, qy, qz, m0, m1, m2, ok = _dmv_core(qw, qx, qy, qz, m0, m1, m2, W0, W1, W2, h)
     return qw, qx, qy, qz, m0 + (0.5 * h) * t0, m1 + (0.5 * h) * t1, m2 + (0.5 * h) * t2, ok
 
 
 @njit(cache=True, error_model="numpy")
-def step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     m0 = m0 + (0.5 * h) * t0
     m1 = m1 + (0.5 * h) * t1
     m2 = m2 + (0.5 * h) * t2
     # Hairer & Vilmart's modified inverse moments   (integrator_kernels._dmv4_inverse_moments)
     prod = I0 * I1 * I2
     s1 = (I0 + I1 + I2) / (6.0 * prod)
-    s2 = -(1.0 / I0 + 1.0 / I1 + 1.0 / I2) / 3.0
+    s2 = -(W0 + W1 + W2) / 3.0
     d1 = -1.0 / (3.0 * prod)
     half_g2 = 0.5 * (m0 * m0 + m1 * m1 + m2 * m2)
     energy = 0.5 * (m0 * m0 / I0 + m1 * m1 / I1 + m2 * m2 / I2)
@@ -321,11 +334,8 @@ def step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
 
 
 @njit(cache=True, error_model="numpy")
-def step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     # y = m_mid = m + h/2 (y x W y + tau), m+ = 2 y - m, q+ = q (x) exp(h W y / 2)
-    W0 = 1.0 / I0
-    W1 = 1.0 / I1
-    W2 = 1.0 / I2
     hh = 0.5 * h
     y0, y1, y2, ok = solve_quadratic(m0 + hh * t0, m1 + hh * t1, m2 + hh * t2,
                                      hh * (W2 - W1), hh * (W0 - W2), hh * (W1 - W0), False)
@@ -334,18 +344,18 @@ def step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
 
 
 @njit(cache=True, error_model="numpy")
-def step(method, qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec):
+def step(method, qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
     """One step of ``method`` (an id of METHOD_IDS) on the momentum state."""
     if method == SPLITTING:
-        return step_splitting(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_splitting(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
     if method == RK4:
-        return step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
     if method == EULER_EXPLICIT:
-        return step_euler_explicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_euler_explicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
     if method == EULER_IMPLICIT:
-        return step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
     if method == DMV:
-        return step_dmv(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_dmv(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
     if method == DMV4:
-        return step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
-    return step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, t0, t1, t2, h, vec)
+        return step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
+    return step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
