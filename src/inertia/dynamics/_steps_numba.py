@@ -16,6 +16,11 @@ differences, both at the level of one rounding:
   SVML), accurate to about one ulp; one body at a time they come from libm;
 * a zero torque is added rather than skipped (only the sign of a zero can differ).
 
+numba's cache does not follow imports: the kernels of :mod:`._integrate_numba` and
+:mod:`._rollout_numba` are cached with the code of these steps inside and are only
+recompiled when their own file changes.  After editing this file, delete the ``*.nbi``/``*.nbc``
+files of ``__pycache__`` (an installed package rewrites every file, which refreshes them all).
+
 Repetition here is deliberate: the kernels are flat scalar arithmetic (numba compiles it to
 registers; a helper returning tuples or a loop over the three coordinates costs measurably
 in the inner loops), so a few lines of the same shape recur between kernels.
