@@ -205,29 +205,35 @@ def main(argv=None) -> int:
     ap.add_argument("--batch-steps", type=int, default=100)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--cold", action="store_true", help="also time cold compilation (slow)")
+    ap.add_argument("--sections", default="123", help="which sections to run, e.g. 2 (default 123)")
     a = ap.parse_args(argv)
     import numba
     print(f"# {os.cpu_count()} cores, numpy {np.__version__}, numba {numba.__version__}; "
           f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
-    print(f"\n## 1. integrate, one body, steps/s ({a.rounds} interleaved rounds)\n")
-    report(run_rounds(integrate_rows(a.steps), a.rounds), "anchor: MuJoCo C rollout, RK4", "steps/s")
+    if "1" in a.sections:
+        print(f"\n## 1. integrate, one body, steps/s ({a.rounds} interleaved rounds)\n")
+        report(run_rounds(integrate_rows(a.steps), a.rounds), "anchor: MuJoCo C rollout, RK4", "steps/s")
+    if "2" in a.sections:
+        rollout_section(a)
+    if "3" in a.sections:
+        print("\n## 3. inertia simulate --times 0,1e4 --step 0.01 (1e6 steps), whole process\n")
+        for method in ("splitting", "rk4", "dmv"):
+            w = simulate_walls(method, 3)
+            print(f"--method {method}: best {min(w):.2f} s, median {statistics.median(w):.2f} s")
+    if a.cold:
+        cold_compile()
+    print(f"\n# load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    return 0
 
+
+def rollout_section(a) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         cfun = build_c_anchor(Path(tmp))
         print(f"\n## 2. rollout, {a.batch} bodies x {a.batch_steps} steps (implicit methods: a tenth), "
               f"body-steps/s\n")
         report(run_rounds(rollout_rows(a.batch, a.batch_steps, cfun), a.rounds),
                "anchor: C SoA rk4, 1 thread" if cfun else None, "body-steps/s")
-
-    print("\n## 3. inertia simulate --times 0,1e4 --step 0.01 (1e6 steps), whole process\n")
-    for method in ("splitting", "rk4", "dmv"):
-        w = simulate_walls(method, 3)
-        print(f"--method {method}: best {min(w):.2f} s, median {statistics.median(w):.2f} s")
-    if a.cold:
-        cold_compile()
-    print(f"\n# load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
-    return 0
 
 
 if __name__ == "__main__":

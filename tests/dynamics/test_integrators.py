@@ -464,7 +464,7 @@ def test_auto_backend_rents_numpy_until_compiling_pays(monkeypatch):
     monkeypatch.setitem(compiled._rent, "seconds", 0.0)
     monkeypatch.setattr(compiled, "numba_available", lambda: True)
     choose = lambda steps, loaded=False: compiled.use_compiled(  # noqa: E731
-        "auto", "rk4", ("rk4",), steps, 1, lambda: _Kernel(loaded))
+        "auto", "rk4", ("rk4",), steps, 1, lambda: _Kernel(loaded), compile_seconds=2.0)
     assert not choose(1000)                  # 25 ms on NumPy against a 2 s compile
     assert choose(10, loaded=True)           # once loaded, compiled costs nothing up front
     assert not choose(50_000)                # 1.25 s of NumPy: still below the compile

@@ -9,7 +9,8 @@ two costs for the call at hand:
 * compiled: the work at :data:`COMPILED_BODY_STEP_SECONDS` (1e7 body-steps/s, the slowest
   method on one body) plus what the kernel costs before its first call in this process:
   nothing once it ran, :data:`LOAD_SECONDS` to import numba and load it from numba's on-disk
-  cache, :data:`COMPILE_SECONDS` to compile it when that cache is cold.
+  cache, or its compilation when that cache is cold (``bench/integrate.py --cold``: 1.1-1.6
+  s of CPU for an ``integrate`` loop, 3.2-4.3 s for a ``rollout`` kernel, per method).
 
 Small calls therefore stay on NumPy (a few thousand steps of one body take well under a
 second there) unless the kernel is already loaded.  So that a loop of many small calls does
@@ -36,7 +37,8 @@ NUMPY_STEP_SECONDS = 25e-6
 NUMPY_BODY_STEP_SECONDS = 1e-7
 COMPILED_BODY_STEP_SECONDS = 1e-7
 LOAD_SECONDS = 0.3
-COMPILE_SECONDS = 2.0
+#: compiling one method's ``integrate`` loop with a cold cache (a rollout kernel passes its own)
+COMPILE_SECONDS = 1.5
 
 # NumPy seconds (estimated) spent by calls that could have compiled: the "rent" paid so far
 _rent = {"seconds": 0.0}
@@ -57,7 +59,7 @@ def check_backend(backend) -> str:
     return backend
 
 
-def first_call_seconds(dispatcher) -> float:
+def first_call_seconds(dispatcher, compile_seconds: float = COMPILE_SECONDS) -> float:
     """What a numba kernel costs before its first call: 0 once loaded, else a load or a compile."""
     if dispatcher.signatures:
         return 0.0
@@ -65,11 +67,12 @@ def first_call_seconds(dispatcher) -> float:
         warm = bool(dispatcher._cache._cache_file._load_index())
     except Exception:  # noqa: BLE001
         warm = False
-    return LOAD_SECONDS if warm else COMPILE_SECONDS
+    return LOAD_SECONDS if warm else compile_seconds
 
 
 def use_compiled(backend: str, method, compiled_methods, steps: int, bodies: int,
-                 kernel: Callable[[], object], *, numpy_scale: float = 1.0) -> bool:
+                 kernel: Callable[[], object], *, numpy_scale: float = 1.0,
+                 compile_seconds: float = COMPILE_SECONDS) -> bool:
     """True to run the compiled kernel for ``steps`` steps of ``bodies`` bodies.
 
     ``kernel()`` imports and returns the numba dispatcher of ``method`` (it imports numba);
@@ -99,7 +102,7 @@ def use_compiled(backend: str, method, compiled_methods, steps: int, bodies: int
         dispatcher = kernel()
     except ImportError:
         return False
-    if first_call_seconds(dispatcher) + compiled_s <= numpy_s + _rent["seconds"]:
+    if first_call_seconds(dispatcher, compile_seconds) + compiled_s <= numpy_s + _rent["seconds"]:
         return True
     _rent["seconds"] += numpy_s
     return False

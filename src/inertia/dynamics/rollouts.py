@@ -47,6 +47,8 @@ _THREADS_MIN_WORK = 200_000
 
 #: A rollout's NumPy step (6-DOF, principal-frame bookkeeping) against integrate's
 _NUMPY_SCALE = 2.0
+#: CPU seconds to compile one method's rollout kernel with a cold numba cache (bench/integrate.py --cold)
+_COMPILE_SECONDS = 4.0
 
 
 def _kernel_loader(method, bodies):
@@ -119,7 +121,7 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     rot_step = resolve_method(method)
     bodies = int(np.prod(batch, dtype=np.int64))
     compiled = use_compiled(backend, method, COMPILED_METHODS, n, bodies, _kernel_loader(method, bodies),
-                            numpy_scale=_NUMPY_SCALE)
+                            numpy_scale=_NUMPY_SCALE, compile_seconds=_COMPILE_SECONDS)
 
     # everything in the principal frame, once
     x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
