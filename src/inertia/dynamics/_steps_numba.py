@@ -35,11 +35,6 @@ from numba import njit
 from .equations import solve3_components
 from .integrator_kernels import NEWTON_FAIL_RTOL, NEWTON_MAX_ITER, NEWTON_RTOL
 
-#: Method ids of the compiled kernels (they dispatch on these integers).
-EULER_EXPLICIT, EULER_IMPLICIT, RK4, SPLITTING, DMV, DMV4, MIDPOINT = range(7)
-METHOD_IDS = {"euler_explicit": EULER_EXPLICIT, "euler_implicit": EULER_IMPLICIT, "rk4": RK4,
-              "splitting": SPLITTING, "dmv": DMV, "dmv4": DMV4, "midpoint": MIDPOINT}
-
 
 def _in_chunk_loops(expr, caller, callee) -> bool:
     """numba's inline cost model for the steps and their helpers: inline them (numba IR) into
@@ -346,21 +341,3 @@ def step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2
                                      hh * (W2 - W1), hh * (W0 - W2), hh * (W1 - W0), False)
     rw, rx, ry, rz = exp_step(qw, qx, qy, qz, W0 * y0, W1 * y1, W2 * y2, h, vec)
     return rw, rx, ry, rz, 2.0 * y0 - m0, 2.0 * y1 - m1, 2.0 * y2 - m2, ok
-
-
-@njit(cache=True, error_model="numpy")
-def step(method, qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec):
-    """One step of ``method`` (an id of METHOD_IDS) on the momentum state."""
-    if method == SPLITTING:
-        return step_splitting(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    if method == RK4:
-        return step_rk4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    if method == EULER_EXPLICIT:
-        return step_euler_explicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    if method == EULER_IMPLICIT:
-        return step_euler_implicit(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    if method == DMV:
-        return step_dmv(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    if method == DMV4:
-        return step_dmv4(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
-    return step_midpoint(qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, W0, W1, W2, t0, t1, t2, h, vec)
