@@ -94,9 +94,10 @@ def use_compiled(backend: str, method, compiled_methods, steps: int, bodies: int
         return False
     numpy_s = numpy_scale * steps * (NUMPY_STEP_SECONDS + NUMPY_BODY_STEP_SECONDS * bodies)
     compiled_s = COMPILED_BODY_STEP_SECONDS * steps * bodies
-    loaded = "numba" in sys.modules
-    if not loaded and numpy_s + _rent["seconds"] < LOAD_SECONDS:
+    if sys.modules.get("numba") is None and numpy_s + _rent["seconds"] < LOAD_SECONDS:
         _rent["seconds"] += numpy_s                  # not worth importing numba to find out
+        return False
+    if not numba_available():
         return False
     try:
         dispatcher = kernel()
