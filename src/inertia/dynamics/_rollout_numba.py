@@ -167,18 +167,40 @@ def _save_chunk(out, r, b0, b, frame):
               b[13 * C + i], b[14 * C + i], b[15 * C + i], frame, b0 + i if Nf > 1 else 0)
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _attitude_in_P(x0, bi, frame, bf):
+    """``(q_WP, w_P)`` of state ``x0[bi]`` given in the body frame B   (transition._to_principal).
+
+    ``q_WP = q_WB (x) q_BP``, ``w_P = R_BP^T w_B``; an empty ``frame`` means P = B.
+    """
+    qw, qx, qy, qz = x0[bi, 6], x0[bi, 7], x0[bi, 8], x0[bi, 9]
+    w0, w1, w2 = x0[bi, 10], x0[bi, 11], x0[bi, 12]
+    if frame.shape[0] == 0:
+        return qw, qx, qy, qz, w0, w1, w2
+    cw, cx, cy, cz = frame[bf, 0], frame[bf, 1], frame[bf, 2], frame[bf, 3]
+    return (qw * cw - qx * cx - qy * cy - qz * cz, qw * cx + qx * cw + qy * cz - qz * cy,
+            qw * cy - qx * cz + qy * cw + qz * cx, qw * cz + qx * cy - qy * cx + qz * cw,
+            frame[bf, 4] * w0 + frame[bf, 7] * w1 + frame[bf, 10] * w2,
+            frame[bf, 5] * w0 + frame[bf, 8] * w1 + frame[bf, 11] * w2,
+            frame[bf, 6] * w0 + frame[bf, 9] * w1 + frame[bf, 12] * w2)
+
+
 @njit(cache=True, error_model="numpy")
-def _load_chunk(b, b0, x0, moments):
+def _load_chunk(b, b0, x0, moments, frame):
     C = CHUNK
     Nb = moments.shape[0]
+    Nf = frame.shape[0]
     for i in range(C):
         bb = b0 + i if Nb > 1 else 0
-        for k in range(10):
+        for k in range(6):
             b[k * C + i] = x0[b0 + i, k]
+        r = _attitude_in_P(x0, b0 + i, frame, b0 + i if Nf > 1 else 0)
+        for k in range(4):
+            b[(6 + k) * C + i] = r[k]
         for k in range(3):
             b[(_I_ROW + k) * C + i] = moments[bb, k]
             b[(_W_ROW + k) * C + i] = 1.0 / moments[bb, k]
-            b[(10 + k) * C + i] = moments[bb, k] * x0[b0 + i, 10 + k]
+            b[(10 + k) * C + i] = moments[bb, k] * r[4 + k]
 
 
 @njit(cache=True, error_model="numpy")
@@ -201,7 +223,7 @@ def _run_chunks(chunk, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
     """Bodies ``lo .. hi - 1`` (whole chunks) a chunk at a time: load, ``chunk`` n_steps times, save."""
     b = np.empty(_ROWS * CHUNK)                       # the chunk's buffer, allocated once
     for b0 in range(lo, hi, CHUNK):
-        _load_chunk(b, b0, x0, moments)
+        _load_chunk(b, b0, x0, moments, frame)
         if save_every > 0:
             _save_chunk(out, 0, b0, b, frame)
         for t in range(n_steps):
@@ -231,8 +253,8 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
         W0, W1, W2 = 1.0 / I0, 1.0 / I1, 1.0 / I2
         p0, p1, p2 = x0[bi, 0], x0[bi, 1], x0[bi, 2]
         v0, v1, v2 = x0[bi, 3], x0[bi, 4], x0[bi, 5]
-        qw, qx, qy, qz = x0[bi, 6], x0[bi, 7], x0[bi, 8], x0[bi, 9]
-        m0, m1, m2 = I0 * x0[bi, 10], I1 * x0[bi, 11], I2 * x0[bi, 12]
+        qw, qx, qy, qz, w0, w1, w2 = _attitude_in_P(x0, bi, frame, bf)
+        m0, m1, m2 = I0 * w0, I1 * w1, I2 * w2
         if save_every > 0:
             _save(out, 0, bi, p0, p1, p2, v0, v1, v2, qw, qx, qy, qz, m0, m1, m2, I0, I1, I2, frame, bf)
         F0, F1, F2, t0, t1, t2 = u[0, bu, 0], u[0, bu, 1], u[0, bu, 2], u[0, bu, 3], u[0, bu, 4], u[0, bu, 5]
@@ -269,7 +291,8 @@ def _run_singles(step, lo, hi, x0, u, moments, mass, frame, gravity, h, n_steps,
 # numba inlines the step there and LLVM vectorises the loop over the chunk (a step passed
 # down as an argument stays an opaque call); a method compiles only when first used.
 #
-# x0 : (N, 13) initial states in the principal frame, ``[p_W, v_W, q_WP, w_P]``.
+# x0 : (N, 13) initial states ``[p_W, v_W, q_WB, w_B]`` in the body frame (the kernel moves
+#     them to the principal frame P with ``frame``).
 # u : (T, Nu, 6) inputs ``[F (world, or P if body_force), tau_P]``; T is 1 (held) or n_steps,
 #     Nu is 1 (shared) or N.
 # moments : (Nb, 3) principal moments; mass : (Nb,); Nb is 1 or N.

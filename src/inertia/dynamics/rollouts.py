@@ -125,13 +125,13 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
 
     # everything in the principal frame, once
     x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
-    x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
     u_P = _inputs_to_principal(body, u, body_force)  # (..., 6) held, or (n, ..., 6)
 
     if compiled:
-        # the kernels convert the saved states back to the body frame as they store them
-        out = _rollout_numba(x_P, u_P, held, n, hf, body, g, every, method, body_force, batch)
+        # the kernels move the states to P as they load them, and back as they store them
+        out = _rollout_numba(x0, u_P, held, n, hf, body, g, every, method, body_force, batch)
     else:
+        x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
         out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
         out = state_from_principal(body, out)
     return out[0] if every == 0 else out
@@ -231,12 +231,12 @@ def _run_threads(kernel, N: int, n: int, args) -> None:
         list(pool.map(lambda lo_hi: kernel(lo_hi[0], lo_hi[1], *args), zip(bounds[:-1], bounds[1:])))
 
 
-def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, batch):
+def _rollout_numba(x0, u_P, held, n, h, body, g, every, method, body_force, batch):
     """Compiled path: flatten the batch, call the kernel, restore the batch shape."""
     from . import _rollout_numba as _k
 
     N = int(np.prod(batch, dtype=np.int64))
-    x_flat = _kernel_array(np.broadcast_to(x_P, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
+    x_flat = _kernel_array(np.broadcast_to(x0, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
     # inputs: (T, Nu, 6) with T in {1, n} and Nu in {1, N}
     u_b = u_P
     u_batch = u_b.shape[:-1] if held else u_b.shape[1:-1]
@@ -258,7 +258,7 @@ def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, bat
         moments = _kernel_array(body.moments.reshape(1, 3))
         mass = _kernel_array(body.mass.reshape(1))
     gravity = np.zeros(3) if g is None else _kernel_array(g)
-    # principal -> body frame of the saved states: [q_BP, R_BP row-major] per body, none if P = B
+    # body <-> principal frame of the states: [q_BP, R_BP row-major] per body, none if P = B
     if body.principal_is_body:
         frame = np.zeros((0, 13))
     else:
