@@ -9,6 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from inertia.dynamics import RigidBody, pack_state, step
+from inertia.dynamics.integrators import step_dmv
 from inertia.dynamics.rollouts import COMPILED_METHODS, numba_available, rollout
 from inertia.dynamics.state import OMEGA_BODY, Q_WORLD_BODY
 from inertia.errors import InputError, MissingDependencyError
@@ -92,8 +93,8 @@ def test_rollout_input_errors():
 def test_numba_backend_refuses_an_uncompiled_method():
     body = RigidBody.from_principal_moments(1.0, BOX_MOMENTS)
     x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0, 0, 1.0])
-    with pytest.raises(InputError, match=r"^backend='numba' compiles the methods .* got method='dmv'"):
-        rollout(x0, None, 0.01, 3, body=body, method="dmv", backend="numba")
+    with pytest.raises(InputError, match=r"^backend='numba' compiles the methods .* got method=<function step_dmv"):
+        rollout(x0, None, 0.01, 3, body=body, method=step_dmv, backend="numba")
     # "auto" falls back to NumPy for it
     assert rollout(x0, None, 0.01, 3, body=body, method="dmv").shape == (4, 13)
 
@@ -165,3 +166,43 @@ def test_numba_splitting_keeps_the_momentum_invariants_over_a_long_run():
     G = np.linalg.norm(L_body[0])
     assert np.abs(np.linalg.norm(L_body, axis=1) - G).max() / G < 1e-12
     assert np.abs(L_world - L_world[0]).max() / G < 1e-11
+
+
+@needs_numba
+def test_numba_threads_split_the_bodies_and_change_nothing(monkeypatch):
+    """Two threads over 300 bodies (a chunk each side, left-overs on the one-body path) = one thread = NumPy."""
+    import numba
+
+    from inertia.dynamics import rollouts
+
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba is limited to one thread")
+    monkeypatch.setattr(rollouts, "_THREADS_MIN_WORK", 1)
+    rng = np.random.default_rng(5)
+    body = RigidBody.from_principal_moments(1.0, BOX_MOMENTS)
+    x0 = random_states(rng, 300)
+    kw = dict(body=body, method="splitting", gravity=[0, 0, -9.81], save_every=None)
+    before = numba.get_num_threads()
+    try:
+        runs = []
+        for threads in (1, 2):
+            numba.set_num_threads(threads)
+            runs.append(rollout(x0, None, 1e-3, 50, backend="numba", **kw))
+    finally:
+        numba.set_num_threads(before)
+    assert np.array_equal(runs[0], runs[1])
+    assert np.abs(runs[0] - rollout(x0, None, 1e-3, 50, backend="numpy", **kw)).max() < 1e-12
+
+
+@needs_numba
+@pytest.mark.parametrize("n_bodies", [1, 200])
+def test_numba_newton_failure_is_named_like_numpy(n_bodies):
+    """A step too large for the DMV equation: both backends refuse, the compiled one names step and body."""
+    from inertia.errors import IntegrationError
+
+    body = RigidBody.from_principal_moments(1.0, BOX_MOMENTS)
+    x0 = np.broadcast_to(pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 10.0, 0.0]), (n_bodies, 13))
+    with pytest.raises(IntegrationError, match="dmv: the implicit step equation did not converge"):
+        rollout(x0, None, 0.5, 3, body=body, method="dmv", backend="numpy")
+    with pytest.raises(IntegrationError, match=r"dmv: .* did not converge .* at step 0 of body 0 "):
+        rollout(x0, None, 0.5, 3, body=body, method="dmv", backend="numba")

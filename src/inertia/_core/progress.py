@@ -3,7 +3,8 @@
 :class:`Progress` counts units of work (files, steps) and draws one line on stderr: a bar,
 ``done/total unit``, the rate and the time left.  On a terminal the line is redrawn in place
 at most five times a second; into a file or a pipe a line is appended every ``log_every``
-seconds (so logs stay short).  Disabled, it prints nothing.  :class:`StepProgress` is the
+seconds (so logs stay short).  With ``delay``, nothing is drawn before that many seconds
+have passed (a run that ends sooner stays silent).  Disabled, it prints nothing.  :class:`StepProgress` is the
 same bar over named steps (``bar("plotting")``), drawn on a terminal only.
 """
 
@@ -26,13 +27,14 @@ class Progress:
     """A one-line progress bar on ``stream`` (default stderr): units done, rate, time left."""
 
     def __init__(self, total: int, *, unit: str = "files", enabled: bool = True, stream=None,
-                 tty_only: bool = False, log_every: float = 5.0):
+                 tty_only: bool = False, log_every: float = 5.0, delay: float = 0.0):
         self.total, self.done = int(total), 0
         self.unit = unit
         self.stream = stream or sys.stderr
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self.enabled = enabled and self.total > 0 and (self.tty or not tty_only)
         self.log_every = log_every
+        self.delay = delay
         self.t0 = self._last = time.perf_counter()
         self._width = 0
 
@@ -40,8 +42,8 @@ class Progress:
         """Count ``n`` more units done (``label``: what is being done now, shown after the counts)."""
         self.done += n
         now = time.perf_counter()
-        if not self.enabled or (now - self._last < (0.2 if self.tty else self.log_every) and self.done < self.total
-                                and not label):
+        if not self.enabled or now - self.t0 < self.delay or (
+                now - self._last < (0.2 if self.tty else self.log_every) and self.done < self.total and not label):
             return
         self._last = now
         rate = self.done / max(now - self.t0, 1e-9)

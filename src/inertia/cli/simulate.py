@@ -23,8 +23,9 @@ from . import _format as fmt
 
 #: samples refused beyond this (memory and time guard)
 MAX_SAMPLES = 5_000_000
-#: Integrator steps a run may take unless --max-steps allows more (about half a minute with
-#: the NumPy integrators; the exact solution takes no steps).
+#: Integrator steps a run may take unless --max-steps allows more (well under a second with
+#: the compiled integrators, about half a minute on NumPy without numba; the exact solution
+#: takes no steps).
 DEFAULT_MAX_STEPS = 1_000_000
 
 CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "
@@ -35,11 +36,18 @@ examples:
   inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.5
   inertia simulate --moments 1,2,3 --omega 0.01,1,0 --times 0,20.75,1e6 --format json
   inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 60 --step 0.01 --method rk4 --format csv
+  inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 1e4 --step 0.01 --every 1000 --method splitting
+  inertia simulate --moments 1,2,3 --omega 0.01,1,0 --duration 100 --step 0.01 --output-step 2.5 --method dmv
   inertia simulate box:0.1,0.2,0.4 --mass 2 --omega 0,5,0.05 --duration 10 --step 0.1
 
-times: --duration T --step h samples t = 0, h, 2h, ... and T (the last step is shortened
-when T is not a whole number of steps); --times lists the sample times (integrators then
-take steps of at most --step between them, --method exact needs no --step).
+times: --step H is the integrator's time step; the samples are separate.  --duration T
+samples t = 0, H, 2H, ... and T (the last step is shortened when T is not a whole number of
+steps); add --every N to sample every N steps (0, N H, 2 N H, ... and T), or --output-step D
+to sample every D seconds (0, D, 2D, ... and T; steps of at most H, equal within each
+interval).  --times lists the sample times (steps of at most H between them).
+--method exact takes no steps: --step only spaces the samples of --duration.
+On a terminal, a run of an integrator that lasts more than a second draws a progress bar on
+stderr.
 
 JSON keys: t (N), omega_body (N x 3), q_world_body (N x 4), energy (N),
 angular_momentum_norm (N), plus method, moments, regime, period, conventions.
@@ -200,8 +208,12 @@ def register(sub) -> None:
     t = p.add_argument_group("sample times (give --duration with --step, or --times)")
     t.add_argument("--duration", type=float, metavar="T", help="end time in s (samples from t = 0)")
     t.add_argument("--step", type=float, metavar="H",
-                   help="time step in s: the sample spacing with --duration, the largest integrator step "
-                        "with --times")
+                   help="integrator time step in s (the largest step between samples); with --duration alone "
+                        "also the sample spacing")
+    t.add_argument("--every", type=int, metavar="N",
+                   help="with --duration: a sample every N steps of --step (default 1)")
+    t.add_argument("--output-step", type=float, metavar="D",
+                   help="with --duration: a sample every D s, independent of --step")
     t.add_argument("--times", metavar="T1,T2,...", help="comma-separated sample times in s")
     p.add_argument("--method", default="exact", metavar="NAME",
                    help="exact (default) or an integrator of inertia.dynamics.integrators.METHODS: "
@@ -242,31 +254,52 @@ def sample_plan(args, method: str):
     if args.times is not None and args.duration is not None:
         raise InputError(f"give either --times or --duration/--step, not both (got --times {args.times!r} "
                          f"and --duration {args.duration!r})")
+    every, output_step = getattr(args, "every", None), getattr(args, "output_step", None)
+    if every is not None and output_step is not None:
+        raise InputError(f"give either --every ({every}) or --output-step ({output_step!r}), not both")
     step = None if args.step is None else _check_positive(args.step, "--step")
     if args.times is not None:
-        times = np.array(parse_numbers(args.times, "--times", what="times (s)"))
-        if len(times) > MAX_SAMPLES:
-            raise InputError(f"--times lists {len(times)} samples, more than the limit {MAX_SAMPLES}")
-        if method != "exact":
-            if step is None:
-                raise InputError(f"--method {method} integrates with fixed steps: give --step (the largest "
-                                 f"step in s) with --times")
-            if times[0] < 0 or np.any(np.diff(times) < 0):
-                raise InputError(f"--times must be non-negative and in increasing order for --method {method} "
-                                 f"(only --method exact evaluates any time), got {args.times!r}")
-        return times, step
+        if every is not None or output_step is not None:
+            raise InputError("--every and --output-step space the samples of --duration; --times lists them")
+        return _listed_times(args, method, step), step
     if args.duration is None:
         raise InputError("give the sample times: --duration T with --step H, or --times T1,T2,...")
     duration = _check_positive(args.duration, "--duration", allow_zero=True)
-    if step is None:
-        raise InputError(f"--duration {args.duration!r} needs --step (the sample spacing in s)")
-    n = math.ceil(duration / step - 1e-9)
+    if step is None and (method != "exact" or output_step is None):
+        raise InputError(f"--duration {args.duration!r} needs --step (the time step in s)")
+    if output_step is not None:
+        spacing = _check_positive(output_step, "--output-step")
+    elif every is not None:
+        if every < 1:
+            raise InputError(f"--every must be a positive whole number of steps, got {every}")
+        spacing = every * step
+    else:
+        spacing = step
+    n = math.ceil(duration / spacing - 1e-9)
     if n + 1 > MAX_SAMPLES:
-        raise InputError(f"--duration {duration:g} / --step {step:g} gives {n + 1} samples, more than the limit "
-                         f"{MAX_SAMPLES}; use a larger --step or --times")
-    times = np.arange(n + 1, dtype=float) * step
+        raise InputError(f"--duration {duration:g} sampled every {spacing:g} s gives {n + 1} samples, more than the "
+                         f"limit {MAX_SAMPLES}; sample less often (--every, --output-step) or use --times")
+    times = np.arange(n + 1, dtype=float) * spacing
     times[-1] = duration
     return times, step
+
+
+def _listed_times(args, method: str, step):
+    import numpy as np
+
+    from .._core.errors import InputError
+
+    times = np.array(parse_numbers(args.times, "--times", what="times (s)"))
+    if len(times) > MAX_SAMPLES:
+        raise InputError(f"--times lists {len(times)} samples, more than the limit {MAX_SAMPLES}")
+    if method != "exact":
+        if step is None:
+            raise InputError(f"--method {method} integrates with fixed steps: give --step (the largest "
+                             f"step in s) with --times")
+        if times[0] < 0 or np.any(np.diff(times) < 0):
+            raise InputError(f"--times must be non-negative and in increasing order for --method {method} "
+                             f"(only --method exact evaluates any time), got {args.times!r}")
+    return times
 
 
 def run_exact(body, w_P, q_WP, times):
@@ -322,26 +355,29 @@ def check_work(times, h_max, method: str, max_steps: int) -> None:
                          f"raise --max-steps")
 
 
-def run_integrator(body, w_P, q_WP, times, h_max, method: str):
-    """Fixed steps of at most ``h_max`` between consecutive sample times (equal steps per interval)."""
+def step_plan(times, h_max):
+    """``(counts, hs)``: per interval between samples, equal steps of at most ``h_max``."""
     import numpy as np
 
-    from ..dynamics.integrators import integrate
+    gaps = np.diff(np.concatenate(([0.0], np.asarray(times, dtype=float))))
+    counts = np.where(gaps > 0, np.maximum(1, np.ceil(gaps / h_max - 1e-9)), 0).astype(np.int64)
+    hs = np.where(counts > 0, gaps / np.maximum(counts, 1), h_max)
+    return counts, hs
 
-    N = len(times)
-    qs = np.empty((N, 4))
-    ws = np.empty((N, 3))
-    q, w = np.asarray(q_WP, float), np.asarray(w_P, float)
-    t_now = 0.0
-    for i, t_next in enumerate(times):
-        gap = float(t_next) - t_now
-        if gap > 0:
-            n = max(1, math.ceil(gap / h_max - 1e-9))
-            traj = integrate(q, w, body.moments, gap / n, n, method=method, record_every=n)
-            q, w = traj.q_world_body[-1], traj.omega_body[-1]
-            t_now = float(t_next)
-        qs[i], ws[i] = q, w
-    return qs, ws
+
+def run_integrator(body, w_P, q_WP, times, h_max, method: str):
+    """Fixed steps of at most ``h_max`` between consecutive sample times (equal steps per interval),
+    in one call of the integrator; a progress bar on a terminal when that takes over a second."""
+    from .._core.progress import Progress
+    from ..dynamics.integrators import integrate_segments
+
+    counts, hs = step_plan(times, h_max)
+    bar = Progress(int(counts.sum()), unit="steps", tty_only=True, delay=1.0)
+    try:
+        traj = integrate_segments(q_WP, w_P, body.moments, counts, hs, method=method, progress=bar.update)
+    finally:
+        bar.clear()
+    return traj.q_world_body[1:], traj.omega_body[1:]
 
 
 def run(args) -> int:

@@ -21,7 +21,8 @@ _EXPORTS = {
     "angular_acceleration_body": "equations", "angular_acceleration_principal": "equations",
     "state_rate_body": "equations", "state_rate_world": "equations", "inertia_world": "equations",
     # integrators
-    "integrate": "integrators", "Trajectory": "integrators", "METHODS": "integrators",
+    "integrate": "integrators", "integrate_segments": "integrators", "Trajectory": "integrators",
+    "METHODS": "integrators",
     "IntegrationError": "integrators",
     # exact solution and flip
     "exact_solution": "exact", "ExactSolution": "exact",

@@ -15,7 +15,7 @@ from .._core.errors import IntegrationError
 from .._core.rotations import cross3, quat_from_rotvec, quat_multiply, quat_multiply_vector, quat_normalize
 from .equations import solve3_components as _solve3c
 
-__all__ = ["KERNELS", "NEWTON_MAX_ITER", "exp_step"] + [
+__all__ = ["KERNELS", "NEWTON_MAX_ITER", "NEWTON_RTOL", "NEWTON_FAIL_RTOL", "exp_step"] + [
     "kernel_" + n for n in ("euler_explicit", "euler_implicit", "rk4", "splitting", "dmv", "dmv4", "midpoint")]
 
 
@@ -24,13 +24,13 @@ __all__ = ["KERNELS", "NEWTON_MAX_ITER", "exp_step"] + [
 NEWTON_MAX_ITER = 40
 
 
-#: Newton stops once every correction is below ``_NEWTON_RTOL * |unknown|``.  Convergence is
+#: Newton stops once every correction is below ``NEWTON_RTOL * |unknown|``.  Convergence is
 #: quadratic, so the error left after that correction is ~ C * 1e-20 relative (C ~ 1 for
 #: h |omega| < 1): below rounding, one iteration earlier than waiting for an ulp-sized step.
-_NEWTON_RTOL = 1e-10
+NEWTON_RTOL = 1e-10
 
 #: After NEWTON_MAX_ITER iterations, a residual above this (relative) means divergence.
-_NEWTON_FAIL_RTOL = 1e-10
+NEWTON_FAIL_RTOL = 1e-10
 
 
 # ============================================================================ helpers
@@ -69,14 +69,14 @@ def _solve_quadratic(chat, f, with_alpha: bool, what: str, h: float):
         c0, c1, c2 = c0 - e0, c1 - e1, c2 - e2
         size = np.maximum(np.maximum(np.abs(c0), np.abs(c1)), np.abs(c2))
         corr = np.maximum(np.maximum(np.abs(e0), np.abs(e1)), np.abs(e2))
-        if np.all(corr <= _NEWTON_RTOL * size + 1e-300):
+        if np.all(corr <= NEWTON_RTOL * size + 1e-300):
             return c0, c1, c2
     beta = 1.0 + c0 * c0 + c1 * c1 + c2 * c2 if with_alpha else 1.0
     res = np.maximum(np.maximum(np.abs(c0 - beta * ch0 - f0 * c1 * c2), np.abs(c1 - beta * ch1 - f1 * c2 * c0)),
                      np.abs(c2 - beta * ch2 - f2 * c0 * c1))
     size = np.maximum(np.maximum(np.abs(c0), np.abs(c1)), np.abs(c2))
     worst = float(np.max(res / np.maximum(size, 1e-300)))
-    if not np.isfinite(worst) or worst > _NEWTON_FAIL_RTOL:
+    if not np.isfinite(worst) or worst > NEWTON_FAIL_RTOL:
         raise IntegrationError(f"{what}: the implicit step equation did not converge in {NEWTON_MAX_ITER} Newton "
                          f"iterations (relative residual {worst:.3g}); the time step h = {h!r} is too large "
                          f"for this angular velocity: reduce h")

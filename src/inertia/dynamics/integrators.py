@@ -43,7 +43,6 @@ from typing import Callable
 import numpy as np
 
 from .._core.errors import InputError, IntegrationError  # noqa: F401 (re-exported)
-from .._core.optional import require
 from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
 from ..massprops.validity import as_principal_moments
 from .integrator_kernels import (
@@ -57,6 +56,7 @@ from .integrator_kernels import (
     kernel_rk4,
     kernel_splitting,
 )
+from .segments import COMPILED_METHODS, run_segments
 
 __all__ = [
     "step_euler_explicit",
@@ -70,6 +70,9 @@ __all__ = [
     "DEFAULT_METHOD",
     "METHOD_ORDER",
     "integrate",
+    "integrate_segments",
+    "check_method",
+    "COMPILED_METHODS",
     "Trajectory",
     "NEWTON_MAX_ITER",
     "IntegrationError",
@@ -311,7 +314,8 @@ class Trajectory:
 
 
 def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_METHOD, torque_body=None,
-              record_every: int = 1, validate: bool = True, backend: str = "auto") -> Trajectory:
+              record_every: int = 1, validate: bool = True, backend: str = "auto",
+              progress: Callable[[int], None] | None = None) -> Trajectory:
     """Integrate the rotational motion over ``n_steps`` fixed steps of size ``h``.
 
     Parameters
@@ -340,11 +344,14 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_MET
         and ``RigidBody`` apply too.  ``validate=False`` accepts any positive moments (textbook
         test bodies such as ``(2/3, 1, 2)``).
     backend : {"auto", "numba", "numpy"}, keyword-only
-        ``"numba"``: the compiled loop (methods :data:`COMPILED_METHODS`; the same formulas
-        as the NumPy kernels, agreeing to a few ulps per step); ``"numpy"``: the NumPy
-        kernels; ``"auto"`` (default): compiled when numba is installed, the method is
-        compiled and the run is long enough (``n_steps`` x bodies >= :data:`COMPILED_MIN_WORK`)
-        for the compiled loop to pay for itself.
+        ``"numba"``: the compiled loop (every method; the same formulas as the NumPy kernels,
+        agreeing to a few ulps per step; numba is the extra ``inertia[fast]``); ``"numpy"``:
+        the NumPy kernels, the reference; ``"auto"`` (default): compiled when numba is
+        installed and the run is long enough to pay for loading (or compiling) the kernel,
+        see :mod:`inertia.dynamics.compiled`.
+    progress : callable or None, keyword-only
+        Called with the number of steps (per body) done since its previous call, a few
+        times per second of work (``inertia simulate`` draws its progress bar with it).
 
     Returns
     -------
@@ -371,84 +378,63 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_MET
     >>> integrate([1, 0, 0, 0], np.ones((5, 3)), [1, 2, 2.5], 0.1, 20, method="rk4").omega_body.shape
     (21, 5, 3)
     """
-    try:
-        kernel = KERNELS[method]
-    except (KeyError, TypeError):
-        raise InputError(f"method must be one of {sorted(KERNELS)}, got {method!r}") from None
+    check_method(method)
     n = as_count(n_steps, "n_steps", 0)
     every = as_count(record_every, "record_every", 1)
-    if backend not in ("auto", "numba", "numpy"):
-        raise InputError(f"backend must be 'auto', 'numba' or 'numpy', got {backend!r}")
-    q, w, I, hf, tau = _prepare(q0, omega0_body, moments, h, torque_body, validate=validate)
-    recorded = list(range(0, n + 1, every))
-    if recorded[-1] != n:
-        recorded.append(n)
-    if _use_compiled(backend, method, n * max(1, int(np.prod(w.shape[:-1])))):
-        qs, ws = _record_steps_compiled(method, q, w, I, hf, tau, recorded)
-    else:
-        qs, ws = _record_steps(kernel, method, q, w, I, hf, tau, recorded)
-    return Trajectory(t=np.asarray(recorded, dtype=float) * hf, q_world_body=qs, omega_body=ws)
+    recorded = np.r_[np.arange(0, n + 1, every), [n] if n % every else []].astype(np.int64)
+    hf = as_time_step(h)
+    qs, ws = _run_segments(q0, omega0_body, moments, np.diff(recorded), np.full(len(recorded) - 1, hf), method,
+                           torque_body, validate, backend, progress)
+    return Trajectory(t=recorded * hf, q_world_body=qs, omega_body=ws)
 
 
-#: methods with a compiled loop (``backend="numba"``)
-COMPILED_METHODS = ("euler_explicit", "rk4", "splitting")
-#: ``backend="auto"`` compiles from this many body-steps on (below, the NumPy loop is as fast)
-COMPILED_MIN_WORK = 2000
+def integrate_segments(q0, omega0_body, moments, steps, h, *, method: str = DEFAULT_METHOD, torque_body=None,
+                       validate: bool = True, backend: str = "auto",
+                       progress: Callable[[int], None] | None = None) -> Trajectory:
+    """:func:`integrate` over consecutive segments with their own step counts and sizes.
+
+    Segment k takes ``steps[k]`` steps of size ``h[k]``; the state is recorded at the start
+    and at the end of every segment.  This is how samples at arbitrary times are taken
+    with steps of at most a given size (``inertia simulate --times``).
+
+    Parameters
+    ----------
+    steps : (S,) int >= 0
+        Steps per segment.
+    h : float or (S,) float, s
+        Step size of each segment (finite, non-zero; a scalar applies to all).
+
+    The other parameters are those of :func:`integrate`.
+
+    Returns
+    -------
+    Trajectory
+        S + 1 records: ``t[0] = 0`` and ``t[k + 1] = t[k] + steps[k] h[k]``.
+
+    Examples
+    --------
+    >>> traj = integrate_segments([1, 0, 0, 0], [1.0, 0.1, 0.2], [1, 2, 2.5], [10, 4], [0.1, 0.05])
+    >>> traj.t
+    array([0. , 1. , 1.2])
+    """
+    check_method(method)
+    counts = np.asarray(steps)
+    if counts.ndim != 1 or not np.issubdtype(counts.dtype, np.integer) or (counts < 0).any():
+        raise InputError(f"steps must be a 1-D sequence of integers >= 0, got {steps!r}")
+    hs = np.asarray(h, dtype=float) if np.ndim(h) else np.full(counts.shape, as_time_step(h))
+    if hs.shape != counts.shape or not np.isfinite(hs).all() or (hs == 0).any():
+        raise InputError(f"h must be a finite non-zero step in s, or one per segment ({len(counts)}), got {h!r}")
+    qs, ws = _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, backend, progress)
+    return Trajectory(t=np.concatenate([[0.0], np.cumsum(counts * hs)]), q_world_body=qs, omega_body=ws)
 
 
-def _use_compiled(backend: str, method: str, work: int) -> bool:
-    if backend == "numpy":
-        return False
-    if backend == "numba":
-        if method not in COMPILED_METHODS:
-            raise InputError(f"backend='numba' compiles the methods {COMPILED_METHODS}, got method={method!r}; "
-                             "use backend='numpy' (or 'auto') for it")
-        require("numba", "backend='numba'")
-        return True
-    if method not in COMPILED_METHODS or work < COMPILED_MIN_WORK:
-        return False
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
+def _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, backend, progress):
+    q, w, I, _, tau = _prepare(q0, omega0_body, moments, 1.0, torque_body, validate=validate)
+    return run_segments(method, q, w, I, tau, counts, hs, backend=backend, progress=progress)
 
 
-def _record_steps_compiled(method, q, w, I, hf, tau, recorded):
-    """:func:`_record_steps` in one compiled loop (``_rollout_numba.integrate_kernel``)."""
-    from . import _rollout_numba as nbk
-
-    batch = w.shape[:-1]
-    flat = [np.ascontiguousarray(np.reshape(a, (-1, k)), dtype=np.float64)
-            for a, k in ((q, 4), (w, 3), (I, 3), (np.zeros(batch + (3,)) if tau is None else tau, 3))]
-    rec = np.asarray(recorded, dtype=np.int64)
-    qs = np.empty((len(rec), flat[0].shape[0], 4))
-    ws = np.empty((len(rec), flat[0].shape[0], 3))
-    failed = nbk.integrate_kernel(nbk.METHOD_IDS[method], *flat, float(hf), rec, qs, ws)
-    if failed >= 0:
-        raise IntegrationError(
-            f"method {method!r} diverged at step {failed} (t = {failed * hf:.6g} s, h = {hf:g} s): the angular "
-            f"velocity is no longer finite; reduce h or use a stable method such as 'splitting'")
-    return qs.reshape((len(rec),) + batch + (4,)), ws.reshape((len(rec),) + batch + (3,))
-
-
-def _record_steps(kernel, method, q, w, I, hf, tau, recorded):
-    """Step ``kernel`` to ``recorded[-1]``, keeping the states at the step numbers ``recorded``."""
-    n = recorded[-1]
-    batch = w.shape[:-1]
-    qs = np.empty((len(recorded),) + batch + (4,))
-    ws = np.empty((len(recorded),) + batch + (3,))
-    qs[0], ws[0] = q, w
-    m = I * w
-    r = 1
-    with np.errstate(over="ignore", invalid="ignore"):
-        for i in range(1, n + 1):
-            q, m = kernel(q, m, I, hf, tau)
-            if not np.isfinite(m).all():
-                raise IntegrationError(
-                    f"method {method!r} diverged at step {i} (t = {i * hf:.6g} s, h = {hf:g} s): the angular "
-                    f"velocity is no longer finite; reduce h or use a stable method such as 'splitting'")
-            if r < len(recorded) and recorded[r] == i:
-                qs[r], ws[r] = q, m / I
-                r += 1
-    return qs, ws
+def check_method(method) -> str:
+    """``method`` if it names an integrator of :data:`METHODS`, else InputError."""
+    if not isinstance(method, str) or method not in KERNELS:
+        raise InputError(f"method must be one of {sorted(KERNELS)}, got {method!r}")
+    return method

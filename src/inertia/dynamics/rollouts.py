@@ -6,13 +6,16 @@ schemes.  Two backends:
 
 * ``"numpy"``: the reference, a Python loop over vectorised NumPy steps (fast over large
   batches, slow for one long trajectory);
-* ``"numba"``: compiled kernels (:mod:`inertia.dynamics._rollout_numba`) for the methods in
-  :data:`COMPILED_METHODS`, parallel over bodies.  numba is an optional extra
+* ``"numba"``: compiled kernels (:mod:`inertia.dynamics._rollout_numba`) for every method
+  name (:data:`COMPILED_METHODS`; a step function passed as ``method`` runs on NumPy),
+  vectorised over chunks of bodies and parallel over chunks.  numba is an optional extra
   (``pip install inertia[fast]``), imported only when this backend is used; asking for it
   without numba raises :class:`inertia.errors.MissingDependencyError`.  The kernels
   transcribe the NumPy integrators operation by operation; the two backends agree to ~1e-13
   after 1e3 steps (the tests check 1e-12).
-* ``"auto"`` (default): numba when it is installed and the method is compiled, else numpy.
+* ``"auto"`` (default): numba when it is installed, the method is compiled and the run is
+  long enough to pay for loading (or compiling) the kernel (:mod:`inertia.dynamics.compiled`),
+  else numpy.
 
 Both backends re-express the state in the principal frame of the body once, integrate there,
 and convert the saved states back.
@@ -20,52 +23,39 @@ and convert the saved states back.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
-from .._core.errors import InputError, MissingDependencyError
+from .._core.errors import InputError, IntegrationError
 from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
 from .body import RigidBody, check_body
+from .compiled import BACKENDS, check_backend, numba_available, use_compiled
+from .integrator_kernels import KERNELS, NEWTON_MAX_ITER
 from .integrators import DEFAULT_METHOD
 from .state import FORCE, INPUT_SIZE, Q_WORLD_BODY, STATE_SIZE, TORQUE_BODY
 from .transition import check_force_frame, resolve_method, state_from_principal, state_to_principal, step_principal
 
 __all__ = ["rollout", "COMPILED_METHODS", "BACKENDS", "numba_available"]
 
-#: Methods with a compiled (numba) kernel.
-COMPILED_METHODS = ("euler_explicit", "rk4", "splitting")
+#: Methods with a compiled (numba) kernel: all of them.
+COMPILED_METHODS = tuple(KERNELS)
 
-#: Below this many bodies the numba backend runs the serial kernel (one body at a time, state
-#: in registers); from it on, chunks of bodies run vectorised and in parallel.
-_PARALLEL_MIN_BODIES = 256
+#: From this many body-steps on, the numba backend splits the bodies over
+#: ``numba.get_num_threads()`` threads (the kernels release the GIL); below, one thread.
+_THREADS_MIN_WORK = 200_000
 
-#: Accepted values of ``backend``.
-BACKENDS = ("auto", "numpy", "numba")
-
-
-def numba_available() -> bool:
-    """True when numba can be imported (the ``fast`` extra is installed)."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
+#: A rollout's NumPy step (6-DOF, principal-frame bookkeeping) against integrate's
+_NUMPY_SCALE = 2.0
+#: CPU seconds to compile one method's rollout kernel with a cold numba cache (bench/integrate.py --cold)
+_COMPILE_SECONDS = 4.0
 
 
-def _choose_backend(backend, method) -> str:
-    if backend not in BACKENDS:
-        raise InputError(f"backend must be one of {BACKENDS}, got {backend!r}")
-    compiled = isinstance(method, str) and method in COMPILED_METHODS
-    if backend == "numpy":
-        return "numpy"
-    if backend == "auto":
-        return "numba" if compiled and numba_available() else "numpy"
-    if not numba_available():
-        raise MissingDependencyError("backend='numba' needs numba, which is not installed: "
-                                     "pip install numba (or the extra inertia[fast]), or use backend='numpy'")
-    if not compiled:
-        raise InputError(f"backend='numba' compiles the methods {COMPILED_METHODS}, got method={method!r}; "
-                         f"use backend='numpy' (or 'auto') for it")
-    return "numba"
+def _kernel_loader(method, bodies):
+    def load():
+        from . import _rollout_numba
+        return _rollout_numba.KERNELS[method]
+    return load
 
 
 def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None, force_frame: str = "world",
@@ -127,18 +117,21 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     u, n, u_batch, held = _input_plan(u, n_steps)
     every = _save_plan(save_every, n)
     x0, hf, body_force, g, batch = _check_state(x0, h, force_frame, gravity, u, u_batch, held, body)
-    which = _choose_backend(backend, method)
+    check_backend(backend)
     rot_step = resolve_method(method)
+    bodies = int(np.prod(batch, dtype=np.int64))
+    compiled = use_compiled(backend, method, COMPILED_METHODS, n, bodies, _kernel_loader(method, bodies),
+                            numpy_scale=_NUMPY_SCALE, compile_seconds=_COMPILE_SECONDS)
 
     # everything in the principal frame, once
     x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
-    x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
     u_P = _inputs_to_principal(body, u, body_force)  # (..., 6) held, or (n, ..., 6)
 
-    if which == "numba":
-        # the kernels convert the saved states back to the body frame as they store them
-        out = _rollout_numba(x_P, u_P, held, n, hf, body, g, every, method, body_force, batch)
+    if compiled:
+        # the kernels move the states to P as they load them, and back as they store them
+        out = _rollout_numba(x0, u_P, held, n, hf, body, g, every, method, body_force, batch)
     else:
+        x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
         out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
         out = state_from_principal(body, out)
     return out[0] if every == 0 else out
@@ -222,12 +215,28 @@ def _kernel_array(a) -> np.ndarray:
     return np.require(a, dtype=np.float64, requirements=["C", "A", "W"])
 
 
-def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, batch):
+def _run_threads(kernel, N: int, n: int, args) -> None:
+    """``kernel(lo, hi, *args)`` over the bodies, split in whole chunks over the threads numba is set to."""
+    import numba
+
+    from ._rollout_numba import CHUNK
+
+    chunks = -(-N // CHUNK)
+    threads = min(numba.get_num_threads(), chunks) if N * n >= _THREADS_MIN_WORK else 1
+    if threads <= 1:
+        kernel(0, N, *args)
+        return
+    bounds = [min(N, (chunks * k // threads) * CHUNK) for k in range(threads + 1)]
+    with ThreadPoolExecutor(threads) as pool:
+        list(pool.map(lambda lo_hi: kernel(lo_hi[0], lo_hi[1], *args), zip(bounds[:-1], bounds[1:])))
+
+
+def _rollout_numba(x0, u_P, held, n, h, body, g, every, method, body_force, batch):
     """Compiled path: flatten the batch, call the kernel, restore the batch shape."""
     from . import _rollout_numba as _k
 
     N = int(np.prod(batch, dtype=np.int64))
-    x_flat = _kernel_array(np.broadcast_to(x_P, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
+    x_flat = _kernel_array(np.broadcast_to(x0, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
     # inputs: (T, Nu, 6) with T in {1, n} and Nu in {1, N}
     u_b = u_P
     u_batch = u_b.shape[:-1] if held else u_b.shape[1:-1]
@@ -249,7 +258,7 @@ def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, bat
         moments = _kernel_array(body.moments.reshape(1, 3))
         mass = _kernel_array(body.mass.reshape(1))
     gravity = np.zeros(3) if g is None else _kernel_array(g)
-    # principal -> body frame of the saved states: [q_BP, R_BP row-major] per body, none if P = B
+    # body <-> principal frame of the states: [q_BP, R_BP row-major] per body, none if P = B
     if body.principal_is_body:
         frame = np.zeros((0, 13))
     else:
@@ -259,8 +268,13 @@ def _rollout_numba(x_P, u_P, held, n, h, body, g, every, method, body_force, bat
                               np.broadcast_to(fr, batch + (13,)).reshape(N, 13))
     S = 1 if every == 0 else n // every + 1
     out = np.empty((S, N, STATE_SIZE))
-    # a few bodies: the serial kernel (no thread-pool start-up); many: chunks in parallel
-    kernel = _k.rollout_kernel_serial if N < _PARALLEL_MIN_BODIES else _k.rollout_kernel
-    kernel(x_flat, u_k, moments, mass, frame, gravity, float(h), int(n), int(every),
-           int(_k.METHOD_IDS[method]), bool(body_force), out)
+    status = np.full(N, -1, dtype=np.int64)
+    args = (x_flat, u_k, moments, mass, frame, gravity, float(h), int(n), int(every), bool(body_force), out, status)
+    _run_threads(_k.KERNELS[method], N, n, args)
+    failed = np.flatnonzero(status >= 0)
+    if failed.size:
+        b = int(failed[0])
+        raise IntegrationError(f"{method}: the implicit step equation did not converge in {NEWTON_MAX_ITER} Newton "
+                               f"iterations at step {int(status[b])} of body {b} (flat batch index); the time step "
+                               f"h = {h!r} is too large for this angular velocity: reduce h")
     return out.reshape((S,) + batch + (STATE_SIZE,))
