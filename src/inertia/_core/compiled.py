@@ -92,19 +92,23 @@ def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
     return module if warm else None
 
 
-def _is_cached(module, probe: str | None) -> bool:
-    """The probe kernel's machine code is in numba's cache for the current source."""
-    names = [probe] if probe else list(getattr(module, "WARM_PROBE", ()))
+def is_cached(dispatcher, *, unknown: bool = True) -> bool:
+    """A numba kernel is ready without compiling: compiled in this process already, or its
+    machine code is in numba's on-disk cache for the current source (read through numba's
+    private cache index; ``unknown`` is the answer when that API is not there)."""
+    if dispatcher.signatures:
+        return True
     try:
-        for name in names:
-            dispatcher = getattr(module, name)
-            if dispatcher.signatures:          # compiled in this process already
-                continue
-            if not dispatcher._cache._cache_file._load_index():   # numba internals: see below
-                return False
-        return True
-    except Exception:     # a numba without these internals: behave as before (compile on first use)
-        return True
+        return bool(dispatcher._cache._cache_file._load_index())
+    except Exception:  # noqa: BLE001 - a numba without these internals
+        return unknown
+
+
+def _is_cached(module, probe: str | None) -> bool:
+    """Every probe kernel of ``module`` is ready (see :func:`is_cached`); a numba without the
+    cache internals behaves as before: compile on first use."""
+    names = [probe] if probe else list(getattr(module, "WARM_PROBE", ()))
+    return all(is_cached(getattr(module, name)) for name in names)
 
 
 def start_warmup() -> bool:

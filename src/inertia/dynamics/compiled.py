@@ -12,6 +12,10 @@ two costs for the call at hand:
   cache, or its compilation when that cache is cold (``bench/integrate.py --cold``: 1.1-1.6
   s of CPU for an ``integrate`` loop, 3.2-4.3 s for a ``rollout`` kernel, per method).
 
+``INERTIA_COMPILED=never`` or ``always`` (:mod:`inertia._core.compiled`) overrides ``auto``.
+Unlike a mesh call, a long integration does compile in the caller's time when that pays:
+its NumPy path can be minutes, a compile is seconds.
+
 Small calls therefore stay on NumPy (a few thousand steps of one body take well under a
 second there) unless the kernel is already loaded.  So that a loop of many small calls does
 not keep paying the NumPy price, the NumPy time estimated for the calls that stayed on NumPy
@@ -61,13 +65,11 @@ def check_backend(backend) -> str:
 
 def first_call_seconds(dispatcher, compile_seconds: float = COMPILE_SECONDS) -> float:
     """What a numba kernel costs before its first call: 0 once loaded, else a load or a compile."""
+    from .._core.compiled import is_cached
+
     if dispatcher.signatures:
         return 0.0
-    try:  # numba's own index of the on-disk cache (private API: a cold guess if it moves)
-        warm = bool(dispatcher._cache._cache_file._load_index())
-    except Exception:  # noqa: BLE001
-        warm = False
-    return LOAD_SECONDS if warm else compile_seconds
+    return LOAD_SECONDS if is_cached(dispatcher, unknown=False) else compile_seconds
 
 
 def use_compiled(backend: str, method, compiled_methods, steps: int, bodies: int,
@@ -92,6 +94,12 @@ def use_compiled(backend: str, method, compiled_methods, steps: int, bodies: int
         return True
     if not compiled:
         return False
+    from .._core.compiled import mode
+
+    if mode() == "never":                            # INERTIA_COMPILED: the user's word first
+        return False
+    if mode() == "always":
+        return numba_available()
     numpy_s = numpy_scale * steps * (NUMPY_STEP_SECONDS + NUMPY_BODY_STEP_SECONDS * bodies)
     compiled_s = COMPILED_BODY_STEP_SECONDS * steps * bodies
     if sys.modules.get("numba") is None and numpy_s + _rent["seconds"] < LOAD_SECONDS:
