@@ -5,8 +5,11 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
 dependency; with numba, its per-face vertex copies are welded in one compiled pass over
-the records, with the same result as the general route).  The other formats go through
-the optional dependency trimesh, with ``process=False`` (trimesh changes nothing).  Then
+the records, with the same result as the general route).  ASCII STL and OBJ are read by
+the native text readers of :mod:`._text_readers` (no dependency; one compiled pass with
+numba, a plain-Python reference reader without), which name the file, line and text of
+anything malformed.  PLY, OFF and glTF go through the optional dependency trimesh, with
+``process=False`` (trimesh changes nothing).  Then
 vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
 files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
@@ -16,7 +19,6 @@ are then scaled to metres.
 from __future__ import annotations
 
 import os
-import re
 import stat
 import sys
 import warnings
@@ -131,25 +133,6 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     np.minimum.at(rep_of_label, label, np.arange(n))
     fm = rep_of_label[label][f]
     return compact_vertices(v, fm)
-
-
-#: an OBJ face line with an index 0 (OBJ counts from 1; trimesh reads 0 as a valid vertex)
-_OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+\-])[+-]?0+(?=[/ \t\r\n]|$)", re.M)
-
-
-def _check_obj_indices(p: Path) -> None:
-    """Refuse an OBJ face that uses index 0, naming the line (OBJ indices start at 1)."""
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-    m = _OBJ_ZERO_INDEX.search(data)
-    if m is not None:
-        line = data.count(b"\n", 0, m.start()) + 1
-        end = data.find(b"\n", m.start())
-        text = data[m.start():end if end >= 0 else len(data)].strip().decode("utf-8", "replace")[:80]
-        raise MeshFileError(f"{p}, line {line}: face index 0 in {text!r}: OBJ vertex indices start at 1 "
-                            "(negative indices count back from the last vertex)", code="malformed")
 
 
 def _scene_triangles(trimesh, loaded, path: Path):
@@ -279,7 +262,7 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     InputError
         Unknown ``units``.
     MissingDependencyError
-        trimesh is not installed (``pip install "inertia[mesh]"``).
+        a PLY, OFF or glTF file and trimesh is not installed (``pip install "inertia[mesh]"``).
     """
     factor = _unit_factor(units)
     p = Path(path)
@@ -313,12 +296,13 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
     if not stat.S_ISREG(st.st_mode):
         raise MeshFileError(f"{p}: not a file")
     n_binary, data = -1, None
-    if ext == ".stl":  # mapped, not read: the header decides, the records are paged in as used
+    if ext in (".stl", ".obj"):  # mapped, not read: the records or lines are paged in as used
         try:
-            data = np.memmap(p, dtype=np.uint8, mode="r") if st.st_size else b""
+            data = np.memmap(p, dtype=np.uint8, mode="r") if st.st_size else np.zeros(0, dtype=np.uint8)
         except (OSError, ValueError) as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-        n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
+        if ext == ".stl":
+            n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
         merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
         if merged is not None:
@@ -326,9 +310,11 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
         vertices, faces = _read_binary_stl(p, n_binary, data)
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: native text readers
+        from ._text_readers import read_ascii_stl, read_obj
+
+        vertices, faces = (read_obj if ext == ".obj" else read_ascii_stl)(data.view(np.ndarray), p)
     else:
-        if ext == ".obj":
-            _check_obj_indices(p)
         trimesh = _import_trimesh()
         try:
             # trimesh's parsers cast and scale without guarding against overflow or NaN; what

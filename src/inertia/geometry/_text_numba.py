@@ -1,0 +1,526 @@
+"""Numba kernels reading ASCII STL and OBJ text (optional; needs ``numba``).
+
+Imported lazily by :mod:`inertia.geometry._text_readers`, which falls back to the line-by-line
+reference parser of :mod:`inertia.geometry._text_reference` without numba; tests compare the
+two on valid files and on mutated ones (same arrays, or the same error on the same line).
+
+One pass over the bytes, no copy of the text.  Numbers are read exactly as ``strtod`` reads
+them (correctly rounded): a decimal of at most 16 significant digits and an exponent within
++-22 is one exact integer times or divided by one exact power of ten, a single correctly
+rounded operation (Clinger's fast path, which covers what CAD exporters write); any other
+valid number (17+ digits, large exponents, nan, inf) is left as a *slow token* whose byte
+range the caller parses with NumPy.  Errors are returned as codes with the byte offset of the
+line, never raised (the caller names file, line and text).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numba import types
+from numba.extending import intrinsic
+
+# the status codes of the reference reader
+from ._text_reference import (
+    BAD_NUMBER,
+    BAD_REF,
+    EXTRA_TOKENS,
+    FACET_SIZE,
+    FEW_COORDS,
+    FEW_REFS,
+    INDEX_RANGE,
+    OK,
+    TRUNCATED,
+    UNEXPECTED,
+    ZERO_INDEX,
+)
+
+_JIT = dict(cache=True, nogil=True, boundscheck=False)
+
+#: exact powers of ten (10**22 is the largest one a float64 holds exactly)
+_P10 = np.array([float(10**k) for k in range(23)])
+_FAST_MANTISSA = 2**53
+
+
+# ASCII STL keywords
+_KW_OTHER, _KW_SOLID, _KW_ENDSOLID, _KW_FACET, _KW_ENDFACET, _KW_OUTER, _KW_ENDLOOP, _KW_VERTEX = range(8)
+
+_NL, _CR, _SLASH, _BACKSLASH, _HASH = 10, 13, 47, 92, 35
+
+
+@intrinsic
+def _address(typingctx, array):
+    """The data pointer of a uint8 array."""
+    def codegen(context, builder, signature, args):
+        return context.make_array(signature.args[0])(context, builder, args[0]).data
+
+    return types.CPointer(types.uint8)(array), codegen
+
+
+@nb.njit(inline="always", **_JIT)
+def _borrowed(data):
+    """``data`` seen through a view without a reference count (the caller keeps it alive).
+
+    Every helper call that passes an array makes numba count a reference in and out of it,
+    two atomic operations that the compiler cannot remove once the helper branches on the
+    array's contents; for the byte-by-byte scans here that was 10x the work itself.
+    """
+    return nb.carray(_address(data), data.shape[0])
+
+
+@nb.njit(inline="always", **_JIT)
+def _blank(c):
+    """Space, tab, CR, VT, FF: separators inside a line (LF ends it)."""
+    return c == 32 or (9 <= c <= 13 and c != 10)
+
+
+@nb.njit(inline="always", **_JIT)
+def _digit(c):
+    return 48 <= c <= 57
+
+
+@nb.njit(inline="always", **_JIT)
+def _continued(data, i, n):
+    """Length of a line continuation (backslash, optional CR, LF) at ``i``, else 0."""
+    if i < n and data[i] == _BACKSLASH:
+        if i + 1 < n and data[i + 1] == _NL:
+            return 2
+        if i + 2 < n and data[i + 1] == _CR and data[i + 2] == _NL:
+            return 3
+    return 0
+
+
+@nb.njit(inline="always", **_JIT)
+def _skip_blanks(data, i, n, joins):
+    """First position at or after ``i`` that is not a separator (``joins``: OBJ line continuations too)."""
+    while i < n:
+        c = data[i]
+        if _blank(c):
+            i += 1
+        elif joins and c == _BACKSLASH:
+            k = _continued(data, i, n)
+            if k == 0:
+                return i
+            i += k
+        else:
+            return i
+    return i
+
+
+@nb.njit(inline="always", **_JIT)
+def _end_of_line(data, i, n, joins):
+    """Position of the LF ending the line at ``i`` (``n`` at the end; ``joins``: LF after a backslash continues)."""
+    while i < n:
+        if data[i] == _NL:
+            if not joins:
+                return i
+            j = i - 1
+            if j >= 0 and data[j] == _CR:
+                j -= 1
+            if j < 0 or data[j] != _BACKSLASH:
+                return i
+        i += 1
+    return n
+
+
+@nb.njit(inline="always", **_JIT)
+def _token_end(data, i, n, joins):
+    """True when position ``i`` ends a token: a separator, LF, end of text (or a continuation)."""
+    if i >= n:
+        return True
+    c = data[i]
+    if c == _NL or _blank(c):
+        return True
+    return joins and _continued(data, i, n) > 0
+
+
+@nb.njit(**_JIT)
+def _word(data, i, n):
+    """End of ``nan``, ``inf`` or ``infinity`` (any case) at ``i``, else -1."""
+    if i + 3 > n:
+        return -1
+    a, b, c = data[i] | 32, data[i + 1] | 32, data[i + 2] | 32
+    if a == 110 and b == 97 and c == 110:          # nan
+        return i + 3
+    if not (a == 105 and b == 110 and c == 102):   # inf
+        return -1
+    if i + 8 <= n and (data[i + 3] | 32) == 105 and (data[i + 4] | 32) == 110 and (data[i + 5] | 32) == 105 \
+            and (data[i + 6] | 32) == 116 and (data[i + 7] | 32) == 121:   # inity
+        return i + 8
+    return i + 3
+
+
+@nb.njit(inline="always", **_JIT)
+def parse_number(data, i, n):
+    """``(value, end, status)`` of the decimal number at ``i``: status 0 exact, 1 a valid number
+    left for ``strtod`` (value 0), 2 not a number.  The caller checks what follows ``end``."""
+    neg = False
+    if i < n and (data[i] == 45 or data[i] == 43):
+        neg = data[i] == 45
+        i += 1
+    mant = 0
+    nd = 0        # significant digits kept in mant
+    e10 = 0
+    digits = 0
+    slow = False
+    while i < n and _digit(data[i]):
+        d = data[i] - 48
+        digits += 1
+        if nd < 18:
+            if mant != 0 or d != 0:
+                mant = mant * 10 + d
+                nd += 1
+        else:
+            e10 += 1
+            slow = True
+        i += 1
+    if digits == 0 and not (i < n and data[i] == 46):   # no digit, no point: nan or inf?
+        j = _word(data, i, n)
+        return 0.0, (j if j >= 0 else i), (1 if j >= 0 else 2)
+    if i < n and data[i] == 46:
+        i += 1
+        while i < n and _digit(data[i]):
+            d = data[i] - 48
+            digits += 1
+            if nd < 18:
+                if mant != 0 or d != 0:
+                    mant = mant * 10 + d
+                    nd += 1
+                e10 -= 1
+            else:
+                slow = True
+            i += 1
+    if digits == 0:
+        return 0.0, i, 2
+    if i < n and (data[i] | 32) == 101:
+        i += 1
+        eneg = False
+        if i < n and (data[i] == 45 or data[i] == 43):
+            eneg = data[i] == 45
+            i += 1
+        ev = 0
+        ed = 0
+        while i < n and _digit(data[i]):
+            if ev < 100000:
+                ev = ev * 10 + (data[i] - 48)
+            ed += 1
+            i += 1
+        if ed == 0:
+            return 0.0, i, 2
+        e10 += -ev if eneg else ev
+    if mant == 0:
+        value = 0.0
+    elif slow or mant > _FAST_MANTISSA or e10 > 22 or e10 < -22:
+        return 0.0, i, 1
+    elif e10 >= 0:
+        value = float(mant) * _P10[e10]
+    else:
+        value = float(mant) / _P10[-e10]
+    return (-value if neg else value), i, 0
+
+
+@nb.njit(**_JIT)
+def _grow_rows(a, rows):
+    """``a`` with room for at least ``rows`` rows (doubling), the first rows kept."""
+    b = np.empty((max(rows, 2 * a.shape[0]), a.shape[1]), dtype=a.dtype)
+    b[:a.shape[0]] = a
+    return b
+
+
+@nb.njit(inline="always", **_JIT)
+def _coordinate(data, i, n, joins):
+    """The next number of a vertex line: ``(value, start, end, status)``; status FEW_COORDS at
+    the end of the line, BAD_NUMBER, OK (value exact) or -1 (a slow token)."""
+    i = _skip_blanks(data, i, n, joins)
+    if i >= n or data[i] == _NL:
+        return 0.0, i, i, FEW_COORDS
+    value, end, status = parse_number(data, i, n)
+    if status == 2 or not _token_end(data, end, n, joins):
+        return 0.0, i, end, BAD_NUMBER
+    return value, i, end, (OK if status == 0 else -1)
+
+
+#: the keywords, most frequent first, as one byte array; _KW_CODES[k] is the code of the k-th
+_KW_TEXT = (b"vertex", b"facet", b"outer", b"endloop", b"endfacet", b"solid", b"endsolid")
+_KW_CODES = np.array([_KW_VERTEX, _KW_FACET, _KW_OUTER, _KW_ENDLOOP, _KW_ENDFACET, _KW_SOLID, _KW_ENDSOLID])
+_KW_BYTES = np.frombuffer(b"".join(_KW_TEXT), dtype=np.uint8)
+_KW_START = np.cumsum([0] + [len(w) for w in _KW_TEXT])
+
+
+@nb.njit(inline="always", **_JIT)
+def _stl_keyword(data, i, j):
+    """The ASCII STL keyword spelled (in any case) by ``data[i:j]``."""
+    for k in range(_KW_CODES.shape[0]):
+        s = _KW_START[k]
+        if j - i == _KW_START[k + 1] - s:
+            same = True
+            for m in range(j - i):
+                if (data[i + m] | 32) != _KW_BYTES[s + m]:
+                    same = False
+                    break
+            if same:
+                return _KW_CODES[k]
+    return _KW_OTHER
+
+
+@nb.njit(**_JIT)
+def _stl_size(raw):
+    """An upper bound of the corners of an ASCII STL: its lines whose first word starts with v."""
+    data = _borrowed(raw)
+    n = data.shape[0]
+    count = 0
+    i = 0
+    while i < n:
+        i = _skip_blanks(data, i, n, False)
+        if i < n and (data[i] | 32) == 118:
+            count += 1
+        i = _end_of_line(data, i, n, False) + 1
+    return count
+
+
+# One kernel kept whole (85 lines): a flat loop over the lines is 5x faster than the same
+# grammar split into functions that pass the output arrays around.
+@nb.njit(**_JIT)
+def read_ascii_stl(raw):
+    """Corners of an ASCII STL: ``(vertices (3F, 3), slow (S, 3), status, line_offset, detail)``.
+
+    ``slow`` rows are ``(start, end, flat index into vertices)`` of numbers left for strtod.
+    Grammar: :mod:`._text_reference` (keywords in any case; the rest of the ``solid``,
+    ``facet``, ``outer``, ``endloop``, ``endfacet`` and ``endsolid`` lines is not read).
+    """
+    data = _borrowed(raw)
+    n = data.shape[0]
+    out = np.empty((_stl_size(data), 3))
+    slow = np.empty((16, 3), dtype=np.int64)
+    nv = ns = 0
+    state = 0          # 0 outside a solid, 1 in a solid, 2 in a facet
+    fv = 0             # vertices of the open facet
+    i = 0
+    last = 0           # the last line with a keyword
+    while i < n:
+        line = i
+        i = _skip_blanks(data, i, n, False)
+        if i >= n:
+            break
+        if data[i] == _NL:
+            i += 1
+            continue
+        j = i
+        while not _token_end(data, j, n, False):
+            j += 1
+        kw = _stl_keyword(data, i, j)
+        last = line
+        if kw == _KW_VERTEX:
+            if state != 2:
+                return out[:nv], slow[:ns], UNEXPECTED, line, state
+            if fv >= 3 or nv >= out.shape[0]:
+                return out[:nv], slow[:ns], FACET_SIZE, line, fv + 1
+            i = j
+            for k in range(3):
+                value, start, i, status = _coordinate(data, i, n, False)
+                if status > 0:
+                    return out[:nv], slow[:ns], status, line, (k if status == FEW_COORDS else start)
+                if status < 0:
+                    if ns == slow.shape[0]:
+                        slow = _grow_rows(slow, ns + 1)
+                    slow[ns, 0] = start
+                    slow[ns, 1] = i
+                    slow[ns, 2] = 3 * nv + k
+                    ns += 1
+                out[nv, k] = value
+            i = _skip_blanks(data, i, n, False)
+            if i < n and data[i] != _NL:
+                return out[:nv], slow[:ns], EXTRA_TOKENS, line, i
+            nv += 1
+            fv += 1
+            continue
+        if kw == _KW_FACET and state == 1:
+            state = 2
+            fv = 0
+        elif kw == _KW_ENDFACET and state == 2:
+            if fv != 3:
+                return out[:nv], slow[:ns], FACET_SIZE, line, fv
+            state = 1
+        elif (kw == _KW_OUTER or kw == _KW_ENDLOOP) and state == 2:
+            pass
+        elif kw == _KW_SOLID and state == 0:
+            state = 1
+        elif kw == _KW_ENDSOLID and state == 1:
+            state = 0
+        else:
+            return out[:nv], slow[:ns], UNEXPECTED, line, state
+        i = _end_of_line(data, j, n, False) + 1
+    if state != 0:
+        return out[:nv], slow[:ns], TRUNCATED, last, state
+    return out[:nv], slow[:ns], OK, 0, 0
+
+
+@nb.njit(inline="always", **_JIT)
+def _index(data, i, n):
+    """``(value, end)`` of the signed integer at ``i`` (``end == i``: none; values capped at 2**62)."""
+    neg = False
+    j = i
+    if j < n and (data[j] == 45 or data[j] == 43):
+        neg = data[j] == 45
+        j += 1
+    v = 0
+    k = j
+    while k < n and _digit(data[k]):
+        if v < 2**62:
+            v = v * 10 + (data[k] - 48)
+        k += 1
+    if k == j:
+        return 0, i
+    return (-v if neg else v), k
+
+
+@nb.njit(inline="always", **_JIT)
+def _face_ref(data, i, n, nv, limit):
+    """One ``v``, ``v/vt``, ``v/vt/vn`` or ``v//vn`` reference at ``i``.
+
+    Returns ``(vertex index (0-based), end, status)``; negative indices count back from the
+    ``nv`` vertices read so far; ``limit >= 0``: positive indices above it are out of range.
+    """
+    value, j = _index(data, i, n)
+    if j == i:
+        return 0, i, BAD_REF
+    zero = value == 0
+    for _ in range(2):
+        if j >= n or data[j] != _SLASH:
+            break
+        j += 1
+        other, k = _index(data, j, n)
+        zero = zero or (k != j and other == 0)
+        j = k
+    if not _token_end(data, j, n, True) and data[j] != _HASH:
+        return 0, i, BAD_REF
+    if zero:
+        return 0, i, ZERO_INDEX
+    if value < 0:
+        value = nv + value
+        if value < 0:
+            return 0, i, INDEX_RANGE
+        return value, j, OK
+    if limit >= 0 and value > limit:
+        return 0, i, INDEX_RANGE
+    return value - 1, j, OK
+
+
+@nb.njit(inline="always", **_JIT)
+def _obj_keyword(data, i, n):
+    """118 (v), 102 (f) or 0: the keyword of the line whose first word is at ``i``."""
+    if i < n and (data[i] == 118 or data[i] == 102) and _token_end(data, i + 1, n, True):
+        return data[i]
+    return 0
+
+
+@nb.njit(**_JIT)
+def _obj_sizes(raw):
+    """Upper bounds of the vertices and triangles of an OBJ: its v lines, and the words of
+    each f line (before a comment) minus two."""
+    data = _borrowed(raw)
+    n = data.shape[0]
+    nv = nt = 0
+    i = 0
+    while i < n:
+        i = _skip_blanks(data, i, n, True)
+        kw = _obj_keyword(data, i, n)
+        if kw == 118:
+            nv += 1
+        elif kw == 102:
+            words = 0
+            i += 1
+            while True:
+                i = _skip_blanks(data, i, n, True)
+                if i >= n or data[i] == _NL or data[i] == _HASH:
+                    break
+                words += 1
+                while not _token_end(data, i, n, True) and data[i] != _HASH:
+                    i += 1
+            nt += max(0, words - 2)
+        i = _end_of_line(data, i, n, True) + 1
+    return nv, nt
+
+
+# One kernel kept whole (84 lines), for the reason given above read_ascii_stl.
+@nb.njit(**_JIT)
+def read_obj(raw, limit):
+    """Vertices and triangles of an OBJ: ``(vertices, faces, slow, largest, status, line_offset, detail)``.
+
+    Grammar: :mod:`._text_reference`.  ``largest``: the largest vertex index + 1 of the faces
+    (a face may name a vertex defined further down); ``limit >= 0`` refuses positive indices
+    above it (the caller's second pass, to find the line of an index beyond the last vertex).
+    """
+    data = _borrowed(raw)
+    n = data.shape[0]
+    cap_v, cap_t = _obj_sizes(data)
+    verts = np.empty((cap_v, 3))
+    faces = np.empty((cap_t, 3), dtype=np.int64)
+    slow = np.empty((16, 3), dtype=np.int64)
+    nv = nf = ns = 0
+    largest = 0
+    i = 0
+    while i < n:
+        line = i
+        i = _skip_blanks(data, i, n, True)
+        kw = _obj_keyword(data, i, n)
+        if kw == 118 and nv < cap_v:
+            i += 1
+            for k in range(3):
+                value, start, i, status = _coordinate(data, i, n, True)
+                if status > 0:
+                    return verts[:nv], faces[:nf], slow[:ns], largest, status, line, \
+                        (k if status == FEW_COORDS else start)
+                if status < 0:
+                    if ns == slow.shape[0]:
+                        slow = _grow_rows(slow, ns + 1)
+                    slow[ns, 0] = start
+                    slow[ns, 1] = i
+                    slow[ns, 2] = 3 * nv + k
+                    ns += 1
+                verts[nv, k] = value
+            nv += 1
+        elif kw == 102:
+            first = second = -1
+            count = 0
+            i += 1
+            while True:
+                i = _skip_blanks(data, i, n, True)
+                if i >= n or data[i] == _NL or data[i] == _HASH:
+                    break
+                idx, end, status = _face_ref(data, i, n, nv, limit)
+                if status != OK:
+                    return verts[:nv], faces[:nf], slow[:ns], largest, status, line, i
+                i = end
+                largest = max(largest, idx + 1)
+                if count == 0:
+                    first = idx
+                elif count >= 2 and nf < cap_t:
+                    faces[nf, 0] = first
+                    faces[nf, 1] = second
+                    faces[nf, 2] = idx
+                    nf += 1
+                second = idx
+                count += 1
+            if count < 3:
+                return verts[:nv], faces[:nf], slow[:ns], largest, FEW_REFS, line, count
+        i = _end_of_line(data, i, n, True) + 1
+    return verts[:nv], faces[:nf], slow[:ns], largest, OK, 0, 0
+
+
+@nb.njit(**_JIT)
+def gather_tokens(raw, slow):
+    """The slow tokens' bytes, space-separated, in one buffer (for NumPy's strtod)."""
+    data = _borrowed(raw)
+    total = 0
+    for r in range(slow.shape[0]):
+        total += slow[r, 1] - slow[r, 0] + 1
+    buf = np.empty(total, dtype=np.uint8)
+    p = 0
+    for r in range(slow.shape[0]):
+        for k in range(slow[r, 0], slow[r, 1]):
+            buf[p] = data[k]
+            p += 1
+        buf[p] = 32
+        p += 1
+    return buf

@@ -1,0 +1,144 @@
+"""Native readers of the text mesh formats ASCII STL and OBJ (no trimesh).
+
+The grammar is written out in :mod:`._text_reference` (the plain-Python reader used without
+numba); with numba, :mod:`._text_numba` reads the same grammar in one compiled pass and the
+numbers it leaves (more than 16 significant digits, large exponents, nan, inf) are read by
+NumPy's ``strtod`` in one call.  Both give the arrays trimesh gives for the same file (its
+OBJ reader counts negative indices from the end of the file, we from the line, as the OBJ
+specification says; it splits an OBJ by material, we keep the file's order) and refuse a
+malformed file with a :class:`~inertia.errors.MeshFileError` naming file, line and text.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+
+import numpy as np
+
+from .._core.errors import MeshFileError
+from . import _text_reference as ref
+
+__all__ = ["read_ascii_stl", "read_obj", "text_kernels"]
+
+_kernels_state = None
+
+
+def text_kernels():
+    """The compiled readers (:mod:`._text_numba`), or None without numba."""
+    global _kernels_state
+    if _kernels_state is None:
+        try:
+            from . import _text_numba as kernels
+        except ImportError:
+            kernels = False
+        _kernels_state = kernels
+    return _kernels_state or None
+
+
+def read_ascii_stl(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Corners (3F, 3) float64 and faces ``arange(3F).reshape(F, 3)`` of an ASCII STL.
+
+    ``data``: the file's bytes as a uint8 array; ``compiled``: force (True) or avoid (False)
+    the numba reader (default: numba when installed).
+    """
+    kernels = text_kernels() if compiled is not False else None
+    if kernels is None:
+        v, err = ref.read_ascii_stl(bytes(data))
+    else:
+        v, slow, status, where, detail = kernels.read_ascii_stl(data)
+        err = None if status == ref.OK else _kernel_error(data, status, where, detail, obj=False)
+        _fill_slow(v, data, slow, kernels)
+    if err is not None:
+        raise MeshFileError(error_message(path, err, "ASCII STL"), code="malformed")
+    return v, np.arange(len(v), dtype=np.int64).reshape(-1, 3)
+
+
+def read_obj(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of an OBJ (see :func:`read_ascii_stl`)."""
+    kernels = text_kernels() if compiled is not False else None
+    raw = bytes(data) if kernels is None else None
+
+    def parse(limit):
+        if kernels is None:
+            return ref.read_obj(raw, limit)
+        v, f, slow, largest, status, where, detail = kernels.read_obj(data, limit)
+        _fill_slow(v, data, slow, kernels)
+        err = None if status == ref.OK else _kernel_error(data, status, where, detail, obj=True)
+        if err is not None and err.kind == ref.INDEX_RANGE:   # as the reference counts
+            err = ref.TextError(err.kind, err.line, err.text, err.token,
+                                len(v) if err.token.startswith(b"-") else limit)
+        return v, f, largest, err
+
+    v, f, largest, err = parse(-1)
+    if err is None and largest > len(v):   # a positive index beyond the last vertex: find its line
+        err = parse(len(v))[3]
+    if err is not None:
+        raise MeshFileError(error_message(path, err, "OBJ"), code="malformed")
+    return v, f
+
+
+def _fill_slow(v: np.ndarray, data: np.ndarray, slow: np.ndarray, kernels) -> None:
+    """Read the numbers the kernel left (``slow`` rows: start, end, flat index) with NumPy's strtod."""
+    slow = slow[slow[:, 2] < v.size]   # after an error: not the numbers of the line refused
+    if len(slow) == 0:
+        return
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        values = np.fromstring(kernels.gather_tokens(data, slow), dtype=np.float64, sep=" ")
+    if len(values) != len(slow):  # the kernel checked every token's syntax: cannot happen
+        raise RuntimeError(f"strtod read {len(values)} of {len(slow)} numbers")
+    v.reshape(-1)[slow[:, 2]] = values
+
+
+#: a token: up to a separator or LF; in OBJ also up to a line continuation, and in a face up to a comment
+_STL_TOKEN = re.compile(rb"\S*")
+_OBJ_TOKEN = re.compile(rb"(?:[^\s\\]|\\(?!\r?\n))*")
+_REF_TOKEN = re.compile(rb"(?:[^\s\\#]|\\(?!\r?\n))*")
+#: kinds whose ``detail`` is the offset of a token (others: a count)
+_TOKEN_KINDS = (ref.BAD_NUMBER, ref.EXTRA_TOKENS, ref.BAD_REF, ref.ZERO_INDEX, ref.INDEX_RANGE)
+_CHUNK = 1 << 24
+
+
+def _kernel_error(data: np.ndarray, kind: int, where: int, detail: int, obj: bool) -> ref.TextError:
+    """The :class:`TextError` of a kernel's status (``where``: the offset of the line)."""
+    line = 1 + sum(int(np.count_nonzero(data[k:min(k + _CHUNK, where)] == 10)) for k in range(0, where, _CHUNK))
+    end = where
+    while end < len(data):
+        k = bytes(data[end:end + 4096]).find(b"\n")
+        if k >= 0:
+            end += k
+            break
+        end += 4096
+    text = bytes(data[where:min(end, len(data))])
+    token, count = b"", int(detail)
+    if kind in _TOKEN_KINDS:
+        pattern = _STL_TOKEN if not obj else _REF_TOKEN if kind in (ref.BAD_REF, ref.ZERO_INDEX,
+                                                                   ref.INDEX_RANGE) else _OBJ_TOKEN
+        token = pattern.match(bytes(data[detail:detail + 4096])).group(0)
+    elif kind == ref.UNEXPECTED:
+        token = text.split()[0]
+    return ref.TextError(kind, line, text, token, count)
+
+
+def error_message(path, err: ref.TextError, fmt: str) -> str:
+    """``PATH, line N: ...`` for a :class:`TextError` of a ``fmt`` ("ASCII STL" or "OBJ") file."""
+    text = err.text.strip().decode("utf-8", "replace")[:80]
+    token = err.token.decode("utf-8", "replace")[:40]
+    where = f"{path}, line {err.line}"
+    if err.kind == ref.ZERO_INDEX:   # worded as before the native reader (tests, users' scripts)
+        return (f"{where}: face index 0 in {text!r}: OBJ vertex indices start at 1 "
+                "(negative indices count back from the last vertex)")
+    what = {
+        ref.BAD_NUMBER: f"malformed number {token!r}",
+        ref.FEW_COORDS: f"a vertex needs 3 coordinates, this one has {err.count}",
+        ref.EXTRA_TOKENS: f"unexpected {token!r} after the 3 coordinates of a vertex",
+        ref.UNEXPECTED: f"unexpected {token!r} {ref.STL_PLACES[err.count % 3]}",
+        ref.FACET_SIZE: f"a facet with {err.count} vertices (facets are triangles)",
+        ref.TRUNCATED: f"the file ends {ref.STL_PLACES[err.count % 3]} (no endsolid: truncated?)",
+        ref.BAD_REF: f"malformed face vertex {token!r} (v, v/vt, v/vt/vn or v//vn)",
+        ref.FEW_REFS: f"a face needs at least 3 vertices, this one has {err.count}",
+        ref.INDEX_RANGE: f"face vertex {token!r} names no vertex ({err.count} defined "
+                         f"{'above it' if token.startswith('-') else 'in the file'})",
+    }[err.kind]
+    return f"{where}: malformed {fmt}: {what} in {text!r}"
