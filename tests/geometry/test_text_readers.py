@@ -8,6 +8,7 @@ compiled reader must match array for array, and error for error, on mutated file
 
 from __future__ import annotations
 
+import os
 import random
 
 import numpy as np
@@ -295,3 +296,31 @@ def test_compiled_reader_matches_the_reference_on_valid_files(k):
     reader, text = _seeds()[k]
     got, want = _outcome(reader, text, True), _outcome(reader, text, False)
     assert not isinstance(want[0], str) and _same(got, want)
+
+
+@needs_numba
+def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
+    from inertia.geometry import _text_readers
+
+    # made "large" by lowering the threshold: four chunks, each starting at a facet line
+    rng = np.random.default_rng(5)
+    tris = [[[repr(x) for x in p] for p in t] for t in rng.normal(size=(60, 3, 3)).tolist()]
+    tris[7][1][2] = "1.00000000000000000000001"    # a slow number (left for strtod), in chunk 1 or 2
+    solid = "solid a\n" + "".join("facet normal 0 0 1\nouter loop\n" + "".join(f" vertex {' '.join(p)}\n" for p in t)
+                                  + "endloop\nendfacet\n" for t in tris) + "endsolid a\n"
+    text = (solid + solid.replace("solid a", "solid b")).encode()
+    data = np.frombuffer(text, dtype=np.uint8)
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4)), raising=False)
+    monkeypatch.setattr(_text_readers, "PARALLEL_BYTES", len(text) // 4)
+    assert len(_text_readers._stl_chunks(data, 4)) == 5
+    kernels = text_kernels()
+    v, err = _text_readers._parallel_stl(data, kernels)
+    assert err is None and np.array_equal(v, _text_readers._sequential_stl(data, kernels)[0])
+    assert np.array_equal(v, np.array([[float(x) for x in p] for t in tris for p in t] * 2))
+    rng2 = random.Random(3)
+    for _ in range(200):   # mutated: the threads give the one pass's arrays or leave it the file
+        mutated = np.frombuffer(mutate_any(text, rng2), dtype=np.uint8)
+        got = _text_readers._parallel_stl(mutated, kernels)
+        if got is not None:
+            one_pass = _text_readers._sequential_stl(mutated, kernels)
+            assert one_pass[1] is None and np.array_equal(got[0], one_pass[0], equal_nan=True)

@@ -30,7 +30,6 @@ from ._text_reference import (
     FEW_REFS,
     INDEX_RANGE,
     OK,
-    TRUNCATED,
     UNEXPECTED,
     ZERO_INDEX,
 )
@@ -153,45 +152,35 @@ def _word(data, i, n):
 @nb.njit(inline="always", **_JIT)
 def parse_number(data, i, n):
     """``(value, end, status)`` of the decimal number at ``i``: status 0 exact, 1 a valid number
-    left for ``strtod`` (value 0), 2 not a number.  The caller checks what follows ``end``."""
+    left for ``strtod`` (value 0), 2 not a number.  The caller checks what follows ``end``.
+
+    Up to 18 digits (leading zeros included) accumulate in an int64; more go to strtod.
+    """
     neg = False
     if i < n and (data[i] == 45 or data[i] == 43):
         neg = data[i] == 45
         i += 1
     mant = 0
-    nd = 0        # significant digits kept in mant
-    e10 = 0
-    digits = 0
-    slow = False
+    start = i
     while i < n and _digit(data[i]):
-        d = data[i] - 48
-        digits += 1
-        if nd < 18:
-            if mant != 0 or d != 0:
-                mant = mant * 10 + d
-                nd += 1
-        else:
-            e10 += 1
-            slow = True
+        mant = mant * 10 + (data[i] - 48)
         i += 1
-    if digits == 0 and not (i < n and data[i] == 46):   # no digit, no point: nan or inf?
-        j = _word(data, i, n)
-        return 0.0, (j if j >= 0 else i), (1 if j >= 0 else 2)
+    digits = i - start
+    e10 = 0
     if i < n and data[i] == 46:
         i += 1
+        start = i
         while i < n and _digit(data[i]):
-            d = data[i] - 48
-            digits += 1
-            if nd < 18:
-                if mant != 0 or d != 0:
-                    mant = mant * 10 + d
-                    nd += 1
-                e10 -= 1
-            else:
-                slow = True
+            mant = mant * 10 + (data[i] - 48)
             i += 1
+        e10 = start - i
+        digits += i - start
+    elif digits == 0:   # no digit, no point: nan or inf?
+        j = _word(data, i, n)
+        return 0.0, (j if j >= 0 else i), (1 if j >= 0 else 2)
     if digits == 0:
         return 0.0, i, 2
+    slow = digits > 18   # mant may have wrapped
     if i < n and (data[i] | 32) == 101:
         i += 1
         eneg = False
@@ -263,40 +252,26 @@ def _stl_keyword(data, i, j):
     return _KW_OTHER
 
 
-@nb.njit(**_JIT)
-def _stl_size(raw):
-    """An upper bound of the corners of an ASCII STL: its lines whose first word starts with v."""
-    data = _borrowed(raw)
-    n = data.shape[0]
-    count = 0
-    i = 0
-    while i < n:
-        i = _skip_blanks(data, i, n, False)
-        if i < n and (data[i] | 32) == 118:
-            count += 1
-        i = _end_of_line(data, i, n, False) + 1
-    return count
-
-
-# One kernel kept whole (85 lines): a flat loop over the lines is 5x faster than the same
+# One kernel kept whole (80 lines): a flat loop over the lines is 5x faster than the same
 # grammar split into functions that pass the output arrays around.
 @nb.njit(**_JIT)
-def read_ascii_stl(raw):
-    """Corners of an ASCII STL: ``(vertices (3F, 3), slow (S, 3), status, line_offset, detail)``.
+def read_ascii_stl(raw, out, state):
+    """Read the corners of an ASCII STL (or of a run of its lines) into ``out``.
 
-    ``slow`` rows are ``(start, end, flat index into vertices)`` of numbers left for strtod.
-    Grammar: :mod:`._text_reference` (keywords in any case; the rest of the ``solid``,
-    ``facet``, ``outer``, ``endloop``, ``endfacet`` and ``endsolid`` lines is not read).
+    ``state``: where the text starts, 0 outside a solid, 1 in a solid between facets (a chunk
+    that starts at a ``facet`` line).  Returns ``(out, nv, slow, status, where, detail, state,
+    last)``: ``out`` (grown when full: a new array) holds ``nv`` corners; ``slow`` rows are
+    ``(start, end, flat index into out)`` of numbers left for strtod; on an error, ``status``,
+    the offset ``where`` of its line and its ``detail``; ``state`` where the text ends, and
+    ``last`` the offset of the last line with a keyword.  Grammar: :mod:`._text_reference`.
     """
     data = _borrowed(raw)
     n = data.shape[0]
-    out = np.empty((_stl_size(data), 3))
     slow = np.empty((16, 3), dtype=np.int64)
     nv = ns = 0
-    state = 0          # 0 outside a solid, 1 in a solid, 2 in a facet
-    fv = 0             # vertices of the open facet
+    fv = 0             # vertices of the open facet (state 2)
     i = 0
-    last = 0           # the last line with a keyword
+    last = 0
     while i < n:
         line = i
         i = _skip_blanks(data, i, n, False)
@@ -311,15 +286,16 @@ def read_ascii_stl(raw):
         kw = _stl_keyword(data, i, j)
         last = line
         if kw == _KW_VERTEX:
-            if state != 2:
-                return out[:nv], slow[:ns], UNEXPECTED, line, state
-            if fv >= 3 or nv >= out.shape[0]:
-                return out[:nv], slow[:ns], FACET_SIZE, line, fv + 1
+            if state != 2 or fv >= 3:
+                return out, nv, slow[:ns], (UNEXPECTED if state != 2 else FACET_SIZE), line, \
+                    (state if state != 2 else fv + 1), state, last
+            if nv == out.shape[0]:
+                out = _grow_rows(out, nv + 1)
             i = j
             for k in range(3):
                 value, start, i, status = _coordinate(data, i, n, False)
                 if status > 0:
-                    return out[:nv], slow[:ns], status, line, (k if status == FEW_COORDS else start)
+                    return out, nv, slow[:ns], status, line, (k if status == FEW_COORDS else start), state, last
                 if status < 0:
                     if ns == slow.shape[0]:
                         slow = _grow_rows(slow, ns + 1)
@@ -330,29 +306,25 @@ def read_ascii_stl(raw):
                 out[nv, k] = value
             i = _skip_blanks(data, i, n, False)
             if i < n and data[i] != _NL:
-                return out[:nv], slow[:ns], EXTRA_TOKENS, line, i
+                return out, nv, slow[:ns], EXTRA_TOKENS, line, i, state, last
             nv += 1
             fv += 1
             continue
         if kw == _KW_FACET and state == 1:
             state = 2
             fv = 0
-        elif kw == _KW_ENDFACET and state == 2:
-            if fv != 3:
-                return out[:nv], slow[:ns], FACET_SIZE, line, fv
+        elif kw == _KW_ENDFACET and state == 2 and fv == 3:
             state = 1
-        elif (kw == _KW_OUTER or kw == _KW_ENDLOOP) and state == 2:
-            pass
-        elif kw == _KW_SOLID and state == 0:
-            state = 1
+        elif ((kw == _KW_OUTER or kw == _KW_ENDLOOP) and state == 2) or (kw == _KW_SOLID and state == 0):
+            state = max(state, 1)
         elif kw == _KW_ENDSOLID and state == 1:
             state = 0
         else:
-            return out[:nv], slow[:ns], UNEXPECTED, line, state
+            bad_size = kw == _KW_ENDFACET and state == 2
+            return out, nv, slow[:ns], (FACET_SIZE if bad_size else UNEXPECTED), line, \
+                (fv if bad_size else state), state, last
         i = _end_of_line(data, j, n, False) + 1
-    if state != 0:
-        return out[:nv], slow[:ns], TRUNCATED, last, state
-    return out[:nv], slow[:ns], OK, 0, 0
+    return out, nv, slow[:ns], OK, 0, 0, state, last
 
 
 @nb.njit(inline="always", **_JIT)

@@ -11,8 +11,11 @@ malformed file with a :class:`~inertia.errors.MeshFileError` naming file, line a
 
 from __future__ import annotations
 
+import ctypes
+import os
 import re
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -46,12 +49,73 @@ def read_ascii_stl(data: np.ndarray, path, compiled: bool | None = None) -> tupl
     if kernels is None:
         v, err = ref.read_ascii_stl(bytes(data))
     else:
-        v, slow, status, where, detail = kernels.read_ascii_stl(data)
-        err = None if status == ref.OK else _kernel_error(data, status, where, detail, obj=False)
-        _fill_slow(v, data, slow, kernels)
+        v, err = _parallel_stl(data, kernels) or _sequential_stl(data, kernels)
     if err is not None:
         raise MeshFileError(error_message(path, err, "ASCII STL"), code="malformed")
     return v, np.arange(len(v), dtype=np.int64).reshape(-1, 3)
+
+
+#: bytes per corner allowed for in the output (exporters write 80 to 90); the kernel grows it if needed
+_STL_BYTES_PER_CORNER = 64
+#: a file this large is read in chunks by several threads (the kernel releases the GIL)
+PARALLEL_BYTES = 32 * 2**20
+_FACET_LINE = re.compile(rb"\n[ \t\r\v\f]*facet[ \t\r\v\f\n]", re.I)
+
+
+def _sequential_stl(data: np.ndarray, kernels):
+    """``(corners, TextError or None)`` in one compiled pass."""
+    out = np.empty((len(data) // _STL_BYTES_PER_CORNER + 16, 3))
+    out, nv, slow, status, where, detail, state, last = kernels.read_ascii_stl(data, out, 0)
+    if status == ref.OK and state != 0:
+        status, where, detail = ref.TRUNCATED, last, state
+    v = out[:nv]
+    _fill_slow(v, data, slow, kernels)
+    return v, (None if status == ref.OK else _kernel_error(data, status, where, detail, obj=False))
+
+
+def _stl_chunks(data: np.ndarray, parts: int) -> list[int]:
+    """Offsets splitting ``data`` into up to ``parts`` runs of lines, each after the first
+    starting at a ``facet`` line (where a valid file is inside a solid, between facets)."""
+    bounds = [0]
+    for k in range(1, parts):
+        start = max(k * len(data) // parts, bounds[-1])
+        m = _FACET_LINE.search(bytes(data[start:start + 2**16]))
+        if m is not None:
+            bounds.append(start + m.start() + 1)
+    return bounds + [len(data)]
+
+
+def _parallel_stl(data: np.ndarray, kernels):
+    """:func:`_sequential_stl` by several threads on chunks of a large file, into one array;
+    None (the caller reads it in one pass) for a small file, one thread, or anything unusual:
+    an error, a chunk that does not end between facets, more corners than allowed for."""
+    threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    bounds = _stl_chunks(data, min(threads, 8, len(data) // PARALLEL_BYTES))
+    if len(bounds) < 3:
+        return None
+    rows = np.array([(b - a) // _STL_BYTES_PER_CORNER + 16 for a, b in zip(bounds, bounds[1:])])
+    first = np.concatenate([[0], np.cumsum(rows)])
+    big = np.empty((first[-1], 3))
+
+    def chunk(k):
+        return kernels.read_ascii_stl(data[bounds[k]:bounds[k + 1]], big[first[k]:first[k + 1]], min(k, 1))
+
+    with ThreadPoolExecutor(len(rows)) as pool:
+        results = list(pool.map(chunk, range(len(rows))))
+    ends = [1] * (len(rows) - 1) + [0]
+    if any(r[3] != ref.OK or r[6] != end or len(r[0]) != n for r, end, n in zip(results, ends, rows)):
+        return None
+    done, slows = 0, []
+    for k, r in enumerate(results):   # close the gaps: rows move down (memmove copes with overlap)
+        nv, slow = r[1], r[2].copy()
+        ctypes.memmove(big[done:].ctypes.data, big[first[k]:].ctypes.data, nv * big.itemsize * 3)
+        slow[:, :2] += bounds[k]
+        slow[:, 2] += 3 * done
+        slows.append(slow)
+        done += nv
+    v = big[:done]
+    _fill_slow(v, data, np.concatenate(slows), kernels)
+    return v, None
 
 
 def read_obj(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
