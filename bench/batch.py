@@ -144,6 +144,65 @@ def timed_run(workers: int, paths, out_dir: str) -> tuple[float, float, list[flo
         cluster.close()
 
 
+_TRIMESH_LOOP = """
+import sys
+import trimesh
+for p in open(sys.argv[1]).read().split("\\n"):
+    trimesh.load(p).mass_properties
+"""
+
+
+def whole_process(cmd) -> float:
+    """Seconds of a command, from the start of its interpreter to its exit."""
+    import subprocess
+    import sys
+
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, *cmd], check=True, capture_output=True)
+    return time.perf_counter() - t0
+
+
+def whole_process_case(folder, n_small: int, faces, repeat: int, variants) -> None:
+    """Whole-process times of `inertia batch` (start-up, placement, work, output) against a
+    plain trimesh loop in its own interpreter, on ``n_small`` meshes: interleaved rounds."""
+    import sys
+
+    sub = os.path.join(folder, f"whole_{n_small}")
+    if not os.path.isdir(sub):
+        os.makedirs(sub)
+        make_dataset(sub, n_small, 0, faces, seed=n_small)
+    paths = sorted(os.path.join(sub, f) for f in os.listdir(sub) if f.endswith(".stl"))
+    listing = os.path.join(folder, f"list_{n_small}.txt")
+    with open(listing, "w") as fh:
+        fh.write("\n".join(paths))
+    out = os.path.join(folder, f"whole_{n_small}.parquet")
+    runs = {"trimesh loop": ["-c", _TRIMESH_LOOP, listing]}
+    for name, extra in variants.items():
+        runs[name] = ["-m", "inertia.cli.main", "batch", sub, "-o", out, "--force", "--no-progress", *extra]
+    times = {name: [] for name in runs}
+    for _ in range(repeat):
+        for name, cmd in runs.items():
+            times[name].append(whole_process(cmd))
+    summary = subprocess_summary(runs[next(iter(variants))])
+    print(f"{n_small} meshes of {faces[0]}-{faces[1]} faces, whole process, {repeat} interleaved rounds "
+          f"({summary})")
+    base = times["trimesh loop"]
+    for name, ts in times.items():
+        print(f"  {name:28s} best {min(ts):6.2f} s, median {statistics.median(ts):6.2f} s: "
+              f"{min(base) / min(ts):5.1f}x / {statistics.median(base) / statistics.median(ts):5.1f}x the loop")
+    sys.stdout.flush()
+
+
+def subprocess_summary(cmd) -> str:
+    """The placement line of a run's summary (what `inertia batch` chose)."""
+    import subprocess
+    import sys
+
+    err = subprocess.run([sys.executable, *cmd], check=True, capture_output=True, text=True).stderr
+    lines = [ln.strip() for ln in err.splitlines() if ln.strip().startswith("ran ")]
+    return lines[0] if lines else "no placement line"
+
+
 def main() -> None:
     import logging
 
@@ -154,7 +213,21 @@ def main() -> None:
                     help="face count range of the small meshes (default 1000 10000)")
     ap.add_argument("--repeat", type=int, default=5, help="rounds; each round runs all three, interleaved")
     ap.add_argument("--keep", metavar="DIR", help="generate into DIR and keep it")
+    ap.add_argument("--whole", type=int, nargs="*", metavar="N",
+                    help="instead: whole-process times of `inertia batch` against a trimesh loop script on N small "
+                         "meshes each (default 500 2000), the default placement and the forced ones")
     args = ap.parse_args()
+    if args.whole is not None:
+        folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
+        variants = {"inertia batch (auto)": [], "--scheduler synchronous": ["--scheduler", "synchronous"],
+                    "--scheduler cluster": ["--scheduler", "cluster"]}
+        try:
+            for n in args.whole or [500, 2000]:
+                whole_process_case(folder, n, tuple(args.faces), args.repeat, variants)
+        finally:
+            if not args.keep:
+                shutil.rmtree(folder, ignore_errors=True)
+        return
     logging.getLogger("distributed").setLevel(logging.ERROR)  # no INFO lines at cluster close
     folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
     os.makedirs(folder, exist_ok=True)
