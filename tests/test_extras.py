@@ -74,12 +74,12 @@ def test_plots_without_matplotlib_name_the_viz_extra(monkeypatch):
     _assert_names_extra(ei, "viz")
 
 
-@pytest.mark.parametrize("missing", ["pandas", "pyarrow"])
-def test_batch_without_its_extra_names_the_batch_extra_and_writes_nothing(monkeypatch, tmp_path, missing):
+@pytest.mark.parametrize("missing, output", [("pandas", "out.csv"), ("pyarrow", "out.parquet")])
+def test_batch_without_its_extra_names_the_batch_extra_and_writes_nothing(monkeypatch, tmp_path, missing, output):
     from inertia.batch import run_batch
 
     _ascii_stl(tmp_path / "t.stl")
-    out = tmp_path / "out.parquet"
+    out = tmp_path / output   # a Parquet output needs pyarrow only (pandas: CSV, JSON Lines, DataFrames)
     _hide(monkeypatch, missing)
     with pytest.raises(MissingDependencyError) as ei:
         run_batch([str(tmp_path)], out, scheduler="synchronous", progress=False)
@@ -93,7 +93,7 @@ def test_batch_cluster_without_distributed_names_the_batch_extra(monkeypatch, tm
     _ascii_stl(tmp_path / "t.stl")
     _hide(monkeypatch, "distributed")
     with pytest.raises(MissingDependencyError) as ei:
-        mass_properties_table([str(tmp_path)], scheduler=None)
+        mass_properties_table([str(tmp_path)], scheduler="cluster")
     _assert_names_extra(ei, "batch")
 
 

@@ -132,13 +132,9 @@ class ProcessPool:
                         queue.extend((i, k, [job]) for k, job in enumerate(jobs))
                         continue
                     rows = [crashed_row(jobs[0], rows, options)]
-                if sub is None:
-                    yield i, rows
-                    continue
-                split[i][sub] = rows[0]
-                if len(split[i]) == len(chunks[i]):
-                    done = split.pop(i)
-                    yield i, [done[k] for k in range(len(chunks[i]))]
+                whole = reassemble(split, chunks, i, sub, rows)
+                if whole is not None:
+                    yield i, whole
 
     def _collect(self, w: dict, ready: set):
         """The rows of ``w``'s task if it answered; if it died, the error (and a new worker in
@@ -166,6 +162,18 @@ class ProcessPool:
         new = self._start()
         self.workers[self.workers.index(w)] = new
         return new
+
+
+def reassemble(split: dict, chunks, i: int, sub, rows):
+    """The rows of chunk ``i`` once whole: ``rows`` themselves for a chunk run whole (``sub``
+    None), else None until every file of the split chunk has its row in ``split[i]``."""
+    if sub is None:
+        return rows
+    split[i][sub] = rows[0]
+    if len(split[i]) < len(chunks[i]):
+        return None
+    done = split.pop(i)
+    return [done[k] for k in range(len(chunks[i]))]
 
 
 def _lost_error(w: dict) -> Exception:

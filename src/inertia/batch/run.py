@@ -56,7 +56,7 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .pool import START_S, ProcessPool, cpu_count, start_method
+from .pool import START_S, ProcessPool, cpu_count, reassemble, start_method
 from .record import crashed_row, options_key, process_chunk, process_packed, warm_up
 from .sources import Job, collect_jobs
 
@@ -373,13 +373,9 @@ class _Executor:
                 continue
             else:
                 rows = [crashed_row(jobs[0], result, options)]
-            if sub is None:
-                yield i, rows
-                continue
-            split_rows[i][sub] = rows[0]
-            if len(split_rows[i]) == len(chunks[i]):
-                done = split_rows.pop(i)
-                yield i, [done[k] for k in range(len(chunks[i]))]
+            whole = reassemble(split_rows, chunks, i, sub, rows)
+            if whole is not None:
+                yield i, whole
 
     def __exit__(self, *exc):
         if self.pool is not None:
