@@ -44,7 +44,6 @@ BAD_REF, ZERO_INDEX, FEW_REFS, INDEX_RANGE = 7, 8, 9, 10
 #: where an ASCII STL keyword was found (the ``count`` of an UNEXPECTED or TRUNCATED error)
 STL_PLACES = ("outside a solid", "inside a solid, outside a facet", "inside a facet")
 
-_NUMBER = re.compile(rb"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?|nan|inf|infinity)\Z", re.I)
 _REF = re.compile(rb"([+-]?\d+)(?:/([+-]?\d+)?(?:/([+-]?\d+)?)?)?\Z")
 
 
@@ -64,6 +63,10 @@ class TextError:
 def logical_lines(data, joins: bool):
     """``(line number, first physical line, logical line)`` of ``data`` (bytes); with
     ``joins``, a backslash before the LF (or CR LF) joins the next line, read as a space."""
+    if not joins or b"\\" not in data:   # no continuation: the lines as they are
+        for number, line in enumerate(data.split(b"\n")[:data.count(b"\n") + (not data.endswith(b"\n"))], 1):
+            yield number, line, line
+        return
     n, start, number = len(data), 0, 1
     while start < n:
         end = _find_lf(data, start)
@@ -95,9 +98,12 @@ def _coordinates(tokens, number, first, out):
     for k in range(3):
         if k >= len(tokens):
             return TextError(FEW_COORDS, number, first, count=k)
-        if not _NUMBER.match(tokens[k]):
+        try:   # float() reads the grammar's numbers, and digits with underscores, refused here
+            if b"_" in tokens[k]:
+                raise ValueError
+            out.append(float(tokens[k]))
+        except ValueError:
             return TextError(BAD_NUMBER, number, first, tokens[k])
-        out.append(float(tokens[k]))
     return None
 
 
@@ -148,12 +154,17 @@ def _face(tokens, n_vertices: int, limit: int, number, first, out):
     """Fan the references ``tokens`` into ``out`` (flat triples); a TextError, or None."""
     refs = []
     for tok in tokens:
-        m = _REF.match(tok)
-        if m is None:
-            return TextError(BAD_REF, number, first, tok)
-        if any(g is not None and int(g) == 0 for g in m.groups()):
-            return TextError(ZERO_INDEX, number, first, tok)
-        v = int(m.group(1))
+        if tok.isdigit():   # the common case, a plain positive index
+            v = int(tok)
+            if v == 0:
+                return TextError(ZERO_INDEX, number, first, tok)
+        else:
+            m = _REF.match(tok)
+            if m is None:
+                return TextError(BAD_REF, number, first, tok)
+            if any(g is not None and int(g) == 0 for g in m.groups()):
+                return TextError(ZERO_INDEX, number, first, tok)
+            v = int(m.group(1))
         if v < 0:
             v += n_vertices
             if v < 0:
