@@ -29,11 +29,13 @@ def _read(reader, text: bytes, compiled: bool):
 
 
 def _outcome(reader, text: bytes, compiled: bool):
-    """The arrays read, or the error's code and message."""
+    """The arrays read (for ASCII STL its facets' corners: the compiled reader stores a
+    repeated corner once), or the error's code and message."""
     try:
-        return _read(reader, text, compiled)
+        v, f = _read(reader, text, compiled)
     except MeshFileError as exc:
         return exc.code, str(exc)
+    return (v[f],) if reader is read_ascii_stl else (v, f)
 
 
 def _same(a, b) -> bool:
@@ -90,8 +92,8 @@ def test_text_files_give_trimesh_triangles(meshes, name):
     for compiled in (True, False):
         v, f = (read_obj if name.endswith(".obj") else read_ascii_stl)(data, path, compiled=compiled)
         m = trimesh.load(str(path), process=False, force="mesh")
-        if name.endswith(".stl"):   # ASCII STL: the same corner array, face for face
-            assert np.array_equal(v, m.vertices) and np.array_equal(f, m.faces)
+        if name.endswith(".stl"):   # ASCII STL: the same corners, face for face
+            assert np.array_equal(v[f], m.vertices[m.faces])
         assert _triangles(v, f) == _triangles(m.vertices, m.faces)
 
 
@@ -201,14 +203,18 @@ def test_stl_keywords_in_any_case_with_crlf_lines(compiled):
     text = _stl_solid("X", _cube_triangles([0, 0, 0]), "FACET NORMAL 1 0 0", "Outer Loop")
     text = text.replace("vertex", "VERTEX").replace("endloop", "ENDLOOP").replace("\n", "\r\n").encode()
     v, f = _read(read_ascii_stl, text, compiled)
-    assert np.array_equal(v, np.array(_cube_triangles([0, 0, 0])).reshape(-1, 3)) and f.shape == (12, 3)
+    assert np.array_equal(v[f], np.array(_cube_triangles([0, 0, 0]))) and f.shape == (12, 3)
+    assert len(v) == (8 if compiled else 36)   # the compiled reader stores a repeated corner once
 
 
 @pytest.mark.parametrize("compiled", COMPILED)
-def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled):
+def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled, monkeypatch):
     # truth: the cube's 8 corners once welded, whichever reader; and the binary STL path's arrays
+    from inertia.geometry import _text_readers
     from tests._make import write_binary_stl
 
+    if not compiled:
+        monkeypatch.setattr(_text_readers, "text_kernels", lambda: None)
     text = _stl_solid("c", _cube_triangles([0, 0, 0])).encode()
     (tmp_path / "a.stl").write_bytes(text)
     write_binary_stl(tmp_path / "b.stl", np.array(_cube_triangles([0, 0, 0])))
@@ -304,7 +310,8 @@ def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
 
     # made "large" by lowering the threshold: four chunks, each starting at a facet line
     rng = np.random.default_rng(5)
-    tris = [[[repr(x) for x in p] for p in t] for t in rng.normal(size=(60, 3, 3)).tolist()]
+    pool = rng.normal(size=(12, 3))   # facets share their corners, as in a mesh
+    tris = [[[f"{x:.6e}" for x in p] for p in t] for t in pool[rng.integers(0, 12, size=(60, 3))].tolist()]
     tris[7][1][2] = "1.00000000000000000000001"    # a slow number (left for strtod), in chunk 1 or 2
     solid = "solid a\n" + "".join("facet normal 0 0 1\nouter loop\n" + "".join(f" vertex {' '.join(p)}\n" for p in t)
                                   + "endloop\nendfacet\n" for t in tris) + "endsolid a\n"
@@ -314,13 +321,19 @@ def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
     monkeypatch.setattr(_text_readers, "PARALLEL_BYTES", len(text) // 4)
     assert len(_text_readers._stl_chunks(data, 4)) == 5
     kernels = text_kernels()
-    v, err = _text_readers._parallel_stl(data, kernels)
-    assert err is None and np.array_equal(v, _text_readers._sequential_stl(data, kernels)[0])
-    assert np.array_equal(v, np.array([[float(x) for x in p] for t in tris for p in t] * 2))
+    v, f, err = _text_readers._parallel_stl(data, kernels)
+    one_pass = _text_readers._sequential_stl(data, kernels)
+    assert err is None and np.array_equal(v[f], one_pass[0][one_pass[1]])   # (each chunk remembers its own corners)
+    from inertia.geometry.mesh_io import _merge_close_vertices
+
+    welded, welded_one_pass = _merge_close_vertices(v, f, 1e-10), _merge_close_vertices(*one_pass[:2], 1e-10)
+    assert all(np.array_equal(a, b) for a, b in zip(welded, welded_one_pass))
+    assert np.array_equal(v[f].reshape(-1, 3), np.array([[float(x) for x in p] for t in tris for p in t] * 2))
+    assert len(v) < 100   # of 360 corners: the repeated ones are stored once per chunk
     rng2 = random.Random(3)
     for _ in range(200):   # mutated: the threads give the one pass's arrays or leave it the file
         mutated = np.frombuffer(mutate_any(text, rng2), dtype=np.uint8)
         got = _text_readers._parallel_stl(mutated, kernels)
         if got is not None:
             one_pass = _text_readers._sequential_stl(mutated, kernels)
-            assert one_pass[1] is None and np.array_equal(got[0], one_pass[0], equal_nan=True)
+            assert one_pass[2] is None and np.array_equal(got[0][got[1]], one_pass[0][one_pass[1]], equal_nan=True)

@@ -33,6 +33,7 @@ from ._text_reference import (
     UNEXPECTED,
     ZERO_INDEX,
 )
+from ._topology_numba import _mix3
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
@@ -252,23 +253,37 @@ def _stl_keyword(data, i, j):
     return _KW_OTHER
 
 
-# One kernel kept whole (80 lines): a flat loop over the lines is 5x faster than the same
+#: the recently read corners an ASCII STL reader remembers (a direct-mapped table: 2**14 slots)
+RECENT_BITS = 14
+
+
+# One kernel kept whole (90 lines): a flat loop over the lines is 5x faster than the same
 # grammar split into functions that pass the output arrays around.
 @nb.njit(**_JIT)
-def read_ascii_stl(raw, out, state):
-    """Read the corners of an ASCII STL (or of a run of its lines) into ``out``.
+def read_ascii_stl(raw, out, faces, state):
+    """Read the facets of an ASCII STL (or of a run of its lines) into ``out`` and ``faces``.
 
-    ``state``: where the text starts, 0 outside a solid, 1 in a solid between facets (a chunk
-    that starts at a ``facet`` line).  Returns ``(out, nv, slow, status, where, detail, state,
-    last)``: ``out`` (grown when full: a new array) holds ``nv`` corners; ``slow`` rows are
-    ``(start, end, flat index into out)`` of numbers left for strtod; on an error, ``status``,
-    the offset ``where`` of its line and its ``detail``; ``state`` where the text ends, and
+    A corner equal (as floats) to one of the recently read corners (a table of 2**14 slots
+    by hash) is not stored again: its facet points at the earlier row.  STL repeats each
+    vertex for every facet around it, mostly in nearby facets, so ``out`` holds about a
+    sixth of the corners, in the order of their first appearance; welding it gives exactly
+    what welding the corners as listed gives.  A corner with a number left for strtod is
+    always stored.  ``state``: where the text starts, 0 outside a solid, 1 in a solid
+    between facets (a chunk that starts at a ``facet`` line).  Returns ``(out, nv, faces,
+    nf, slow, status, where, detail, state, last)``: ``out`` and ``faces`` (new arrays when
+    they had to grow) hold ``nv`` vertices and ``nf`` facets; ``slow`` rows are ``(start,
+    end, flat index into out)`` of numbers left for strtod; on an error, ``status``, the
+    offset ``where`` of its line and its ``detail``; ``state`` where the text ends, and
     ``last`` the offset of the last line with a keyword.  Grammar: :mod:`._text_reference`.
     """
     data = _borrowed(raw)
     n = data.shape[0]
     slow = np.empty((16, 3), dtype=np.int64)
-    nv = ns = 0
+    recent = np.full(1 << RECENT_BITS, -1, dtype=np.int64)
+    shift = np.uint64(64 - RECENT_BITS)   # the product's high bits: the low ones of round numbers are 0
+    word = np.empty(3)
+    bits = word.view(np.uint64)
+    nv = nf = ns = 0
     fv = 0             # vertices of the open facet (state 2)
     i = 0
     last = 0
@@ -287,16 +302,21 @@ def read_ascii_stl(raw, out, state):
         last = line
         if kw == _KW_VERTEX:
             if state != 2 or fv >= 3:
-                return out, nv, slow[:ns], (UNEXPECTED if state != 2 else FACET_SIZE), line, \
+                return out, nv, faces, nf, slow[:ns], (UNEXPECTED if state != 2 else FACET_SIZE), line, \
                     (state if state != 2 else fv + 1), state, last
             if nv == out.shape[0]:
                 out = _grow_rows(out, nv + 1)
+            if nf == faces.shape[0]:
+                faces = _grow_rows(faces, nf + 1)
             i = j
+            exact = True
             for k in range(3):
                 value, start, i, status = _coordinate(data, i, n, False)
                 if status > 0:
-                    return out, nv, slow[:ns], status, line, (k if status == FEW_COORDS else start), state, last
+                    return out, nv, faces, nf, slow[:ns], status, line, (k if status == FEW_COORDS else start), \
+                        state, last
                 if status < 0:
+                    exact = False
                     if ns == slow.shape[0]:
                         slow = _grow_rows(slow, ns + 1)
                     slow[ns, 0] = start
@@ -304,10 +324,19 @@ def read_ascii_stl(raw, out, state):
                     slow[ns, 2] = 3 * nv + k
                     ns += 1
                 out[nv, k] = value
+                word[k] = value + 0.0   # -0.0 hashes as 0.0 (they are equal)
             i = _skip_blanks(data, i, n, False)
             if i < n and data[i] != _NL:
-                return out, nv, slow[:ns], EXTRA_TOKENS, line, i, state, last
-            nv += 1
+                return out, nv, faces, nf, slow[:ns], EXTRA_TOKENS, line, i, state, last
+            slot = _mix3(bits[0], bits[1], bits[2]) >> shift
+            r = recent[slot]
+            if exact and r >= 0 and out[r, 0] == word[0] and out[r, 1] == word[1] and out[r, 2] == word[2]:
+                faces[nf, fv] = r
+            else:
+                if exact:
+                    recent[slot] = nv
+                faces[nf, fv] = nv
+                nv += 1
             fv += 1
             continue
         if kw == _KW_FACET and state == 1:
@@ -315,16 +344,17 @@ def read_ascii_stl(raw, out, state):
             fv = 0
         elif kw == _KW_ENDFACET and state == 2 and fv == 3:
             state = 1
+            nf += 1
         elif ((kw == _KW_OUTER or kw == _KW_ENDLOOP) and state == 2) or (kw == _KW_SOLID and state == 0):
             state = max(state, 1)
         elif kw == _KW_ENDSOLID and state == 1:
             state = 0
         else:
             bad_size = kw == _KW_ENDFACET and state == 2
-            return out, nv, slow[:ns], (FACET_SIZE if bad_size else UNEXPECTED), line, \
+            return out, nv, faces, nf, slow[:ns], (FACET_SIZE if bad_size else UNEXPECTED), line, \
                 (fv if bad_size else state), state, last
         i = _end_of_line(data, j, n, False) + 1
-    return out, nv, slow[:ns], OK, 0, 0, state, last
+    return out, nv, faces, nf, slow[:ns], OK, 0, 0, state, last
 
 
 @nb.njit(inline="always", **_JIT)

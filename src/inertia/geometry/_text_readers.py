@@ -40,37 +40,50 @@ def text_kernels():
 
 
 def read_ascii_stl(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Corners (3F, 3) float64 and faces ``arange(3F).reshape(F, 3)`` of an ASCII STL.
+    """Vertices (V, 3) float64 and faces (F, 3) int64 of an ASCII STL: ``vertices[faces]``
+    are the file's facets, corner for corner.
 
     ``data``: the file's bytes as a uint8 array; ``compiled``: force (True) or avoid (False)
-    the numba reader (default: numba when installed).
+    the numba reader (default: numba when installed).  The reference reader lists every
+    corner (``faces = arange(3 F)``); the compiled one stores a corner once when it repeats
+    one read shortly before (see ``_text_numba.read_ascii_stl``): the same surface, and after
+    welding the same arrays.
     """
     kernels = text_kernels() if compiled is not False else None
     if kernels is None:
         v, err = ref.read_ascii_stl(bytes(data))
+        f = np.arange(len(v) - len(v) % 3, dtype=np.int64).reshape(-1, 3)   # (after an error: whole facets)
     else:
-        v, err = _parallel_stl(data, kernels) or _sequential_stl(data, kernels)
+        v, f, err = _parallel_stl(data, kernels) or _sequential_stl(data, kernels)
     if err is not None:
         raise MeshFileError(error_message(path, err, "ASCII STL"), code="malformed")
-    return v, np.arange(len(v), dtype=np.int64).reshape(-1, 3)
+    return v, f
 
 
-#: bytes per corner allowed for in the output (exporters write 80 to 90); the kernel grows it if needed
-_STL_BYTES_PER_CORNER = 64
+#: bytes per vertex and per facet allowed for in the output (exporters write about 85 per corner
+#: and 260 per facet; a sixth of the corners are new vertices); the kernel grows them if needed
+_STL_BYTES_PER_VERTEX = 256
+_STL_BYTES_PER_FACET = 192
 #: a file this large is read in chunks by several threads (the kernel releases the GIL)
 PARALLEL_BYTES = 32 * 2**20
 _FACET_LINE = re.compile(rb"\n[ \t\r\v\f]*facet[ \t\r\v\f\n]", re.I)
 
 
+def _stl_room(size: int) -> tuple[int, int]:
+    """Rows to allocate for the vertices and facets of ``size`` bytes of ASCII STL."""
+    return size // _STL_BYTES_PER_VERTEX + 16, size // _STL_BYTES_PER_FACET + 16
+
+
 def _sequential_stl(data: np.ndarray, kernels):
-    """``(corners, TextError or None)`` in one compiled pass."""
-    out = np.empty((len(data) // _STL_BYTES_PER_CORNER + 16, 3))
-    out, nv, slow, status, where, detail, state, last = kernels.read_ascii_stl(data, out, 0)
+    """``(vertices, faces, TextError or None)`` in one compiled pass."""
+    rows_v, rows_f = _stl_room(len(data))
+    out, nv, faces, nf, slow, status, where, detail, state, last = kernels.read_ascii_stl(
+        data, np.empty((rows_v, 3)), np.empty((rows_f, 3), dtype=np.int64), 0)
     if status == ref.OK and state != 0:
         status, where, detail = ref.TRUNCATED, last, state
     v = out[:nv]
     _fill_slow(v, data, slow, kernels)
-    return v, (None if status == ref.OK else _kernel_error(data, status, where, detail, obj=False))
+    return v, faces[:nf], (None if status == ref.OK else _kernel_error(data, status, where, detail, obj=False))
 
 
 def _stl_chunks(data: np.ndarray, parts: int) -> list[int]:
@@ -86,36 +99,42 @@ def _stl_chunks(data: np.ndarray, parts: int) -> list[int]:
 
 
 def _parallel_stl(data: np.ndarray, kernels):
-    """:func:`_sequential_stl` by several threads on chunks of a large file, into one array;
-    None (the caller reads it in one pass) for a small file, one thread, or anything unusual:
-    an error, a chunk that does not end between facets, more corners than allowed for."""
+    """:func:`_sequential_stl` by several threads on chunks of a large file, into one pair of
+    arrays; None (the caller reads it in one pass) for a small file, one thread, or anything
+    unusual: an error, a chunk that does not end between facets, outputs that had to grow."""
     threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     bounds = _stl_chunks(data, min(threads, 8, len(data) // PARALLEL_BYTES))
     if len(bounds) < 3:
         return None
-    rows = np.array([(b - a) // _STL_BYTES_PER_CORNER + 16 for a, b in zip(bounds, bounds[1:])])
-    first = np.concatenate([[0], np.cumsum(rows)])
-    big = np.empty((first[-1], 3))
+    room = np.array([_stl_room(b - a) for a, b in zip(bounds, bounds[1:])])
+    first = np.concatenate([[[0, 0]], np.cumsum(room, axis=0)])
+    big_v, big_f = np.empty((first[-1, 0], 3)), np.empty((first[-1, 1], 3), dtype=np.int64)
 
     def chunk(k):
-        return kernels.read_ascii_stl(data[bounds[k]:bounds[k + 1]], big[first[k]:first[k + 1]], min(k, 1))
+        return kernels.read_ascii_stl(data[bounds[k]:bounds[k + 1]], big_v[first[k, 0]:first[k + 1, 0]],
+                                      big_f[first[k, 1]:first[k + 1, 1]], min(k, 1))
 
-    with ThreadPoolExecutor(len(rows)) as pool:
-        results = list(pool.map(chunk, range(len(rows))))
-    ends = [1] * (len(rows) - 1) + [0]
-    if any(r[3] != ref.OK or r[6] != end or len(r[0]) != n for r, end, n in zip(results, ends, rows)):
+    with ThreadPoolExecutor(len(room)) as pool:
+        results = list(pool.map(chunk, range(len(room))))
+    ends = [1] * (len(room) - 1) + [0]
+    if any(r[5] != ref.OK or r[8] != end or len(r[0]) != nv or len(r[2]) != nf
+           for r, end, (nv, nf) in zip(results, ends, room)):
         return None
-    done, slows = 0, []
+    done_v = done_f = 0
+    slows = []
     for k, r in enumerate(results):   # close the gaps: rows move down (memmove copes with overlap)
-        nv, slow = r[1], r[2].copy()
-        ctypes.memmove(big[done:].ctypes.data, big[first[k]:].ctypes.data, nv * big.itemsize * 3)
+        nv, nf, slow = r[1], r[3], r[4].copy()
+        ctypes.memmove(big_v[done_v:].ctypes.data, big_v[first[k, 0]:].ctypes.data, nv * 24)
+        ctypes.memmove(big_f[done_f:].ctypes.data, big_f[first[k, 1]:].ctypes.data, nf * 24)
+        big_f[done_f:done_f + nf] += done_v
         slow[:, :2] += bounds[k]
-        slow[:, 2] += 3 * done
+        slow[:, 2] += 3 * done_v
         slows.append(slow)
-        done += nv
-    v = big[:done]
+        done_v += nv
+        done_f += nf
+    v = big_v[:done_v]
     _fill_slow(v, data, np.concatenate(slows), kernels)
-    return v, None
+    return v, big_f[:done_f], None
 
 
 def read_obj(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
