@@ -5,7 +5,7 @@ uniformly spread) and M large ones (perturbed icospheres of 81,920 faces) in a t
 folder, then in one run measures:
 
 * a plain Python loop over trimesh (``trimesh.load`` + ``mass_properties``), one process;
-* ``run_batch`` on the default local Dask cluster with 1 worker, then with 2 workers, each
+* ``run_batch`` on a local Dask cluster (``--scheduler cluster``) with 1 worker, then 2, each
   cluster alone on the machine, started and warmed up outside the timing (its start-up
   time is printed apart: it is paid once per run, whatever the number of files);
 
@@ -15,6 +15,14 @@ winding, orientation) that the trimesh loop does not do.  The three are run in i
 rounds (machine noise drifts over time); best and median of the rounds are printed.
 
     python bench/batch.py [--small 2000] [--large 20] [--faces 1000 10000] [--repeat 5] [--keep DIR]
+
+``--whole N [N ...]`` (default 500 2000) times whole processes instead, as a user meets them:
+``inertia batch FOLDER -o out.parquet`` from its interpreter's start to its exit (imports,
+the placement it chooses, worker start-up, the work, the output), with the default
+placement, ``--scheduler synchronous`` and ``--scheduler cluster``, against a script that
+loops trimesh over the same N meshes, also timed from its start; interleaved rounds.
+
+    python bench/batch.py --whole 500 2000 [--faces 1000 10000] [--repeat 3] [--keep DIR]
 """
 
 from __future__ import annotations
