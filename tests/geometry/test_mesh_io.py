@@ -265,10 +265,10 @@ def test_text_formats_are_read_without_trimesh(meshes, name, monkeypatch):
 
 @pytest.mark.parametrize("name", ["featuretype.stl", "idler_riser_binary_solid_header.stl", "soup.stl"])
 def test_binary_stl_is_read_without_trimesh_as_trimesh_reads_it(meshes, name, monkeypatch):
-    from inertia.geometry.mesh_io import _read_binary_stl, _stl_kind
+    from inertia.geometry.mesh_io import _read_binary_stl, stl_kind
 
     path = Path(meshes.path(name))
-    n = _stl_kind(path)
+    n = stl_kind(path)
     assert n > 0  # binary, even behind a header that starts with "solid"
     loaded = trimesh.load(str(path), file_type="stl", process=False)
     v, f = _read_binary_stl(path, n)

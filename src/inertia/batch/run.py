@@ -134,7 +134,7 @@ def job_costs(jobs) -> list[int]:
 def formats_of(jobs, sample: int = 16) -> set[str]:
     """The formats among ``jobs`` (see :func:`~inertia.batch.record.warm_up`): STL files are
     told binary or ASCII by the first ``sample`` of them."""
-    from ..geometry.mesh_io import _stl_kind
+    from ..geometry.mesh_io import stl_kind
 
     found, stl = set(), 0
     for job in jobs:
@@ -142,7 +142,7 @@ def formats_of(jobs, sample: int = 16) -> set[str]:
         if ext == ".stl" and stl < sample:
             stl += 1
             try:
-                found.add("binary_stl" if _stl_kind(Path(job.path)) >= 0 else "ascii_stl")
+                found.add("binary_stl" if stl_kind(Path(job.path)) >= 0 else "ascii_stl")
             except (OSError, InertiaError):
                 pass
         elif ext == ".obj":

@@ -33,7 +33,6 @@ from ._text_reference import (
     UNEXPECTED,
     ZERO_INDEX,
 )
-from ._topology_numba import _mix3
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
@@ -255,6 +254,14 @@ def _stl_keyword(data, i, j):
 
 #: the recently read corners an ASCII STL reader remembers (a direct-mapped table: 2**14 slots)
 RECENT_BITS = 14
+_K1, _K2, _K3 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xC2B2AE3D27D4EB4F), np.uint64(0x165667B19E3779F9)
+
+
+@nb.njit(inline="always", **_JIT)
+def _slot(a, b, c, shift):
+    """Multiplicative hash of three 64-bit words: the high bits of the mixed products."""
+    h = (a * _K1) ^ (b * _K2) ^ (c * _K3)
+    return (h ^ (h >> np.uint64(29))) >> shift
 
 
 # One kernel kept whole (90 lines): a flat loop over the lines is 5x faster than the same
@@ -328,7 +335,7 @@ def read_ascii_stl(raw, out, faces, state):
             i = _skip_blanks(data, i, n, False)
             if i < n and data[i] != _NL:
                 return out, nv, faces, nf, slow[:ns], EXTRA_TOKENS, line, i, state, last
-            slot = _mix3(bits[0], bits[1], bits[2]) >> shift
+            slot = _slot(bits[0], bits[1], bits[2], shift)
             r = recent[slot]
             if exact and r >= 0 and out[r, 0] == word[0] and out[r, 1] == word[1] and out[r, 2] == word[2]:
                 faces[nf, fv] = r

@@ -170,7 +170,8 @@ def _fill_slow(v: np.ndarray, data: np.ndarray, slow: np.ndarray, kernels) -> No
         warnings.simplefilter("ignore", DeprecationWarning)
         values = np.fromstring(kernels.gather_tokens(data, slow), dtype=np.float64, sep=" ")
     if len(values) != len(slow):  # the kernel checked every token's syntax: cannot happen
-        raise RuntimeError(f"strtod read {len(values)} of {len(slow)} numbers")
+        raise MeshFileError(f"text reader: strtod read {len(values)} of {len(slow)} numbers whose syntax "
+                            "was checked (please report the file)", code="unreadable")
     v.reshape(-1)[slow[:, 2]] = values
 
 

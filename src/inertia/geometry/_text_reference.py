@@ -98,9 +98,9 @@ def _coordinates(tokens, number, first, out):
     for k in range(3):
         if k >= len(tokens):
             return TextError(FEW_COORDS, number, first, count=k)
-        try:   # float() reads the grammar's numbers, and digits with underscores, refused here
-            if b"_" in tokens[k]:
-                raise ValueError
+        if b"_" in tokens[k]:   # float() reads the grammar's numbers, and digits with underscores
+            return TextError(BAD_NUMBER, number, first, tokens[k])
+        try:
             out.append(float(tokens[k]))
         except ValueError:
             return TextError(BAD_NUMBER, number, first, tokens[k])

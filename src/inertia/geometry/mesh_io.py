@@ -165,7 +165,7 @@ def _scene_triangles(trimesh, loaded, path: Path):
 _STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
 
 
-def _stl_kind(p: Path) -> int:
+def stl_kind(p: Path) -> int:
     """The triangle count of a binary STL, or -1 for an ASCII STL; MeshFileError for neither.
 
     A binary STL is an 80-byte header, a uint32 triangle count N and 50 bytes per triangle,
@@ -180,7 +180,7 @@ def _stl_kind(p: Path) -> int:
 
 
 def _stl_kind_of(head: bytes, size: int, p) -> int:
-    """:func:`_stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
+    """:func:`stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
     if size == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)", code="empty")
     text = head.lstrip().lower()
