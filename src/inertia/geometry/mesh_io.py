@@ -179,6 +179,9 @@ def stl_kind(p: Path) -> int:
     return _stl_kind_of(head, size, p)
 
 
+_stl_kind = stl_kind   # the name tests and older callers use
+
+
 def _stl_kind_of(head: bytes, size: int, p) -> int:
     """:func:`stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
     if size == 0:
