@@ -64,6 +64,10 @@ def test_numbers_are_read_as_strtod_reads_them(compiled):
         "0.000000000000000000000000000001", "2.2250738585072011e-308", "1" + "0" * 30]
     words += [repr(x) for x in (np.random.default_rng(3).normal(size=1000) * 10.0 ** np.arange(-150, 150, 0.3)).tolist()]
     words += [f"{x:.6e}" for x in np.random.default_rng(4).normal(size=1000)]
+    # 17 digits and more near halfway between two doubles: Eisel-Lemire's hard cases
+    words += [repr(rng.uniform(-1, 1) * 10.0 ** rng.randint(-320, 308)) for _ in range(3000)]
+    words += [f"{2 * rng.randint(1, 2**53) + 1}e{rng.randint(-40, 40)}" for _ in range(3000)]
+    words += [repr(float(rng.randint(1, 2**53)) * 2.0 ** rng.randint(-1070, 960)) for _ in range(3000)]
     text = "".join(f"v {a} {b} {c}\n" for a, b, c in zip(words[::3], words[1::3], words[2::3])).encode()
     v, f = _read(read_obj, text, compiled)
     truth = np.array([float(w) for w in words[:3 * (len(words) // 3)]]).reshape(-1, 3)

@@ -7,17 +7,22 @@ two on valid files and on mutated ones (same arrays, or the same error on the sa
 One pass over the bytes, no copy of the text.  Numbers are read exactly as ``strtod`` reads
 them (correctly rounded): a decimal of at most 16 significant digits and an exponent within
 +-22 is one exact integer times or divided by one exact power of ten, a single correctly
-rounded operation (Clinger's fast path, which covers what CAD exporters write); any other
-valid number (17+ digits, large exponents, nan, inf) is left as a *slow token* whose byte
-range the caller parses with NumPy.  Errors are returned as codes with the byte offset of the
+rounded operation (Clinger's fast path, which covers what CAD exporters write); up to 18
+significant digits (the 17 of Python's ``repr``, which trimesh's exporter writes) go through
+Eisel and Lemire's 128-bit algorithm; anything else valid (more digits, the rare cases that
+algorithm leaves undecided, nan, inf) is left as a *slow token* whose byte range the caller
+parses with NumPy.  Errors are returned as codes with the byte offset of the
 line, never raised (the caller names file, line and text).
 """
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 from numba import types
+from numba.cpython.unsafe.numbers import leading_zeros
 from numba.extending import intrinsic
 
 # the status codes of the reference reader
@@ -149,30 +154,115 @@ def _word(data, i, n):
     return i + 3
 
 
+def _powers_of_five():
+    """128-bit mantissas of 5**q (the most significant bit set), q = -342..308, as (high, low)
+    uint64 words: truncated for q >= 0, rounded up for q < 0 (the table of Lemire's
+    algorithm, computed here with Python's exact integers)."""
+    hi = np.empty(651, dtype=np.uint64)
+    lo = np.empty(651, dtype=np.uint64)
+    for q in range(-342, 309):
+        if q < 0:
+            p5 = 5 ** -q
+            z = (p5 - 1).bit_length()
+            c = 2 ** (z + 127 if q >= -27 else 2 * z + 128) // p5 + 1
+            while c >= 1 << 128:
+                c //= 2
+        else:
+            c = 5 ** q
+            while c < 1 << 127:
+                c *= 2
+            while c >= 1 << 128:
+                c //= 2
+        hi[q + 342], lo[q + 342] = c >> 64, c & (2**64 - 1)
+    return hi, lo
+
+
+_P5_HI, _P5_LO = _powers_of_five()
+_U = np.uint64
+_M32, _S32, _ONE, _LOW9 = _U(0xFFFFFFFF), _U(32), _U(1), _U(0x1FF)
+_HIDDEN, _CARRY = _U(1 << 52), _U(1 << 53)
+
+
+@nb.njit(inline="always", **_JIT)
+def _mul128(a, b):
+    """``(high, low)`` 64-bit words of the 128-bit product of two uint64."""
+    a0, a1, b0, b1 = a & _M32, a >> _S32, b & _M32, b >> _S32
+    p00, p01, p10 = a0 * b0, a0 * b1, a1 * b0
+    mid = (p00 >> _S32) + (p01 & _M32) + (p10 & _M32)
+    return a1 * b1 + (p01 >> _S32) + (p10 >> _S32) + (mid >> _S32), (p00 & _M32) | (mid << _S32)
+
+
+@nb.njit(**_JIT)
+def _eisel_lemire(w, q):
+    """``(w * 10**q correctly rounded, True)`` for 0 < w < 2**63, or ``(0.0, False)`` when
+    undecided (halfway cases, subnormals, overflow: strtod reads those).
+
+    Lemire, "Number parsing at a gigabyte per second" (2021): the product of ``w`` and a
+    128-bit approximation of 5**q decides the rounding unless its low bits are ambiguous.
+    """
+    if q < -342 or q > 308:
+        return 0.0, False
+    lz = leading_zeros(_U(w))
+    i = _U(w) << _U(lz)
+    upper, lower = _mul128(i, _P5_HI[q + 342])
+    if (upper & _LOW9) == _LOW9 and lower + i < lower:
+        high2, low2 = _mul128(i, _P5_LO[q + 342])
+        middle = lower + high2
+        if middle < lower:
+            upper += _ONE
+        if middle + _ONE == _U(0) and (upper & _LOW9) == _LOW9 and low2 + i < low2:
+            return 0.0, False
+        lower = middle
+    upperbit = upper >> _U(63)
+    mantissa = upper >> (upperbit + _U(9))
+    lz += 1 - int(upperbit)
+    if lower == _U(0) and (upper & _LOW9) == _U(0) and (mantissa & _U(3)) == _ONE:
+        return 0.0, False   # exactly halfway: round to even needs the whole number
+    mantissa = (mantissa + (mantissa & _ONE)) >> _ONE
+    if mantissa >= _CARRY:
+        mantissa = _HIDDEN
+        lz -= 1
+    exponent = (((152170 + 65536) * q) >> 16) + 1024 + 63 - lz
+    if exponent < 1 or exponent > 2046:
+        return 0.0, False
+    return math.ldexp(float(mantissa), exponent - 1075), True
+
+
 @nb.njit(inline="always", **_JIT)
 def parse_number(data, i, n):
     """``(value, end, status)`` of the decimal number at ``i``: status 0 exact, 1 a valid number
     left for ``strtod`` (value 0), 2 not a number.  The caller checks what follows ``end``.
 
-    Up to 18 digits (leading zeros included) accumulate in an int64; more go to strtod.
+    Up to 18 significant digits accumulate in an int64; the value is one correctly rounded
+    operation when that is exact (Clinger), else Eisel-Lemire's; more digits, and the cases
+    Eisel-Lemire leaves undecided, go to strtod.
     """
     neg = False
     if i < n and (data[i] == 45 or data[i] == 43):
         neg = data[i] == 45
         i += 1
-    mant = 0
     start = i
+    while i < n and data[i] == 48:   # leading zeros
+        i += 1
+    mant = 0
+    first = i
     while i < n and _digit(data[i]):
         mant = mant * 10 + (data[i] - 48)
         i += 1
+    significant = i - first
     digits = i - start
     e10 = 0
     if i < n and data[i] == 46:
         i += 1
         start = i
+        if significant == 0:
+            while i < n and data[i] == 48:
+                i += 1
+        first = i
         while i < n and _digit(data[i]):
             mant = mant * 10 + (data[i] - 48)
             i += 1
+        significant += i - first
         e10 = start - i
         digits += i - start
     elif digits == 0:   # no digit, no point: nan or inf?
@@ -180,7 +270,6 @@ def parse_number(data, i, n):
         return 0.0, (j if j >= 0 else i), (1 if j >= 0 else 2)
     if digits == 0:
         return 0.0, i, 2
-    slow = digits > 18   # mant may have wrapped
     if i < n and (data[i] | 32) == 101:
         i += 1
         eneg = False
@@ -197,14 +286,16 @@ def parse_number(data, i, n):
         if ed == 0:
             return 0.0, i, 2
         e10 += -ev if eneg else ev
-    if mant == 0:
+    if mant == 0 and significant == 0:
         value = 0.0
-    elif slow or mant > _FAST_MANTISSA or e10 > 22 or e10 < -22:
+    elif significant > 18:   # mant has wrapped
         return 0.0, i, 1
-    elif e10 >= 0:
-        value = float(mant) * _P10[e10]
+    elif mant <= _FAST_MANTISSA and -22 <= e10 <= 22:
+        value = float(mant) * _P10[e10] if e10 >= 0 else float(mant) / _P10[-e10]
     else:
-        value = float(mant) / _P10[-e10]
+        value, ok = _eisel_lemire(mant, e10)
+        if not ok:
+            return 0.0, i, 1
     return (-value if neg else value), i, 0
 
 
