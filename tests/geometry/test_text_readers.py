@@ -219,6 +219,8 @@ def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled, monkeypatch)
 
     if not compiled:
         monkeypatch.setattr(_text_readers, "text_kernels", lambda: None)
+    else:
+        _text_readers.prepare({"ascii_stl"})   # small files too: the compiled reader is loaded
     text = _stl_solid("c", _cube_triangles([0, 0, 0])).encode()
     (tmp_path / "a.stl").write_bytes(text)
     write_binary_stl(tmp_path / "b.stl", np.array(_cube_triangles([0, 0, 0])))
@@ -341,3 +343,22 @@ def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
         if got is not None:
             one_pass = _text_readers._sequential_stl(mutated, kernels)
             assert one_pass[2] is None and np.array_equal(got[0][got[1]], one_pass[0][one_pass[1]], equal_nan=True)
+
+
+def test_a_small_file_alone_is_read_without_loading_the_compiled_reader(tmp_path):
+    # loading the compiled reader costs more than reading a small file with the reference;
+    # once loaded (prepare, or a large file) it reads every file; the results are the same
+    import subprocess
+    import sys
+
+    path = tmp_path / "cube.obj"
+    path.write_bytes(CUBE_QUADS)
+    code = ("import sys, inertia; from inertia.geometry import mesh_io\n"
+            f"a = inertia.load_mesh({str(path)!r})\n"
+            "before = 'inertia.geometry._text_numba' in sys.modules\n"
+            "mesh_io.prepare_text_readers({'obj'})\n"
+            f"b = inertia.load_mesh({str(path)!r})\n"
+            "after = 'inertia.geometry._text_numba' in sys.modules\n"
+            "print(before, after, (a[0] == b[0]).all() and (a[1] == b[1]).all())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", str(text_kernels() is not None), "True"]

@@ -211,6 +211,9 @@ def warm_up(formats=("binary_stl",)) -> None:
             + "endloop\nendfacet\n" for t in f) + "endsolid w\n").encode()
     if "trimesh" in formats and importlib.util.find_spec("trimesh") is not None:
         import trimesh  # noqa: F401 - read through trimesh: imported once, before the workers fork
+    from ..geometry.mesh_io import prepare_text_readers
+
+    prepare_text_readers(formats)   # small files are read by the compiled readers from now on
     with tempfile.TemporaryDirectory(prefix="inertia-warm-") as folder:
         for name, data in files.items():
             path = os.path.join(folder, name)

@@ -22,7 +22,7 @@ import numpy as np
 from .._core.errors import MeshFileError
 from . import _text_reference as ref
 
-__all__ = ["read_ascii_stl", "read_obj", "text_kernels"]
+__all__ = ["read_ascii_stl", "read_obj", "text_kernels", "prepare"]
 
 _kernels_state = None
 
@@ -39,17 +39,47 @@ def text_kernels():
     return _kernels_state or None
 
 
+#: below this size a text file is read by the reference reader until the compiled reader of
+#: its format has been used in this process: loading it (from numba's cache) takes about
+#: 0.15 s, in which the reference reads about 3 MB
+EAGER_BYTES = 1 << 20
+_compiled_used: set[str] = set()
+
+
+def _kernels_for(size: int, compiled: bool | None, fmt: str):
+    """The compiled readers for a file of ``size`` bytes of format ``fmt``, or None for the reference."""
+    if compiled is False or (compiled is None and size < EAGER_BYTES and fmt not in _compiled_used):
+        return None
+    kernels = text_kernels()
+    if kernels is not None:
+        _compiled_used.add(fmt)
+    return kernels
+
+
+def prepare(formats) -> None:
+    """Load the compiled readers of ``formats`` ("obj", "ascii_stl") now (a process that will
+    read many small files, or the parent of workers); without numba, nothing."""
+    samples = {"obj": (read_obj, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+               "ascii_stl": (read_ascii_stl, b"solid\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                             b"vertex 0 1 0\nendloop\nendfacet\nendsolid\n")}
+    for fmt in formats:
+        if fmt in samples and text_kernels() is not None:
+            reader, text = samples[fmt]
+            reader(np.frombuffer(text, dtype=np.uint8), "sample", compiled=True)
+
+
 def read_ascii_stl(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Vertices (V, 3) float64 and faces (F, 3) int64 of an ASCII STL: ``vertices[faces]``
     are the file's facets, corner for corner.
 
     ``data``: the file's bytes as a uint8 array; ``compiled``: force (True) or avoid (False)
-    the numba reader (default: numba when installed).  The reference reader lists every
+    the numba reader (default: numba when installed, for a small file once that reader has
+    been used in this process, see :data:`EAGER_BYTES`).  The reference reader lists every
     corner (``faces = arange(3 F)``); the compiled one stores a corner once when it repeats
     one read shortly before (see ``_text_numba.read_ascii_stl``): the same surface, and after
     welding the same arrays.
     """
-    kernels = text_kernels() if compiled is not False else None
+    kernels = _kernels_for(len(data), compiled, "ascii_stl")
     if kernels is None:
         v, err = ref.read_ascii_stl(bytes(data))
         f = np.arange(len(v) - len(v) % 3, dtype=np.int64).reshape(-1, 3)   # (after an error: whole facets)
@@ -139,7 +169,7 @@ def _parallel_stl(data: np.ndarray, kernels):
 
 def read_obj(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of an OBJ (see :func:`read_ascii_stl`)."""
-    kernels = text_kernels() if compiled is not False else None
+    kernels = _kernels_for(len(data), compiled, "obj")
     raw = bytes(data) if kernels is None else None
 
     def parse(limit):

@@ -31,7 +31,7 @@ from .._core.optional import require
 from .._core.units import LENGTH_UNITS
 from .mesh_arrays import faces_in_range, validate_inputs
 
-__all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
+__all__ = ["load_mesh", "prepare_text_readers", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
 #: Length units accepted by ``units=``: metres per unit.
 UNITS = LENGTH_UNITS  # name -> metres (one table: inertia._core.units)
@@ -297,6 +297,18 @@ def _file_bytes(p: Path, size: int) -> np.ndarray:
         return np.memmap(p, dtype=np.uint8, mode="r").view(np.ndarray)
     with open(p, "rb") as fh:
         return np.frombuffer(fh.read(), dtype=np.uint8)
+
+
+def prepare_text_readers(formats) -> None:
+    """Load the compiled readers of ``formats`` ("obj", "ascii_stl") now.
+
+    A small OBJ or ASCII STL is read by the plain-Python reader until the compiled reader of
+    its format has been used in the process (loading it costs about 0.15 s, more than reading
+    a small file); a process about to read many small files calls this first.
+    """
+    from ._text_readers import prepare
+
+    prepare(formats)
 
 
 def _load_mesh(p: Path, factor: float, merge_rtol: float):
