@@ -5,7 +5,7 @@ uniformly spread) and M large ones (perturbed icospheres of 81,920 faces) in a t
 folder, then in one run measures:
 
 * a plain Python loop over trimesh (``trimesh.load`` + ``mass_properties``), one process;
-* ``run_batch`` on the default local Dask cluster with 1 worker, then with 2 workers, each
+* ``run_batch`` on a local Dask cluster (``--scheduler cluster``) with 1 worker, then 2, each
   cluster alone on the machine, started and warmed up outside the timing (its start-up
   time is printed apart: it is paid once per run, whatever the number of files);
 
@@ -15,6 +15,14 @@ winding, orientation) that the trimesh loop does not do.  The three are run in i
 rounds (machine noise drifts over time); best and median of the rounds are printed.
 
     python bench/batch.py [--small 2000] [--large 20] [--faces 1000 10000] [--repeat 5] [--keep DIR]
+
+``--whole N [N ...]`` (default 500 2000) times whole processes instead, as a user meets them:
+``inertia batch FOLDER -o out.parquet`` from its interpreter's start to its exit (imports,
+the placement it chooses, worker start-up, the work, the output), with the default
+placement, ``--scheduler synchronous`` and ``--scheduler cluster``, against a script that
+loops trimesh over the same N meshes, also timed from its start; interleaved rounds.
+
+    python bench/batch.py --whole 500 2000 [--faces 1000 10000] [--repeat 3] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -144,6 +152,65 @@ def timed_run(workers: int, paths, out_dir: str) -> tuple[float, float, list[flo
         cluster.close()
 
 
+_TRIMESH_LOOP = """
+import sys
+import trimesh
+for p in open(sys.argv[1]).read().split("\\n"):
+    trimesh.load(p).mass_properties
+"""
+
+
+def whole_process(cmd) -> float:
+    """Seconds of a command, from the start of its interpreter to its exit."""
+    import subprocess
+    import sys
+
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, *cmd], check=True, capture_output=True)
+    return time.perf_counter() - t0
+
+
+def whole_process_case(folder, n_small: int, faces, repeat: int, variants) -> None:
+    """Whole-process times of `inertia batch` (start-up, placement, work, output) against a
+    plain trimesh loop in its own interpreter, on ``n_small`` meshes: interleaved rounds."""
+    import sys
+
+    sub = os.path.join(folder, f"whole_{n_small}")
+    if not os.path.isdir(sub):
+        os.makedirs(sub)
+        make_dataset(sub, n_small, 0, faces, seed=n_small)
+    paths = sorted(os.path.join(sub, f) for f in os.listdir(sub) if f.endswith(".stl"))
+    listing = os.path.join(folder, f"list_{n_small}.txt")
+    with open(listing, "w") as fh:
+        fh.write("\n".join(paths))
+    out = os.path.join(folder, f"whole_{n_small}.parquet")
+    runs = {"trimesh loop": ["-c", _TRIMESH_LOOP, listing]}
+    for name, extra in variants.items():
+        runs[name] = ["-m", "inertia.cli.main", "batch", sub, "-o", out, "--force", "--no-progress", *extra]
+    times = {name: [] for name in runs}
+    for _ in range(repeat):
+        for name, cmd in runs.items():
+            times[name].append(whole_process(cmd))
+    summary = subprocess_summary(runs[next(iter(variants))])
+    print(f"{n_small} meshes of {faces[0]}-{faces[1]} faces, whole process, {repeat} interleaved rounds "
+          f"({summary})")
+    base = times["trimesh loop"]
+    for name, ts in times.items():
+        print(f"  {name:28s} best {min(ts):6.2f} s, median {statistics.median(ts):6.2f} s: "
+              f"{min(base) / min(ts):5.1f}x / {statistics.median(base) / statistics.median(ts):5.1f}x the loop")
+    sys.stdout.flush()
+
+
+def subprocess_summary(cmd) -> str:
+    """The placement line of a run's summary (what `inertia batch` chose)."""
+    import subprocess
+    import sys
+
+    err = subprocess.run([sys.executable, *cmd], check=True, capture_output=True, text=True).stderr
+    lines = [ln.strip() for ln in err.splitlines() if ln.strip().startswith("ran ")]
+    return lines[0] if lines else "no placement line"
+
+
 def main() -> None:
     import logging
 
@@ -154,7 +221,21 @@ def main() -> None:
                     help="face count range of the small meshes (default 1000 10000)")
     ap.add_argument("--repeat", type=int, default=5, help="rounds; each round runs all three, interleaved")
     ap.add_argument("--keep", metavar="DIR", help="generate into DIR and keep it")
+    ap.add_argument("--whole", type=int, nargs="*", metavar="N",
+                    help="instead: whole-process times of `inertia batch` against a trimesh loop script on N small "
+                         "meshes each (default 500 2000), the default placement and the forced ones")
     args = ap.parse_args()
+    if args.whole is not None:
+        folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
+        variants = {"inertia batch (auto)": [], "--scheduler synchronous": ["--scheduler", "synchronous"],
+                    "--scheduler cluster": ["--scheduler", "cluster"]}
+        try:
+            for n in args.whole or [500, 2000]:
+                whole_process_case(folder, n, tuple(args.faces), args.repeat, variants)
+        finally:
+            if not args.keep:
+                shutil.rmtree(folder, ignore_errors=True)
+        return
     logging.getLogger("distributed").setLevel(logging.ERROR)  # no INFO lines at cluster close
     folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
     os.makedirs(folder, exist_ok=True)

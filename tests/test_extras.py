@@ -34,6 +34,12 @@ def _ascii_stl(path):
     return path
 
 
+def _off(path):
+    """A tetrahedron as OFF, a format read through trimesh (ASCII STL and OBJ are read natively)."""
+    path.write_text("OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
+    return path
+
+
 def _assert_names_extra(excinfo, extra):
     err = excinfo.value
     assert isinstance(err, inertia.errors.InertiaError) and err.code == "missing_dependency"
@@ -41,11 +47,13 @@ def _assert_names_extra(excinfo, extra):
 
 
 def test_reading_a_text_mesh_without_trimesh_names_the_mesh_extra(monkeypatch, tmp_path):
-    f = _ascii_stl(tmp_path / "t.stl")
+    f = _off(tmp_path / "t.off")
     _hide(monkeypatch, "trimesh")
     with pytest.raises(MissingDependencyError) as ei:
         inertia.load_mesh(f)
     _assert_names_extra(ei, "mesh")
+    # truth: the unit tetrahedron's volume 1/6, read without trimesh from ASCII STL
+    assert inertia.mesh_file_properties(_ascii_stl(tmp_path / "t.stl"), density=1.0).volume == pytest.approx(1 / 6)
 
 
 def test_symbolic_without_sympy_names_the_symbolic_extra(monkeypatch):
@@ -66,12 +74,12 @@ def test_plots_without_matplotlib_name_the_viz_extra(monkeypatch):
     _assert_names_extra(ei, "viz")
 
 
-@pytest.mark.parametrize("missing", ["pandas", "pyarrow"])
-def test_batch_without_its_extra_names_the_batch_extra_and_writes_nothing(monkeypatch, tmp_path, missing):
+@pytest.mark.parametrize("missing, output", [("pandas", "out.csv"), ("pyarrow", "out.parquet")])
+def test_batch_without_its_extra_names_the_batch_extra_and_writes_nothing(monkeypatch, tmp_path, missing, output):
     from inertia.batch import run_batch
 
     _ascii_stl(tmp_path / "t.stl")
-    out = tmp_path / "out.parquet"
+    out = tmp_path / output   # a Parquet output needs pyarrow only (pandas: CSV, JSON Lines, DataFrames)
     _hide(monkeypatch, missing)
     with pytest.raises(MissingDependencyError) as ei:
         run_batch([str(tmp_path)], out, scheduler="synchronous", progress=False)
@@ -85,7 +93,7 @@ def test_batch_cluster_without_distributed_names_the_batch_extra(monkeypatch, tm
     _ascii_stl(tmp_path / "t.stl")
     _hide(monkeypatch, "distributed")
     with pytest.raises(MissingDependencyError) as ei:
-        mass_properties_table([str(tmp_path)], scheduler=None)
+        mass_properties_table([str(tmp_path)], scheduler="cluster")
     _assert_names_extra(ei, "batch")
 
 
@@ -107,7 +115,7 @@ def test_compiled_rollout_without_numba_names_the_fast_extra_and_numpy_still_run
 def test_cli_without_trimesh_exits_with_a_one_line_error_naming_the_extra(monkeypatch, tmp_path, capsys):
     from inertia.cli.main import main
 
-    f = _ascii_stl(tmp_path / "t.stl")
+    f = _off(tmp_path / "t.off")
     _hide(monkeypatch, "trimesh")
     code = main(["props", str(f)])
     err = capsys.readouterr().err

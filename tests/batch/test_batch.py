@@ -201,7 +201,8 @@ def test_an_interrupt_inside_compiled_code_stops_the_run_instead_of_becoming_a_r
 
 
 @pytest.mark.slow
-def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path):
+@pytest.mark.parametrize("scheduler", ["synchronous", "auto"])   # auto: forked worker processes
+def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path, scheduler):
     # enough files that the run is still going when the interrupt arrives (a run of the
     # small dataset alone can finish in a fraction of a second)
     many = tmp_path / "many"
@@ -210,7 +211,7 @@ def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path)
         shutil.copy(dataset / "wingnut.obj", many / f"copy_{i:03d}.obj")
     out = tmp_path / "cli.parquet"
     cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(many), "-o", str(out),
-           "--scheduler", "synchronous", "--chunk-files", "1", "--no-progress"]
+           "--scheduler", scheduler, "--chunk-files", "1", "--no-progress"]
     # a shell without job control starts its children with SIGINT ignored, and Python then
     # installs no KeyboardInterrupt handler: give the child the default disposition back
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True,

@@ -330,7 +330,7 @@ def test_help_does_not_import_numerical_libraries():
     assert out.stdout.strip() == "[]"
 
 
-def test_demo_needs_no_mesh_reader(capsys, monkeypatch, sample_obj):
+def test_demo_needs_no_mesh_reader(capsys, monkeypatch, tmp_path):
     from inertia.errors import MissingDependencyError
     from inertia.geometry import mesh_io
 
@@ -340,8 +340,10 @@ def test_demo_needs_no_mesh_reader(capsys, monkeypatch, sample_obj):
         raise MissingDependencyError("trimesh is not installed (simulated)")
 
     monkeypatch.setattr(mesh_io, "_import_trimesh", no_trimesh)
-    rc, _, err = run(capsys, "props", sample_obj)
-    assert rc == 1 and "trimesh" in err  # mesh files in general do need trimesh
+    off = tmp_path / "t.off"
+    off.write_text("OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
+    rc, _, err = run(capsys, "props", str(off))
+    assert rc == 1 and "trimesh" in err  # OFF, PLY and glTF files do need trimesh
     without = run_json(capsys, "demo", "--no-report")
     a, b = with_trimesh["mass_properties"], without["mass_properties"]
     assert b["mass"] == pytest.approx(a["mass"], rel=1e-13)

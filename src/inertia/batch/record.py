@@ -180,27 +180,45 @@ def process_packed(payload: bytes) -> bytes:
     return pickle.dumps(process_chunk(jobs, options), protocol=pickle.HIGHEST_PROTOCOL)
 
 
-def warm_up() -> None:
-    """Load and compile (or fetch from numba's cache) everything a row needs, on a tiny mesh.
+def warm_up(formats=("binary_stl",)) -> None:
+    """Load and compile (or fetch from numba's cache) everything a row needs, on tiny meshes.
 
     A worker's first file otherwise pays for importing numba and loading the compiled
-    kernels (a fraction of a second); benchmarks call this on every worker before timing.
+    kernels (a fraction of a second); a process pool warms up its parent once before forking
+    its workers, benchmarks call this on every worker of a cluster.  ``formats``: those to
+    come, among ``binary_stl``, ``ascii_stl``, ``obj`` and ``trimesh`` (PLY, OFF, glTF): the
+    text readers' kernels and trimesh load only when needed.
     """
+    import importlib.util
     import tempfile
 
     import numpy as np
 
     from .._core.errors import InertiaError
 
-    # an octahedron, outward wound, as a binary STL (the common dataset format)
+    # an octahedron, outward wound
     v = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype="<f4")
     f = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
     rec = np.zeros(len(f), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
     rec["v"] = v[np.array(f)]
+    files = {"octahedron.stl": b"inertia warm-up".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes()}
+    if "obj" in formats:
+        files["octahedron.obj"] = ("".join(f"v {x} {y} {z}\n" for x, y, z in v.tolist())
+                                   + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f)).encode()
+    if "ascii_stl" in formats:
+        files["ascii.stl"] = ("solid w\n" + "".join(
+            "facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x} {y} {z}\n" for x, y, z in v[list(t)].tolist())
+            + "endloop\nendfacet\n" for t in f) + "endsolid w\n").encode()
+    if "trimesh" in formats and importlib.util.find_spec("trimesh") is not None:
+        import trimesh  # noqa: F401 - read through trimesh: imported once, before the workers fork
+    from ..geometry.mesh_io import prepare_text_readers
+
+    prepare_text_readers(formats)   # small files are read by the compiled readers from now on
     with tempfile.TemporaryDirectory(prefix="inertia-warm-") as folder:
-        path = os.path.join(folder, "octahedron.stl")
-        with open(path, "wb") as fh:
-            fh.write(b"inertia warm-up".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes())
-        row = process_file(Job(path))
-    if row["status"] != "ok":
-        raise InertiaError(f"warm-up mesh failed: {row['message']}", code="internal_error")
+        for name, data in files.items():
+            path = os.path.join(folder, name)
+            with open(path, "wb") as fh:
+                fh.write(data)
+            row = process_file(Job(path))
+            if row["status"] != "ok":
+                raise InertiaError(f"warm-up mesh {name} failed: {row['message']}", code="internal_error")

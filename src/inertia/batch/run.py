@@ -2,12 +2,23 @@
 
 Execution
 ---------
-* ``scheduler=None`` (default): an embedded ``distributed.LocalCluster`` on this machine,
-  one single-threaded worker process per core, loopback only (dashboard on a free port).  Nothing to
-  start by hand.
+* ``scheduler=None`` or ``"auto"`` (default): worker processes on this machine
+  (:class:`~inertia.batch.pool.ProcessPool`), as many as the estimated work pays for: a
+  forked worker starts in milliseconds, so one for a small job and one per core from about
+  0.1 s of work (a spawned one costs about a second: more work per worker).  ``n_workers``
+  fixes the count.  A worker lost to a file costs that file one ``crashed`` row.
+* ``scheduler="processes"``: the same, with ``n_workers`` (default: one per core).
+* ``scheduler="cluster"`` (or ``"local"``): an embedded ``distributed.LocalCluster``, one
+  single-threaded worker process per core (or ``n_workers``), loopback only.  Its workers
+  take about a second each to start, so on one machine it never pays against the process
+  pool; it is there to be forced (Dask's dashboard, memory limits, the same code path as a
+  remote cluster).
 * ``scheduler="tcp://HOST:PORT"``: an existing ``distributed`` scheduler.  Every worker
   needs ``inertia`` installed and must see the files under the same paths.
-* ``scheduler="synchronous"``: in this process, no Dask (debugging, tiny runs).
+* ``scheduler="synchronous"``: in this process (debugging, tests): no isolation, a file
+  that crashes compiled code ends the run.
+
+The summary says where the run went (:attr:`BatchSummary.placement`).
 
 Files are grouped into chunks (:func:`make_chunks`) so that scheduler overhead stays small
 next to the work on tiny meshes, while a large file forms a chunk of its own.  Each file is
@@ -33,7 +44,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.atomic import output_folder, remove_stale_temps
-from .._core.errors import InputError
+from .._core.errors import InertiaError, InputError
 from .._core.optional import require
 from .._core.progress import Progress
 from .output import (
@@ -45,7 +56,8 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .record import crashed_row, options_key, process_chunk, process_packed
+from .pool import START_S, ProcessPool, cpu_count, reassemble, start_method
+from .record import crashed_row, options_key, process_chunk, process_packed, warm_up
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -69,6 +81,9 @@ TAIL_CHUNKS_PER_WORKER = 32
 #: most files in one default chunk (progress and part files keep moving on huge runs)
 MAX_CHUNK_FILES = 256
 
+#: seconds of work per byte of input (with FILE_COST_BYTES: 0.3 ms + 2.3 ms per MB a file)
+SECONDS_PER_BYTE = 2.3e-3 / 2**20
+
 
 @dataclass
 class BatchSummary:
@@ -83,6 +98,7 @@ class BatchSummary:
     errors_by_reason: dict = field(default_factory=dict)
     elapsed_s: float = 0.0
     output: str = ""
+    placement: str = ""
 
     @property
     def files_per_second(self) -> float:
@@ -94,9 +110,53 @@ class BatchSummary:
                f"ok {self.ok}, warnings {self.warnings}, errors {self.errors}"]
         for reason, n in sorted(self.errors_by_reason.items(), key=lambda kv: (-kv[1], kv[0])):
             out.append(f"  {reason}: {n}")
+        if self.placement:
+            out.append(f"ran {self.placement}")
         if self.output:
             out.append(f"results: {self.output}")
         return out
+
+
+def job_costs(jobs) -> list[int]:
+    """The estimated work of each job, in bytes: its size plus :data:`FILE_COST_BYTES`."""
+    costs = []
+    for job in jobs:
+        size = job.size
+        if size is None:
+            try:
+                size = os.path.getsize(job.path)
+            except OSError:
+                size = 0
+        costs.append(size + FILE_COST_BYTES)
+    return costs
+
+
+def formats_of(jobs, sample: int = 16) -> set[str]:
+    """The formats among ``jobs`` (see :func:`~inertia.batch.record.warm_up`): STL files are
+    told binary or ASCII by the first ``sample`` of them."""
+    from ..geometry.mesh_io import stl_kind
+
+    found, stl = set(), 0
+    for job in jobs:
+        ext = os.path.splitext(job.path)[1].lower()
+        if ext == ".stl" and stl < sample:
+            stl += 1
+            try:
+                found.add("binary_stl" if stl_kind(Path(job.path)) >= 0 else "ascii_stl")
+            except (OSError, InertiaError):
+                pass
+        elif ext == ".obj":
+            found.add("obj")
+        elif ext in (".ply", ".off", ".glb", ".gltf"):
+            found.add("trimesh")
+    return found
+
+
+def plan_workers(seconds: float, start_s: float, cores: int) -> int:
+    """Workers for ``seconds`` of work when each takes ``start_s`` to start: the count that
+    minimises ``seconds / n + n * start_s`` (about ``sqrt(seconds / start_s)``), 1 to ``cores``."""
+    best = max(1, min(cores, int(round((seconds / start_s) ** 0.5)) if start_s > 0 else cores))
+    return best
 
 
 def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[list[Job]]:
@@ -113,15 +173,7 @@ def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[li
     fill the gaps at the end.
     """
     jobs = list(jobs)
-    costs = []
-    for job in jobs:
-        size = job.size
-        if size is None:
-            try:
-                size = os.path.getsize(job.path)
-            except OSError:
-                size = 0
-        costs.append(size + FILE_COST_BYTES)
+    costs = job_costs(jobs)
     workers = max(1, n_workers)
     left = sum(costs)
     floor = left / (TAIL_CHUNKS_PER_WORKER * workers)
@@ -209,34 +261,64 @@ def local_cluster(n_workers: int):
 
 
 class _Executor:
-    """Maps :func:`process_chunk` over chunks on the chosen scheduler; yields results as they finish."""
+    """Maps :func:`process_chunk` over chunks where the run goes; yields results as they finish."""
 
-    def __init__(self, scheduler, n_workers: int):
-        self.scheduler = scheduler
-        self.n_workers = n_workers
-        self.client = self.cluster = None
+    def __init__(self, scheduler, n_workers: int | None, jobs=()):
+        self.scheduler = "auto" if scheduler is None else scheduler
+        self.requested = n_workers
+        self.n_workers = n_workers or cpu_count()
+        self.jobs = jobs
+        self.client = self.cluster = self.pool = None
+        self.placement = ""
 
     def __enter__(self):
         if self.scheduler == "synchronous":
+            self.placement = "in this process (synchronous: a file that crashes compiled code ends the run)"
             return self
+        if self.scheduler in ("auto", "processes"):
+            return self._start_pool()
         Client = require("distributed", "a batch run on a Dask cluster (or use scheduler='synchronous')").Client
-        if self.scheduler in (None, "local"):
+        if self.scheduler in ("cluster", "local"):
             self.cluster = local_cluster(self.n_workers)
             self.client = Client(self.cluster)
+            self.placement = f"on a local Dask cluster of {self.n_workers} workers"
         elif isinstance(self.scheduler, str) and "://" in self.scheduler:
             try:
                 self.client = Client(self.scheduler, timeout="20s")
             except OSError as exc:
                 raise InputError(f"cannot reach the Dask scheduler at {self.scheduler}: {exc}") from None
+            self.placement = f"on the Dask scheduler at {self.scheduler}"
         elif hasattr(self.scheduler, "submit"):  # an existing distributed.Client
             self.client = self.scheduler
+            self.placement = "on the Dask client given"
         else:
-            raise InputError(f"unknown scheduler {self.scheduler!r}: use none (local cluster), "
-                             "'synchronous' or a 'tcp://HOST:PORT' address")
+            raise InputError(f"unknown scheduler {self.scheduler!r}: use 'auto' (worker processes as the work "
+                             "pays), 'processes', 'cluster' (a local Dask cluster), 'synchronous' or a "
+                             "'tcp://HOST:PORT' address")
+        return self
+
+    def _start_pool(self):
+        """Worker processes here: as many as the estimated work pays for (or as asked)."""
+        method = start_method()
+        seconds = sum(job_costs(self.jobs)) * SECONDS_PER_BYTE
+        if self.requested:
+            n, why = self.requested, "as asked"
+        elif self.scheduler == "processes":
+            n, why = cpu_count(), "one per core"
+        else:
+            n = plan_workers(seconds, START_S[method], cpu_count())
+            why = ("one per core" if n == cpu_count() else
+                   f"{'more' if n < cpu_count() else 'fewer'} would not pay for their start")
+        if method == "fork":   # loaded once here, inherited by every worker
+            warm_up(formats_of(self.jobs))
+        self.pool = ProcessPool(n, method=method).__enter__()
+        self.n_workers = n
+        self.placement = (f"on {n} worker process{'es' if n > 1 else ''} on this machine ({method}; "
+                          f"estimated work {seconds:.2g} s: {why})")
         return self
 
     def worker_count(self) -> int:
-        """Workers of the cluster in use (``n_workers`` for our own or the synchronous run)."""
+        """Workers in use (``n_workers`` for our pool or cluster, or the synchronous run)."""
         if self.client is None or self.cluster is not None:
             return self.n_workers
         try:
@@ -252,6 +334,9 @@ class _Executor:
         that still fails costs one error row (``reason="crashed"``, naming the file), never
         the run.  ``task`` replaces :func:`process_packed` (tests).
         """
+        if self.pool is not None:
+            yield from self.pool.map(chunks, options)
+            return
         if self.client is None:
             for i, chunk in enumerate(chunks):
                 yield i, process_chunk(chunk, options)
@@ -288,15 +373,13 @@ class _Executor:
                 continue
             else:
                 rows = [crashed_row(jobs[0], result, options)]
-            if sub is None:
-                yield i, rows
-                continue
-            split_rows[i][sub] = rows[0]
-            if len(split_rows[i]) == len(chunks[i]):
-                done = split_rows.pop(i)
-                yield i, [done[k] for k in range(len(chunks[i]))]
+            whole = reassemble(split_rows, chunks, i, sub, rows)
+            if whole is not None:
+                yield i, whole
 
     def __exit__(self, *exc):
+        if self.pool is not None:
+            self.pool.__exit__(*exc)
         futures = getattr(self, "_futures", None)
         if futures and self.client is not None:
             try:
@@ -310,17 +393,20 @@ class _Executor:
 
 
 def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None, chunk_files=None,
-            on_rows=None, progress: Progress | None = None, keep_rows: bool = True) -> list[dict]:
+            on_rows=None, progress: Progress | None = None, keep_rows: bool = True, on_start=None) -> list[dict]:
     """Process ``jobs`` and return their rows in job order (``on_rows(i, rows)`` per finished chunk).
 
     ``keep_rows=False``: hand each chunk's rows to ``on_rows`` only and return ``[]`` (a run
     of millions of files then holds no Python row after its part is written).
+    ``on_start(placement)``: told where the run goes (see :attr:`BatchSummary.placement`).
     """
     jobs = list(jobs)
     if not jobs:  # nothing to do: do not start a cluster
         return []
     results: dict[int, list] = {}
-    with _Executor(scheduler, n_workers or os.cpu_count() or 1) as ex:
+    with _Executor(scheduler, n_workers, jobs) as ex:
+        if on_start is not None:
+            on_start(ex.placement)
         chunks = make_chunks(jobs, ex.worker_count(), chunk_files)
         for i, rows in ex.map(chunks, options):
             if keep_rows:
@@ -349,11 +435,11 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     Returns a :class:`BatchSummary`; the table itself is in ``output``.
     """
     t0 = time.perf_counter()
-    for module in ("pandas", "pyarrow"):
-        require(module, "a batch run")
     output = Path(output)
-    output_folder(output)  # a clear error now, not after the work, when it cannot be written
     fmt = format_of(output, fmt)
+    for module in ("pyarrow",) + (() if fmt == "parquet" else ("pandas",)):
+        _available(module, "a batch run")
+    output_folder(output)  # a clear error now, not after the work, when it cannot be written
     if on_defect not in ("raise", "warn"):
         raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
     jobs = sources if sources and all(isinstance(j, Job) for j in sources) else \
@@ -394,9 +480,10 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         if on_part is not None:
             on_part(path, rows)
 
+    placement = [""]
     try:
         execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
-                on_rows=write_part, progress=bar, keep_rows=False)
+                on_rows=write_part, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
     except KeyboardInterrupt:
         n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
         sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
@@ -416,7 +503,17 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
     return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
                         ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
-                        errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output))
+                        errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output),
+                        placement=placement[-1])
+
+
+def _available(module: str, needed_for: str) -> None:
+    """Raise MissingDependencyError now if ``module`` is missing, without importing it (pandas
+    alone takes 0.2 s to import, which a Parquet output never needs)."""
+    import importlib.util
+
+    if module in sys.modules or importlib.util.find_spec(module) is None:
+        require(module, needed_for)
 
 
 def _latest_rows(tables, jobs):

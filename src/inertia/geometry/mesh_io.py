@@ -5,8 +5,11 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
 dependency; with numba, its per-face vertex copies are welded in one compiled pass over
-the records, with the same result as the general route).  The other formats go through
-the optional dependency trimesh, with ``process=False`` (trimesh changes nothing).  Then
+the records, with the same result as the general route).  ASCII STL and OBJ are read by
+the native text readers of :mod:`._text_readers` (no dependency; one compiled pass with
+numba, a plain-Python reference reader without), which name the file, line and text of
+anything malformed.  PLY, OFF and glTF go through the optional dependency trimesh, with
+``process=False`` (trimesh changes nothing).  Then
 vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
 files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
@@ -16,7 +19,6 @@ are then scaled to metres.
 from __future__ import annotations
 
 import os
-import re
 import stat
 import sys
 import warnings
@@ -29,7 +31,7 @@ from .._core.optional import require
 from .._core.units import LENGTH_UNITS
 from .mesh_arrays import faces_in_range, validate_inputs
 
-__all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
+__all__ = ["load_mesh", "prepare_text_readers", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
 #: Length units accepted by ``units=``: metres per unit.
 UNITS = LENGTH_UNITS  # name -> metres (one table: inertia._core.units)
@@ -133,25 +135,6 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     return compact_vertices(v, fm)
 
 
-#: an OBJ face line with an index 0 (OBJ counts from 1; trimesh reads 0 as a valid vertex)
-_OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+\-])[+-]?0+(?=[/ \t\r\n]|$)", re.M)
-
-
-def _check_obj_indices(p: Path) -> None:
-    """Refuse an OBJ face that uses index 0, naming the line (OBJ indices start at 1)."""
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-    m = _OBJ_ZERO_INDEX.search(data)
-    if m is not None:
-        line = data.count(b"\n", 0, m.start()) + 1
-        end = data.find(b"\n", m.start())
-        text = data[m.start():end if end >= 0 else len(data)].strip().decode("utf-8", "replace")[:80]
-        raise MeshFileError(f"{p}, line {line}: face index 0 in {text!r}: OBJ vertex indices start at 1 "
-                            "(negative indices count back from the last vertex)", code="malformed")
-
-
 def _scene_triangles(trimesh, loaded, path: Path):
     """(vertices, faces) of a Trimesh, or of every Trimesh of a Scene with node transforms applied."""
     if isinstance(loaded, trimesh.Trimesh):
@@ -182,7 +165,7 @@ def _scene_triangles(trimesh, loaded, path: Path):
 _STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
 
 
-def _stl_kind(p: Path) -> int:
+def stl_kind(p: Path) -> int:
     """The triangle count of a binary STL, or -1 for an ASCII STL; MeshFileError for neither.
 
     A binary STL is an 80-byte header, a uint32 triangle count N and 50 bytes per triangle,
@@ -196,8 +179,11 @@ def _stl_kind(p: Path) -> int:
     return _stl_kind_of(head, size, p)
 
 
+_stl_kind = stl_kind   # the name tests and older callers use
+
+
 def _stl_kind_of(head: bytes, size: int, p) -> int:
-    """:func:`_stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
+    """:func:`stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
     if size == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)", code="empty")
     text = head.lstrip().lower()
@@ -305,7 +291,7 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     InputError
         Unknown ``units``.
     MissingDependencyError
-        trimesh is not installed (``pip install "inertia[mesh]"``).
+        a PLY, OFF or glTF file and trimesh is not installed (``pip install "inertia[mesh]"``).
     """
     factor = _unit_factor(units)
     p = Path(path)
@@ -324,6 +310,33 @@ def _file_size(p: Path) -> float:
         return float("nan")
 
 
+#: files up to this size are read into memory; larger ones are mapped, their pages read as used
+#: (mapping costs 40 us more per file of 300 KB: the page faults)
+MAP_BYTES = 16 * 2**20
+
+
+def _file_bytes(p: Path, size: int) -> np.ndarray:
+    """The bytes of a file as a read-only uint8 array (read, or mapped when large)."""
+    if size == 0:
+        return np.zeros(0, dtype=np.uint8)
+    if size > MAP_BYTES:
+        return np.memmap(p, dtype=np.uint8, mode="r").view(np.ndarray)
+    with open(p, "rb") as fh:
+        return np.frombuffer(fh.read(), dtype=np.uint8)
+
+
+def prepare_text_readers(formats) -> None:
+    """Load the compiled readers of ``formats`` ("obj", "ascii_stl") now.
+
+    A small OBJ or ASCII STL is read by the plain-Python reader until the compiled reader of
+    its format has been used in the process (loading it costs about 0.15 s, more than reading
+    a small file); a process about to read many small files calls this first.
+    """
+    from ._text_readers import prepare
+
+    prepare(formats)
+
+
 def _load_mesh(p: Path, factor: float, merge_rtol: float):
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
@@ -339,12 +352,13 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
     if not stat.S_ISREG(st.st_mode):
         raise MeshFileError(f"{p}: not a file")
     n_binary, data = -1, None
-    if ext == ".stl":  # mapped, not read: the header decides, the records are paged in as used
+    if ext in (".stl", ".obj"):
         try:
-            data = np.memmap(p, dtype=np.uint8, mode="r") if st.st_size else b""
+            data = _file_bytes(p, st.st_size)
         except (OSError, ValueError) as exc:
             raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-        n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
+        if ext == ".stl":
+            n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
         merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
         if merged is not None:
@@ -352,9 +366,11 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
         vertices, faces = _read_binary_stl(p, n_binary, data)
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: native text readers
+        from ._text_readers import read_ascii_stl, read_obj
+
+        vertices, faces = (read_obj if ext == ".obj" else read_ascii_stl)(data, p)
     else:
-        if ext == ".obj":
-            _check_obj_indices(p)
         trimesh = _import_trimesh()
         if ext == ".dae":  # trimesh reads COLLADA through pycollada
             require("collada", "reading COLLADA (.dae) meshes")

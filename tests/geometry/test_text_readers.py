@@ -1,0 +1,364 @@
+"""The native ASCII STL and OBJ readers (geometry._text_readers).
+
+Truths: Python's ``float()`` (correctly rounded, as strtod) for every number; trimesh's own
+parsers for the triangles of made and real files; closed-form volumes for polygons, solids
+and relative indices; and the plain-Python reference reader (``_text_reference``), which the
+compiled reader must match array for array, and error for error, on mutated files.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+
+import numpy as np
+import pytest
+
+import inertia
+from inertia.errors import MeshFileError
+from inertia.geometry._text_readers import read_ascii_stl, read_obj, text_kernels
+from inertia.geometry.mesh_io import load_mesh
+from tests.fuzzing import mutate_any, seed_obj, seed_stl_ascii
+
+COMPILED = [pytest.param(True, id="compiled"), pytest.param(False, id="reference")]
+needs_numba = pytest.mark.skipif(text_kernels() is None, reason="numba (inertia[fast]) is not installed")
+
+
+def _read(reader, text: bytes, compiled: bool):
+    return reader(np.frombuffer(text, dtype=np.uint8), "t", compiled=compiled)
+
+
+def _outcome(reader, text: bytes, compiled: bool):
+    """The arrays read (for ASCII STL its facets' corners: the compiled reader stores a
+    repeated corner once), or the error's code and message."""
+    try:
+        v, f = _read(reader, text, compiled)
+    except MeshFileError as exc:
+        return exc.code, str(exc)
+    return (v[f],) if reader is read_ascii_stl else (v, f)
+
+
+def _same(a, b) -> bool:
+    if isinstance(a[0], str) or isinstance(b[0], str):
+        return a == b
+    return all(x.shape == y.shape and np.array_equal(x, y, equal_nan=True) for x, y in zip(a, b))
+
+
+# ---------------------------------------------------------------- numbers
+def _random_number(rng: random.Random) -> str:
+    digits = "".join(rng.choice("0123456789") for _ in range(rng.randint(1, 25)))
+    point = rng.randint(0, len(digits))
+    s = rng.choice(["", "-", "+"]) + digits[:point] + rng.choice([".", ""] if point == len(digits) else ["."]) \
+        + digits[point:]
+    if rng.random() < 0.5:
+        s += rng.choice("eE") + rng.choice(["", "-", "+"]) + str(rng.choice([rng.randint(0, 25), rng.randint(0, 400)]))
+    return s
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_numbers_are_read_as_strtod_reads_them(compiled):
+    rng = random.Random(7)
+    words = [_random_number(rng) for _ in range(6000)] + [
+        "0", "-0", ".5", "5.", "+.5e-3", "1e22", "1e23", "9007199254740993", "0.1", "1e-22", "4.9e-324",
+        "1.7976931348623157e308", "1e309", "1e-400", "nan", "-inf", "Infinity", "NaN", "123456789012345678901234",
+        "0.000000000000000000000000000001", "2.2250738585072011e-308", "1" + "0" * 30]
+    words += [repr(x) for x in (np.random.default_rng(3).normal(size=1000) * 10.0 ** np.arange(-150, 150, 0.3)).tolist()]
+    words += [f"{x:.6e}" for x in np.random.default_rng(4).normal(size=1000)]
+    # 17 digits and more near halfway between two doubles: Eisel-Lemire's hard cases
+    words += [repr(rng.uniform(-1, 1) * 10.0 ** rng.randint(-320, 308)) for _ in range(3000)]
+    words += [f"{2 * rng.randint(1, 2**53) + 1}e{rng.randint(-40, 40)}" for _ in range(3000)]
+    words += [repr(float(rng.randint(1, 2**53)) * 2.0 ** rng.randint(-1070, 960)) for _ in range(3000)]
+    text = "".join(f"v {a} {b} {c}\n" for a, b, c in zip(words[::3], words[1::3], words[2::3])).encode()
+    v, f = _read(read_obj, text, compiled)
+    truth = np.array([float(w) for w in words[:3 * (len(words) // 3)]]).reshape(-1, 3)
+    assert f.shape == (0, 3) and v.shape == truth.shape
+    nan = np.isnan(truth)
+    assert np.array_equal(np.isnan(v), nan)
+    assert np.array_equal(v[~nan].view(np.int64), truth[~nan].view(np.int64))   # bit for bit, signs of 0 too
+
+
+# ---------------------------------------------------------------- the same triangles as trimesh
+def _triangles(v, f):
+    """The triangles as sorted tuples of corner coordinates, each starting at its smallest corner
+    (same winding): equal for two readers that give the same surface in any vertex or face order."""
+    out = []
+    for tri in np.asarray(v)[np.asarray(f)].tolist():
+        rots = [tuple(map(tuple, tri[k:] + tri[:k])) for k in range(3)]
+        out.append(min(rots))
+    return sorted(out)
+
+
+@pytest.mark.parametrize("name", ["wingnut.obj", "spot.obj", "tray_bottom_ascii.stl"])
+def test_text_files_give_trimesh_triangles(meshes, name):
+    trimesh = pytest.importorskip("trimesh")
+    path = meshes.path(name)
+    data = np.fromfile(path, dtype=np.uint8)
+    for compiled in (True, False):
+        v, f = (read_obj if name.endswith(".obj") else read_ascii_stl)(data, path, compiled=compiled)
+        m = trimesh.load(str(path), process=False, force="mesh")
+        if name.endswith(".stl"):   # ASCII STL: the same corners, face for face
+            assert np.array_equal(v[f], m.vertices[m.faces])
+        assert _triangles(v, f) == _triangles(m.vertices, m.faces)
+
+
+def test_large_real_obj_gives_trimesh_triangles(shared_data):
+    trimesh = pytest.importorskip("trimesh")
+    path = shared_data / "meshes" / "koala_large.obj"
+    v, f = load_mesh(path, merge_rtol=0.0)
+    m = trimesh.load(str(path), process=False, force="mesh")
+    assert len(f) == 99994 and _triangles(v, f) == _triangles(m.vertices, m.faces)
+
+
+# ---------------------------------------------------------------- OBJ features
+CUBE_QUADS = (b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+              b"f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n")
+
+
+def _props(tmp_path, text: bytes, name="t.obj"):
+    p = tmp_path / name
+    p.write_bytes(text)
+    return inertia.mesh_file_properties(p, density=1.0)
+
+
+def test_quads_are_fanned_and_match_trimesh(tmp_path):
+    # truth: the unit cube, volume 1, inertia 1/6 about its centre
+    p = _props(tmp_path, CUBE_QUADS)
+    assert p.volume == pytest.approx(1.0, rel=1e-14)
+    np.testing.assert_allclose(p.inertia_com, np.eye(3) / 6, atol=1e-14)
+    trimesh = pytest.importorskip("trimesh")
+    m = trimesh.load(str(tmp_path / "t.obj"), process=False)
+    v, f = load_mesh(tmp_path / "t.obj", merge_rtol=0.0)
+    assert _triangles(v, f) == _triangles(m.vertices, m.faces)
+
+
+def test_polygons_are_fanned_from_their_first_vertex(tmp_path):
+    # truth: a prism over a regular n-gon (two n-gon caps, quad sides), volume n/2 r^2 sin(2 pi/n) h
+    n, r, h = 7, 1.3, 0.4
+    a = 2 * np.pi * np.arange(n) / n
+    ring = np.c_[r * np.cos(a), r * np.sin(a), np.zeros(n)]
+    v = np.vstack([ring, ring + [0, 0, h]])
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in v.tolist()]
+    lines.append("f " + " ".join(str(k + 1) for k in reversed(range(n))))
+    lines.append("f " + " ".join(str(n + k + 1) for k in range(n)))
+    lines += [f"f {k + 1} {(k + 1) % n + 1} {(k + 1) % n + n + 1} {k + n + 1}" for k in range(n)]
+    p = _props(tmp_path, ("\n".join(lines) + "\n").encode())
+    assert p.volume == pytest.approx(n / 2 * r * r * np.sin(2 * np.pi / n) * h, rel=1e-13)
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_negative_indices_count_back_from_their_line(tmp_path, compiled):
+    # two unit tetrahedra, each written as its vertices then faces with -4..-1: the OBJ
+    # specification counts from the line (trimesh counts from the end of the file instead)
+    tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -2 -3\nf -4 -3 -1\nf -4 -1 -2\nf -3 -2 -1\n"
+    text = (tet + tet.replace("v 0 0 0", "v 5 0 0", 1).replace("v 1 0 0", "v 6 0 0").replace(
+        "v 0 1 0", "v 5 1 0").replace("v 0 0 1", "v 5 0 1")).encode()
+    v, f = _read(read_obj, text, compiled)
+    assert f.tolist()[:4] == [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] and f.min() == 0 and f[4:].min() == 4
+    assert _props(tmp_path, text).volume == pytest.approx(2 / 6, rel=1e-14)
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_obj_references_comments_groups_and_continuations(compiled):
+    text = (b"# a comment\nmtllib x.mtl\no part\ng side\nusemtl steel\ns 1\n"
+            b"v 0 0 0 1.0\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\n\tv  0 0 1 \r\nvt 0 0\nvn 0 0 1\n"
+            b"f 1/1 3/1 2/1 # comment\nf 1//1 2//1 \\\n 4//1\nf 1/1/1 4/1/1 3/1/1\nf 2 3 4\n"
+            b"l 1 2\nvp 0.5\n")
+    v, f = _read(read_obj, text, compiled)
+    assert v.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    assert f.tolist() == [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_faces_may_name_vertices_defined_below_them(compiled):
+    v, f = _read(read_obj, b"f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", compiled)
+    assert len(v) == 3 and f.tolist() == [[0, 1, 2]]
+
+
+# ---------------------------------------------------------------- ASCII STL features
+def _stl_solid(name, tris, facet="facet normal 0 0 0", loop="outer loop"):
+    out = [f"solid {name}"]
+    for t in tris:
+        out += [f" {facet}", f"  {loop}"] + [f"   vertex {x!r} {y!r} {z!r}" for x, y, z in t] + ["  endloop", " endfacet"]
+    return "\n".join(out + [f"endsolid {name}"]) + "\n"
+
+
+def _cube_triangles(offset):
+    v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float) + offset
+    f = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+         (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    return v[f].tolist()
+
+
+def test_several_solids_in_one_file(tmp_path):
+    # truth: two unit cubes; trimesh reads each solid as a mesh of a scene
+    text = (_stl_solid("a", _cube_triangles([0, 0, 0])) + _stl_solid("b", _cube_triangles([3, 0, 0]))).encode()
+    p = _props(tmp_path, text, "two.stl")
+    assert p.volume == pytest.approx(2.0, rel=1e-14)
+    np.testing.assert_allclose(p.com, [2.0, 0.5, 0.5], atol=1e-14)
+    trimesh = pytest.importorskip("trimesh")
+    scene = trimesh.load(str(tmp_path / "two.stl"), process=False)
+    tris = np.concatenate([g.vertices[g.faces] for g in scene.geometry.values()])
+    v, f = load_mesh(tmp_path / "two.stl", merge_rtol=0.0)
+    assert len(scene.geometry) == 2 and _triangles(v, f) == _triangles(tris.reshape(-1, 3), np.arange(72).reshape(-1, 3))
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_stl_keywords_in_any_case_with_crlf_lines(compiled):
+    text = _stl_solid("X", _cube_triangles([0, 0, 0]), "FACET NORMAL 1 0 0", "Outer Loop")
+    text = text.replace("vertex", "VERTEX").replace("endloop", "ENDLOOP").replace("\n", "\r\n").encode()
+    v, f = _read(read_ascii_stl, text, compiled)
+    assert np.array_equal(v[f], np.array(_cube_triangles([0, 0, 0]))) and f.shape == (12, 3)
+    assert len(v) == (8 if compiled else 36)   # the compiled reader stores a repeated corner once
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled, monkeypatch):
+    # truth: the cube's 8 corners once welded, whichever reader; and the binary STL path's arrays
+    from inertia.geometry import _text_readers
+    from tests._make import write_binary_stl
+
+    if not compiled:
+        monkeypatch.setattr(_text_readers, "text_kernels", lambda: None)
+    else:
+        _text_readers.prepare({"ascii_stl"})   # small files too: the compiled reader is loaded
+    text = _stl_solid("c", _cube_triangles([0, 0, 0])).encode()
+    (tmp_path / "a.stl").write_bytes(text)
+    write_binary_stl(tmp_path / "b.stl", np.array(_cube_triangles([0, 0, 0])))
+    va, fa = load_mesh(tmp_path / "a.stl")
+    vb, fb = load_mesh(tmp_path / "b.stl")
+    assert len(va) == 8 and np.array_equal(va, vb) and np.array_equal(fa, fb)
+
+
+# ---------------------------------------------------------------- malformed files, named
+STL_OK = _stl_solid("t", _cube_triangles([0, 0, 0]))
+MALFORMED = [
+    ("t.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\nendloop\n", 4,
+     "a vertex needs 3 coordinates, this one has 2 in 'vertex 0 0'"),
+    ("t.stl", STL_OK.replace("vertex 1.0 1.0 0.0", "vertex 1.0 1,0 0.0", 1), None, "malformed number '1,0'"),
+    ("t.stl", STL_OK.replace("vertex 0.0 0.0 0.0", "vertex 0.0 0.0 0.0 7", 1), 4,
+     "unexpected '7' after the 3 coordinates of a vertex"),
+    ("t.stl", STL_OK.replace("  endloop", "   vertex 0 0 0\n  endloop", 1), 7, "a facet with 4 vertices"),
+    ("t.stl", STL_OK.replace("   vertex 0.0 0.0 1.0\n", "", 1), None, "a facet with 2 vertices"),
+    ("t.stl", STL_OK.rsplit("endsolid", 1)[0], None, "the file ends inside a solid, outside a facet (no endsolid"),
+    ("t.stl", STL_OK[:STL_OK.index(" endfacet")], 7, "the file ends inside a facet"),
+    ("t.stl", STL_OK.replace(" facet normal", " facet normal 0 0 0\n facet normal", 1), 3,
+     "unexpected 'facet' inside a facet"),
+    ("t.stl", STL_OK + "garbage\n", 87, "unexpected 'garbage' outside a solid"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", 4, "face vertex '4' names no vertex (3 defined in the file)"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", 3, "face vertex '-3' names no vertex (2 defined above it)"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", 4, "a face needs at least 3 vertices, this one has 2"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", 4, "malformed face vertex 'x'"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/1/1/1\n", 4, "malformed face vertex '3/1/1/1'"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.0\n", 4, "malformed face vertex '3.0'"),
+    ("t.obj", "v 0 0 0\nv 1 0 1e\nv 0 1 0\nf 1 2 3\n", 2, "malformed number '1e'"),
+    ("t.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", 2, "a vertex needs 3 coordinates, this one has 2"),
+    ("t.obj", "v \r1 2 3\nv 1 2\nv 1 2 3\nf 1 2 3\n", 2, "a vertex needs 3 coordinates, this one has 2"),
+    ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1/0/1 4/1/1 3/1/1\n", 7,
+     "face index 0 in 'f 1/0/1 4/1/1 3/1/1'"),
+]
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+@pytest.mark.parametrize("name, text, line, fragment", MALFORMED)
+def test_malformed_files_are_named_with_their_line(name, text, line, fragment, compiled):
+    reader = read_obj if name.endswith(".obj") else read_ascii_stl
+    with pytest.raises(MeshFileError) as ei:
+        _read(reader, text.encode(), compiled)
+    msg = str(ei.value)
+    assert ei.value.code == "malformed" and fragment in msg, msg
+    if line is not None:
+        assert msg.startswith(f"t, line {line}: "), msg
+
+
+def test_malformed_file_error_names_the_file(tmp_path):
+    p = tmp_path / "bad.obj"
+    p.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(MeshFileError, match=rf"^{p}, line 4: malformed OBJ: face vertex '9' names no vertex"):
+        inertia.mesh_file_properties(p, density=1.0)
+
+
+# ---------------------------------------------------------------- compiled = reference
+def _seeds():
+    stl = seed_stl_ascii()
+    obj = seed_obj()
+    return [(read_obj, obj), (read_obj, CUBE_QUADS), (read_obj, obj.replace(b"f ", b"f  ").replace(b"\n", b" # c\r\n")),
+            (read_obj, b"v 1e-3 -2.5E+2 .5\nv 1 1 1\nv -0 0 1.00000000000000000001\nf 1/1/1 2//2 -1/3\n"
+                       b"f 1 2 \\\n 3\n"),
+            (read_ascii_stl, stl), (read_ascii_stl, stl + stl.replace(b"cube", b"two")),
+            (read_ascii_stl, stl.upper().replace(b"\n", b"\r\n"))]
+
+
+@needs_numba
+def test_compiled_reader_matches_the_reference_on_mutated_files():
+    rng = random.Random(11)
+    seeds = _seeds()
+    kinds = {"arrays": 0, "errors": 0}
+    for k in range(1500):
+        reader, seed = seeds[k % len(seeds)]
+        text = mutate_any(seed, rng)
+        got, want = _outcome(reader, text, True), _outcome(reader, text, False)
+        assert _same(got, want), (text, got, want)
+        kinds["errors" if isinstance(want[0], str) else "arrays"] += 1
+    assert min(kinds.values()) > 200   # both outcomes exercised
+
+
+@needs_numba
+@pytest.mark.parametrize("k", range(len(_seeds())))
+def test_compiled_reader_matches_the_reference_on_valid_files(k):
+    reader, text = _seeds()[k]
+    got, want = _outcome(reader, text, True), _outcome(reader, text, False)
+    assert not isinstance(want[0], str) and _same(got, want)
+
+
+@needs_numba
+def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
+    from inertia.geometry import _text_readers
+
+    # made "large" by lowering the threshold: four chunks, each starting at a facet line
+    rng = np.random.default_rng(5)
+    pool = rng.normal(size=(12, 3))   # facets share their corners, as in a mesh
+    tris = [[[f"{x:.6e}" for x in p] for p in t] for t in pool[rng.integers(0, 12, size=(60, 3))].tolist()]
+    tris[7][1][2] = "1.00000000000000000000001"    # a slow number (left for strtod), in chunk 1 or 2
+    solid = "solid a\n" + "".join("facet normal 0 0 1\nouter loop\n" + "".join(f" vertex {' '.join(p)}\n" for p in t)
+                                  + "endloop\nendfacet\n" for t in tris) + "endsolid a\n"
+    text = (solid + solid.replace("solid a", "solid b")).encode()
+    data = np.frombuffer(text, dtype=np.uint8)
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4)), raising=False)
+    monkeypatch.setattr(_text_readers, "PARALLEL_BYTES", len(text) // 4)
+    assert len(_text_readers._stl_chunks(data, 4)) == 5
+    kernels = text_kernels()
+    v, f, err = _text_readers._parallel_stl(data, kernels)
+    one_pass = _text_readers._sequential_stl(data, kernels)
+    assert err is None and np.array_equal(v[f], one_pass[0][one_pass[1]])   # (each chunk remembers its own corners)
+    from inertia.geometry.mesh_io import _merge_close_vertices
+
+    welded, welded_one_pass = _merge_close_vertices(v, f, 1e-10), _merge_close_vertices(*one_pass[:2], 1e-10)
+    assert all(np.array_equal(a, b) for a, b in zip(welded, welded_one_pass))
+    assert np.array_equal(v[f].reshape(-1, 3), np.array([[float(x) for x in p] for t in tris for p in t] * 2))
+    assert len(v) < 100   # of 360 corners: the repeated ones are stored once per chunk
+    rng2 = random.Random(3)
+    for _ in range(200):   # mutated: the threads give the one pass's arrays or leave it the file
+        mutated = np.frombuffer(mutate_any(text, rng2), dtype=np.uint8)
+        got = _text_readers._parallel_stl(mutated, kernels)
+        if got is not None:
+            one_pass = _text_readers._sequential_stl(mutated, kernels)
+            assert one_pass[2] is None and np.array_equal(got[0][got[1]], one_pass[0][one_pass[1]], equal_nan=True)
+
+
+def test_a_small_file_alone_is_read_without_loading_the_compiled_reader(tmp_path):
+    # loading the compiled reader costs more than reading a small file with the reference;
+    # once loaded (prepare, or a large file) it reads every file; the results are the same
+    import subprocess
+    import sys
+
+    path = tmp_path / "cube.obj"
+    path.write_bytes(CUBE_QUADS)
+    code = ("import sys, inertia; from inertia.geometry import mesh_io\n"
+            f"a = inertia.load_mesh({str(path)!r})\n"
+            "before = 'inertia.geometry._text_numba' in sys.modules\n"
+            "mesh_io.prepare_text_readers({'obj'})\n"
+            f"b = inertia.load_mesh({str(path)!r})\n"
+            "after = 'inertia.geometry._text_numba' in sys.modules\n"
+            "print(before, after, (a[0] == b[0]).all() and (a[1] == b[1]).all())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", str(text_kernels() is not None), "True"]
