@@ -218,7 +218,7 @@ def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled, monkeypatch)
     from tests._make import write_binary_stl
 
     if not compiled:
-        monkeypatch.setattr(_text_readers, "text_kernels", lambda: None)
+        monkeypatch.setattr(_text_readers, "text_kernels", lambda size=0: None)
     else:
         _text_readers.prepare({"ascii_stl"})   # small files too: the compiled reader is loaded
     text = _stl_solid("c", _cube_triangles([0, 0, 0])).encode()

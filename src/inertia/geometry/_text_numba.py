@@ -41,6 +41,9 @@ from ._text_reference import (
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
+#: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
+WARM_PROBE = ("read_ascii_stl", "read_obj")
+
 #: exact powers of ten (10**22 is the largest one a float64 holds exactly)
 _P10 = np.array([float(10**k) for k in range(23)])
 _FAST_MANTISSA = 2**53

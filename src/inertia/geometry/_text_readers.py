@@ -24,19 +24,13 @@ from . import _text_reference as ref
 
 __all__ = ["read_ascii_stl", "read_obj", "text_kernels", "prepare"]
 
-_kernels_state = None
+def text_kernels(size: int = 1 << 30):
+    """The compiled readers (:mod:`._text_numba`), or None for the reference reader (numba
+    missing, or the rule of :func:`inertia.geometry.mesh_arrays.compiled_kernels` for a file
+    of ``size`` bytes: the reference reads ~20 MB/s, about 3x the NumPy mesh path's cost a face)."""
+    from .mesh_arrays import compiled_kernels
 
-
-def text_kernels():
-    """The compiled readers (:mod:`._text_numba`), or None without numba."""
-    global _kernels_state
-    if _kernels_state is None:
-        try:
-            from . import _text_numba as kernels
-        except ImportError:
-            kernels = False
-        _kernels_state = kernels
-    return _kernels_state or None
+    return compiled_kernels("inertia.geometry._text_numba", size // 12)
 
 
 #: below this size a text file is read by the reference reader until the compiled reader of
@@ -50,7 +44,13 @@ def _kernels_for(size: int, compiled: bool | None, fmt: str):
     """The compiled readers for a file of ``size`` bytes of format ``fmt``, or None for the reference."""
     if compiled is False or (compiled is None and size < EAGER_BYTES and fmt not in _compiled_used):
         return None
-    kernels = text_kernels()
+    if compiled:
+        try:
+            from . import _text_numba as kernels
+        except ImportError:
+            return None
+    else:
+        kernels = text_kernels(size)
     if kernels is not None:
         _compiled_used.add(fmt)
     return kernels
@@ -63,7 +63,7 @@ def prepare(formats) -> None:
                "ascii_stl": (read_ascii_stl, b"solid\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                              b"vertex 0 1 0\nendloop\nendfacet\nendsolid\n")}
     for fmt in formats:
-        if fmt in samples and text_kernels() is not None:
+        if fmt in samples and text_kernels(1 << 30) is not None:
             reader, text = samples[fmt]
             reader(np.frombuffer(text, dtype=np.uint8), "sample", compiled=True)
 

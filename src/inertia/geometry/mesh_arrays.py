@@ -189,3 +189,70 @@ def connected_components(n: int, a, b) -> tuple[int, np.ndarray]:
             parent = jumped
     roots, labels = np.unique(parent, return_inverse=True)
     return len(roots), labels.reshape(-1)
+
+
+#: the 13 neighbour offsets of a grid cell with (dz, dy, dx) > 0 lexicographically (with the
+#: cell itself, every unordered pair of neighbouring cells once)
+_HALF_OFFSETS = np.array([(dx, dy, dz) for dz in (-1, 0, 1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)
+                          if (dz, dy, dx) > (0, 0, 0)], dtype=np.int64)
+
+
+def near_pairs(vertices: np.ndarray, tol: float) -> np.ndarray | None:
+    """Pairs ``(i < j)`` of vertices at most ``tol`` apart, (P, 2) int64: the pairs of
+    ``scipy.spatial.cKDTree.query_pairs`` (tests compare them), by a grid of cells at least
+    ``tol`` wide in pure NumPy (no scipy import for a small mesh).  None when the coordinates are too
+    far from the origin in units of ``tol`` to number the cells (the caller uses the tree)."""
+    v = np.asarray(vertices, dtype=np.float64)
+    n = len(v)
+    if n < 2 or not tol > 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    lo = v.min(axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        q = (v - lo) / tol                       # coordinates in units of tol
+        extent = float(q.max()) if np.all(np.isfinite(q)) else np.inf
+    if not extent < 1e15:
+        return None                      # too far out in units of tol to number: the tree
+    # cells at least tol wide, and at most 2^20 a side (a tolerance far below the spacing of
+    # the points leaves them one to a cell either way)
+    width = max(1.0, extent / (2.0**20 - 4))
+    cell = np.floor(q / width).astype(np.int64)
+    key = (cell[:, 2] << 42) | (cell[:, 1] << 21) | cell[:, 0]
+    order = np.argsort(key, kind="stable")
+    skey = key[order]
+    starts = np.flatnonzero(np.r_[True, skey[1:] != skey[:-1]])
+    counts = np.diff(np.r_[starts, n])
+    ukey = skey[starts]
+    first, second = [], []
+    # within a cell: every pair of its points
+    for c in np.unique(counts[counts > 1]):
+        s = starts[counts == c]
+        ii, jj = np.triu_indices(c, 1)
+        first.append(order[s[:, None] + ii].ravel())
+        second.append(order[s[:, None] + jj].ravel())
+    # between a cell and each of 13 neighbours: every point of one with every point of the other
+    ucell = np.stack([ukey & (2**21 - 1), (ukey >> 21) & (2**21 - 1), ukey >> 42], axis=1)
+    for off in _HALF_OFFSETS:
+        nb = ucell + off
+        ok = np.all(nb >= 0, axis=1)
+        nkey = (nb[:, 2] << 42) | (nb[:, 1] << 21) | nb[:, 0]
+        pos = np.searchsorted(ukey, nkey)
+        hit = ok & (pos < len(ukey))
+        hit[hit] = ukey[pos[hit]] == nkey[hit]
+        a, b = np.flatnonzero(hit), pos[hit]
+        if not len(a):
+            continue
+        na, nbc = counts[a], counts[b]
+        rep = na * nbc
+        ia = np.repeat(starts[a], rep) + (np.arange(rep.sum()) - np.repeat(np.cumsum(rep) - rep, rep)) // \
+            np.repeat(nbc, rep)
+        ib = np.repeat(starts[b], rep) + (np.arange(rep.sum()) - np.repeat(np.cumsum(rep) - rep, rep)) % \
+            np.repeat(nbc, rep)
+        first.append(order[ia])
+        second.append(order[ib])
+    if not first:
+        return np.zeros((0, 2), dtype=np.int64)
+    i, j = np.concatenate(first), np.concatenate(second)
+    d = q[i] - q[j]
+    close = np.einsum("ij,ij->i", d, d) <= 1.0
+    pairs = np.stack([np.minimum(i, j), np.maximum(i, j)], axis=1)[close]
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]

@@ -19,6 +19,7 @@ are then scaled to metres.
 from __future__ import annotations
 
 import os
+import re
 import stat
 import sys
 import warnings
@@ -86,7 +87,7 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
     and a k-d tree.  Both give the same groups.
     """
-    from .mesh_arrays import compact_vertices, topology_kernels, weld_vertices
+    from .mesh_arrays import compact_vertices, connected_components, near_pairs, topology_kernels, weld_vertices
 
     kernels = topology_kernels(len(faces))
     if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
@@ -115,19 +116,18 @@ def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     tol = edge_capped_tolerance(v, f, tol)
     if not float(np.abs(v).max()) / tol < 1e150:
         return v, f   # the tree's squared distances would overflow (the checks refuse such coordinates)
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
+    pairs = near_pairs(v, tol)       # pure NumPy; None: coordinates too far out in units of tol
+    if pairs is None:
+        from scipy.spatial import cKDTree
 
-    if np.isfinite(tol * tol) and tol * tol > 0:
-        pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
-    else:  # tol^2 would overflow (or underflow) inside the tree: measure in units of tol
-        pairs = cKDTree(v / tol).query_pairs(1.0, output_type="ndarray")
+        if np.isfinite(tol * tol) and tol * tol > 0:
+            pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+        else:  # tol^2 would overflow (or underflow) inside the tree: measure in units of tol
+            pairs = cKDTree(v / tol).query_pairs(1.0, output_type="ndarray")
     if len(pairs) == 0:
         return v, f
     n = len(v)
-    g = coo_matrix((np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(g, directed=False)
+    _, label = connected_components(n, pairs[:, 0], pairs[:, 1])
     # representative = lowest index of each group
     rep_of_label = np.full(label.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep_of_label, label, np.arange(n))
