@@ -1,9 +1,10 @@
-"""Chain bookkeeping for :mod:`inertia.geometry.robust`: duplicates, open boundary, caps.
+"""Caps closing the boundary of the chain, for :mod:`inertia.geometry.robust`.
 
 A triangle soup is treated as a 2-chain: every face carries an integer multiplicity (a
-face listed twice counts twice, once the other way round cancels).  Its *boundary* is
-the set of directed edges whose net multiplicity is not zero (open edges, or edges where
-the winding is inconsistent).  Closing each connected piece of that boundary with a
+face listed twice counts twice, once the other way round cancels;
+:func:`._robust_topo.dedupe_faces`).  Its *boundary* is the set of directed edges whose net
+multiplicity is not zero (open edges, or edges where the winding is inconsistent;
+:func:`._robust_topo.boundary_edges`).  Closing each connected piece of that boundary with a
 *cap* -- a fan of triangles from the mean of its vertices -- gives a closed chain C' whose
 winding number w' is integer everywhere; the generalised winding number of the input is
 ``w = w' - w_cap``, ``w_cap`` the winding number of the caps alone (Jacobson et al. 2013,
@@ -20,60 +21,6 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 
-def unique_rows(a: np.ndarray):
-    """``np.unique(a, axis=0, return_inverse=True)`` for small non-negative int rows, via 1-D keys (faster)."""
-    a = np.asarray(a, dtype=np.int64)
-    n = int(a.max()) + 1 if a.size else 1
-    if n ** a.shape[1] >= 2**62:
-        key, inv = np.unique(a, axis=0, return_inverse=True)
-        return key, inv.ravel()
-    k = np.zeros(len(a), np.int64)
-    for c in range(a.shape[1]):
-        k = k * n + a[:, c]
-    _, first, inv = np.unique(k, return_index=True, return_inverse=True)
-    return a[first], inv.ravel()
-
-
-def dedupe_faces(faces: np.ndarray):
-    """Merge faces with the same corner set: ``(faces (G, 3), mult (G,) float >= 1)``.
-
-    Orientation parity decides the sign of each copy; groups that cancel are dropped,
-    groups with a negative net count are flipped.  Faces with a repeated corner are
-    dropped (zero area, and their edges cancel).
-    """
-    f = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 2] != faces[:, 0])]
-    if len(f) == 0:
-        return f.reshape(0, 3), np.zeros(0)
-    s = np.sort(f, axis=1)
-    # parity of the permutation taking the face to its sorted order: a rotation of the
-    # sorted triple is even, anything else odd
-    even = ((f[:, 0] == s[:, 0]) & (f[:, 1] == s[:, 1])) | ((f[:, 1] == s[:, 0]) & (f[:, 2] == s[:, 1])) \
-        | ((f[:, 2] == s[:, 0]) & (f[:, 0] == s[:, 1]))
-    key, inv = unique_rows(s)
-    net = np.bincount(inv, weights=np.where(even, 1.0, -1.0), minlength=len(key))
-    keep = net != 0
-    key, net = key[keep], net[keep]
-    out = key.copy()
-    neg = net < 0
-    out[neg] = key[neg][:, [0, 2, 1]]
-    return out, np.abs(net)
-
-
-def open_boundary(faces: np.ndarray, mult: np.ndarray):
-    """Directed boundary edges of the chain: ``(edges (E, 2) tail -> head, multiplicity (E,))``."""
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    w = np.tile(mult, 3)
-    lo = np.minimum(e[:, 0], e[:, 1])
-    hi = np.maximum(e[:, 0], e[:, 1])
-    sign = np.where(e[:, 0] == lo, 1.0, -1.0)
-    key, inv = unique_rows(np.stack([lo, hi], 1))
-    net = np.bincount(inv, weights=sign * w, minlength=len(key))
-    nz = np.abs(net) > 0.5
-    key, net = key[nz], net[nz]
-    edges = np.where((net > 0)[:, None], key, key[:, ::-1])
-    return edges.astype(np.int64), np.abs(net)
-
-
 class Caps:
     """Fan caps closing the boundary, one per connected piece of it.
 
@@ -88,8 +35,7 @@ class Caps:
     edges : (E, 2) int, edge_mult : (E,) float, the boundary edges.
     """
 
-    def __init__(self, vertices, faces, mult, eps):
-        edges, emult = open_boundary(faces, mult)
+    def __init__(self, vertices, edges, emult, eps):
         nv = len(vertices)
         self.edges, self.edge_mult = edges, emult
         if len(edges) == 0:

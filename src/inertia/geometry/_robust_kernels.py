@@ -21,6 +21,11 @@ import math
 
 import numpy as np
 
+__all__ = ["winding_rest", "grid_pairs", "crossing_windings", "pieces_clean"]
+
+#: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
+prange = range
+
 FOUR_PI = 4.0 * math.pi
 #: Contacts at angles below this (radians) from a triangle's edge count as along the edge.
 ANGLE_TOL = 1e-12
@@ -416,84 +421,175 @@ def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
         clean[i] = ok
 
 
-def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
+def grid_pairs(V, F, lo, hi, small, cert, mode, origin, cell, eps, out):
     """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other (:func:`faces_cut`).
 
-    Broad phase: a uniform grid of cubes of side ``cell``.  Writes up to ``len(out)`` pairs into
-    ``out`` (K, 2) and returns how many there are in all (call again with more room if larger).
+    Broad phase: a uniform grid of cubes of side ``cell``, bucketed by a counting sort of
+    hashed cell keys (cells may share a bucket).  ``mode`` 0 registers the faces with
+    ``small[f]`` and reports pairs among them; mode 1 registers every face and reports the
+    pairs with at least one face not ``small`` (call it with a coarser cell).  Faces sharing
+    a vertex v with ``cert[v]`` are skipped: they cannot cut each other
+    (:func:`._robust_topo.vertex_pass`).  A pair is examined in the bucket of the cell
+    holding the low corner of the intersection of the two boxes only (both faces are
+    registered in that cell); a pair may still come twice when cells share a bucket.
+    The buckets are scanned in 64 chunks (in parallel when compiled).
 
-    Each face is registered in every cell its (eps-grown) box overlaps, unless that is more
-    than ``max_span`` cells: such big faces are tested against every face by boxes.  A
-    pair sharing several cells is examined only in the cell holding the low corner of the
-    intersection of their boxes, so each pair is reported once.
+    Writes up to ``len(out)`` pairs into ``out`` (K, 2) and returns how many there are in
+    all (call again with more room if larger).
+    """
+    start, who, corner, box, ilo = _grid_build(F, lo, hi, small, mode, origin, cell, eps)
+    T = start.shape[0] - 1
+    kmax = 1
+    for b in range(T):
+        kmax = max(kmax, start[b + 1] - start[b])
+    n_chunks = 64
+    cap = 64
+    while True:
+        counts = np.zeros(n_chunks, np.int64)
+        buf = np.empty((n_chunks, cap, 2), np.int64)
+        for ch in prange(n_chunks):
+            counts[ch] = _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode,
+                                     T * ch // n_chunks, T * (ch + 1) // n_chunks, kmax, buf[ch])
+        need = 0
+        for ch in range(n_chunks):
+            need = max(need, counts[ch])
+        if need <= cap:
+            break
+        cap = need
+    cnt = 0
+    for ch in range(n_chunks):
+        for i in range(counts[ch]):
+            if cnt < out.shape[0]:
+                out[cnt, 0] = buf[ch, i, 0]
+                out[cnt, 1] = buf[ch, i, 1]
+            cnt += 1
+    return cnt
 
-    One kernel that reads better whole (compiled by numba: its phases share scalar state).
+
+def _grid_build(F, lo, hi, small, mode, origin, cell, eps):
+    """The grid's buckets: ``start`` (T + 1,) and per entry its face, corners and box.
+
+    The entries keep copies of their faces' boxes (float32, relative to ``origin``, widened
+    so that they hold the boxes) and corners, so that a bucket is read in sequence.
     """
     nf = F.shape[0]
-    cnt_e = 0
-    big = np.zeros(nf, np.bool_)
     ilo = np.empty((nf, 3), np.int64)
     ihi = np.empty((nf, 3), np.int64)
+    n_entries = 0
     for f in range(nf):
+        if mode == 0 and not small[f]:
+            continue
         span = 1
         for c in range(3):
-            ilo[f, c] = math.floor((lo[f, c] - eps - origin[c]) / cell)
-            ihi[f, c] = math.floor((hi[f, c] + eps - origin[c]) / cell)
+            ilo[f, c] = int(math.floor((lo[f, c] - eps - origin[c]) / cell))
+            ihi[f, c] = int(math.floor((hi[f, c] + eps - origin[c]) / cell))
             span *= ihi[f, c] - ilo[f, c] + 1
-        if span > max_span:
-            big[f] = True
-        else:
-            cnt_e += span
-    key = np.empty(cnt_e, np.int64)
-    who = np.empty(cnt_e, np.int64)
-    cx = np.empty((cnt_e, 3), np.int64)
-    e = 0
+        n_entries += span
+    T = 16
+    while T < n_entries:
+        T *= 2
+    mask = T - 1
+    start = np.zeros(T + 1, np.int32)
     for f in range(nf):
-        if big[f]:
+        if mode == 0 and not small[f]:
             continue
         for i in range(ilo[f, 0], ihi[f, 0] + 1):
             for j in range(ilo[f, 1], ihi[f, 1] + 1):
                 for k in range(ilo[f, 2], ihi[f, 2] + 1):
-                    key[e] = ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & 0x3FFFFFFFFFFF
-                    who[e] = f
-                    cx[e, 0] = i
-                    cx[e, 1] = j
-                    cx[e, 2] = k
-                    e += 1
-    order = np.argsort(key)
-    cnt = 0
-    s = 0
-    while s < cnt_e:
-        t = s + 1
-        while t < cnt_e and key[order[t]] == key[order[s]]:
-            t += 1
-        for a in range(s, t):
-            ea = order[a]
-            f = who[ea]
-            for b in range(a + 1, t):
-                eb = order[b]
-                g = who[eb]
-                if g == f or cx[ea, 0] != cx[eb, 0] or cx[ea, 1] != cx[eb, 1] or cx[ea, 2] != cx[eb, 2]:
-                    continue
-                # report in the cell of the low corner of the boxes' intersection only
-                if (max(ilo[f, 0], ilo[g, 0]) != cx[ea, 0] or max(ilo[f, 1], ilo[g, 1]) != cx[ea, 1]
-                        or max(ilo[f, 2], ilo[g, 2]) != cx[ea, 2]):
-                    continue
-                if _boxes_apart(lo, hi, f, g, eps):
-                    continue
-                if faces_cut(V, F, f, g, eps, A, B, scratch):
-                    if cnt < out.shape[0]:
-                        out[cnt, 0] = min(f, g)
-                        out[cnt, 1] = max(f, g)
-                    cnt += 1
-        s = t
+                    start[(((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask) + 1] += 1
+    for b in range(T):
+        start[b + 1] += start[b]
+    fill = start[:T].copy()
+    who = np.empty(n_entries, np.int32)
+    corner = np.empty((n_entries, 3), np.int32)
+    box = np.empty((n_entries, 6), np.float32)
+    grow = np.float32(2.4e-7)      # float32 rounds to nearest: widen so the copy holds the box
     for f in range(nf):
-        if not big[f]:
+        if mode == 0 and not small[f]:
             continue
-        for g in range(nf):
-            if g == f or (big[g] and g < f) or _boxes_apart(lo, hi, f, g, eps):
-                continue
-            if faces_cut(V, F, f, g, eps, A, B, scratch):
+        b0 = np.float32(lo[f, 0] - eps - origin[0])
+        b1 = np.float32(lo[f, 1] - eps - origin[1])
+        b2 = np.float32(lo[f, 2] - eps - origin[2])
+        b3 = np.float32(hi[f, 0] + eps - origin[0])
+        b4 = np.float32(hi[f, 1] + eps - origin[1])
+        b5 = np.float32(hi[f, 2] + eps - origin[2])
+        b0 -= abs(b0) * grow
+        b1 -= abs(b1) * grow
+        b2 -= abs(b2) * grow
+        b3 += abs(b3) * grow
+        b4 += abs(b4) * grow
+        b5 += abs(b5) * grow
+        for i in range(ilo[f, 0], ihi[f, 0] + 1):
+            for j in range(ilo[f, 1], ihi[f, 1] + 1):
+                for k in range(ilo[f, 2], ihi[f, 2] + 1):
+                    b = ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask
+                    e = fill[b]
+                    who[e] = f
+                    corner[e, 0] = F[f, 0]
+                    corner[e, 1] = F[f, 1]
+                    corner[e, 2] = F[f, 2]
+                    box[e, 0] = b0
+                    box[e, 1] = b1
+                    box[e, 2] = b2
+                    box[e, 3] = b3
+                    box[e, 4] = b4
+                    box[e, 5] = b5
+                    fill[b] += 1
+    return start, who, corner, box, ilo
+
+
+def _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, b_start, b_end, kmax, out):
+    """Cutting pairs found in buckets ``b_start..b_end-1`` into ``out``; returns how many
+    (more than ``len(out)``: call again with more room).
+
+    The box test is branch-free and its survivors are collected before the rarer tests:
+    no certified common corner, the low-corner bucket, then :func:`faces_cut`.
+    """
+    mask = start.shape[0] - 2
+    hits = np.empty(kmax, np.int64)
+    A = np.empty((3, 3))
+    B = np.empty((3, 3))
+    scratch = np.empty(8)
+    cnt = 0
+    for b in range(b_start, b_end):
+        e1 = start[b + 1]
+        for ea in range(start[b], e1):
+            x0 = box[ea, 0]
+            y0 = box[ea, 1]
+            z0 = box[ea, 2]
+            x1 = box[ea, 3]
+            y1 = box[ea, 4]
+            z1 = box[ea, 5]
+            nh = 0
+            for eb in range(ea + 1, e1):
+                hits[nh] = eb
+                nh += ((box[eb, 0] <= x1) & (box[eb, 3] >= x0) & (box[eb, 1] <= y1) & (box[eb, 4] >= y0)
+                       & (box[eb, 2] <= z1) & (box[eb, 5] >= z0))
+            c0 = corner[ea, 0]
+            c1 = corner[ea, 1]
+            c2 = corner[ea, 2]
+            k0 = cert[c0]
+            k1 = cert[c1]
+            k2 = cert[c2]
+            for h in range(nh):
+                eb = hits[h]
+                g0 = corner[eb, 0]
+                g1 = corner[eb, 1]
+                g2 = corner[eb, 2]
+                if ((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) | (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2)))
+                        | (k2 & ((c2 == g0) | (c2 == g1) | (c2 == g2)))):
+                    continue
+                f = who[ea]
+                g = who[eb]
+                if g == f or (mode == 1 and small[f] and small[g]):
+                    continue
+                i = max(ilo[f, 0], ilo[g, 0])
+                j = max(ilo[f, 1], ilo[g, 1])
+                k = max(ilo[f, 2], ilo[g, 2])
+                if (((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask) != b:
+                    continue
+                if _boxes_apart(lo, hi, f, g, eps) or not faces_cut(V, F, f, g, eps, A, B, scratch):
+                    continue
                 if cnt < out.shape[0]:
                     out[cnt, 0] = min(f, g)
                     out[cnt, 1] = max(f, g)

@@ -9,8 +9,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 #: A winding W_rest - m/2 this far from an integer is not trusted (the point is too close
 #: to another sheet, or the kernel lost accuracy); the face or piece is refined instead.
@@ -57,37 +55,59 @@ class Pieces:
             self.w_max = max(self.w_max, float((front + m).max()))
 
     # ------------------------------------------------------------------ cuts
-    def find_cuts(self, n_mesh):
-        """Pairs of faces that may cut each other: ``cut`` mask and CSR lists of cutters."""
+    def find_cuts(self):
+        """Pairs of faces that may cut each other: ``cut`` mask and CSR lists of cutters;
+        also the manifold edges that join faces into patches (:func:`._robust_topo.vertex_pass`)."""
         t = time.perf_counter()
-        tri = self.V[self.F]
-        lo = np.ascontiguousarray(tri.min(1))
-        hi = np.ascontiguousarray(tri.max(1))
-        A, B, scratch = np.empty((3, 3)), np.empty((3, 3)), np.empty(8)
-        # grid cell: twice the median box extent of a face (most faces then sit in 1-8 cells)
-        ext = (hi - lo).max(1)
-        cell = 2.0 * float(np.median(ext)) if len(ext) else 1.0
-        if not cell > 0:
-            cell = float(ext.max()) or 1.0
-        origin = lo.min(0) if len(lo) else np.zeros(3)
-        out = np.empty((4 * len(self.F) + 16, 2), np.int64)
-
-        def run(out):
-            return self.kern.grid_pairs(self.V, self.F, lo, hi, origin, cell, 64, self.eps, A, B, scratch, out)
-
-        n = run(out)
-        if n > len(out):
-            out = np.empty((n, 2), np.int64)
-            run(out)
-        pairs = out[:n]
+        k, V, F, nf = self.kern, self.V, self.F, len(self.F)
+        ptr = np.empty(len(V) + 1, np.int64)
+        idx = np.empty(3 * nf, np.int64)
+        k.vertex_faces(F, len(V), False, ptr, idx)
+        cert = np.zeros(len(V), np.bool_)
+        self.joins = np.empty(3 * nf, np.int64)
+        k.vertex_pass(V, F, self.M, ptr, idx, cert, self.joins)
+        self.star_idx = idx
+        t_cert = time.perf_counter() - t
+        pairs = self._grid_pairs(cert)
+        if len(pairs):
+            nf1 = np.int64(nf + 1)
+            pairs = np.unique(pairs[:, 0] * nf1 + pairs[:, 1])
+            pairs = np.stack([pairs // nf1, pairs % nf1], 1)
         both = np.concatenate([pairs, pairs[:, ::-1]])
         both = both[np.lexsort((both[:, 1], both[:, 0]))]
-        self.cut_ptr = np.searchsorted(both[:, 0], np.arange(len(self.F) + 1)).astype(np.int64)
+        self.cut_ptr = np.searchsorted(both[:, 0], np.arange(nf + 1)).astype(np.int64)
         self.cut_idx = np.ascontiguousarray(both[:, 1])
         self.cut[both[:, 0]] = True
-        self.n_cut_pairs, self.n_cut_faces = int(n), int(self.cut.sum())
+        self.n_cut_pairs, self.n_cut_faces = len(pairs), int(self.cut.sum())
         return {"cut_pairs": self.n_cut_pairs, "cut_faces": self.n_cut_faces,
+                "certified_vertices": int(cert.sum()), "seconds_vertices": t_cert,
                 "seconds_cuts": time.perf_counter() - t}
+
+    def _grid_pairs(self, cert):
+        """Candidate pairs from two uniform grids: a fine one (cell twice the median face box)
+        for the faces spanning at most 4 cells per axis, a coarse one for pairs with the rest."""
+        V, F = self.V, self.F
+        lo, hi = np.empty((len(F), 3)), np.empty((len(F), 3))
+        self.kern.face_boxes(V, F, lo, hi)
+        d = hi - lo
+        ext = np.maximum(np.maximum(d[:, 0], d[:, 1]), d[:, 2])
+        origin = np.array([lo[:, c].min() for c in range(3)])
+        span_all = max(float(hi[:, c].max() - origin[c]) for c in range(3)) or 1.0
+        cell = max(2.0 * float(np.median(ext)), span_all / 1e6, 1e-300)
+        origin -= 2.0 * self.eps
+        small = np.ascontiguousarray(ext <= 4.0 * cell)
+        found = []
+        modes = [(0, cell)]
+        if not small.all():
+            modes.append((1, max(float(ext[~small].max()) / 4.0, span_all / 1e6)))
+        for mode, c in modes:
+            out = np.empty((len(F) // 4 + 16, 2), np.int64)
+            n = self.kern.grid_pairs(V, F, lo, hi, small, cert, mode, origin, c, self.eps, out)
+            if n > len(out):
+                out = np.empty((n, 2), np.int64)
+                self.kern.grid_pairs(V, F, lo, hi, small, cert, mode, origin, c, self.eps, out)
+            found.append(out[:n])
+        return np.concatenate(found)
 
     # ------------------------------------------------------------------ patches
     def _winding_front(self, points, owner):
@@ -101,31 +121,18 @@ class Pieces:
 
     def patch_weights(self):
         """Weights in {-1, 0, 1} of the uncut faces, their front windings, and the faces to refine."""
-        F, nf = self.F, len(self.F)
+        F, nf, k = self.F, len(self.F), self.kern
         uncut = ~self.cut
-        e_from = np.concatenate([F[:, 0], F[:, 1], F[:, 2]])
-        e_to = np.concatenate([F[:, 1], F[:, 2], F[:, 0]])
-        face = np.tile(np.arange(nf), 3)
-        key = np.minimum(e_from, e_to) * (int(F.max()) + 1) + np.maximum(e_from, e_to)
-        o = np.argsort(key, kind="stable")
-        ks, fs, fwd = key[o], face[o], (e_from < e_to)[o]
-        start = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-        cnt = np.diff(np.r_[start, len(ks)])
-        s2 = start[cnt == 2]
-        f1, f2 = fs[s2], fs[s2 + 1]
-        ok = (fwd[s2] != fwd[s2 + 1]) & uncut[f1] & uncut[f2] & (self.M[f1] == self.M[f2])
-        g = coo_matrix((np.ones(int(ok.sum())), (f1[ok], f2[ok])), shape=(nf, nf))
-        self.n_patches_all, lab = connected_components(g, directed=False)
-        tri = self.V[F]
-        area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-        cand = np.flatnonzero(uncut)
-        cand = cand[np.lexsort((-area[cand], lab[cand]))]
-        reps = cand[np.r_[True, lab[cand][1:] != lab[cand][:-1]]] if len(cand) else cand
+        lab = np.empty(nf, np.int64)
+        self.n_patches_all = k.patch_labels(self.star_idx, self.joins, self.cut, lab)
+        reps = np.empty(self.n_patches_all, np.int64)
+        k.patch_reps(self.V, F, lab, uncut, reps)
+        reps = reps[reps >= 0]
         self.n_patches = len(reps)
-        k, good = self._winding_front(tri[reps].mean(1), reps)
-        self._seen(k[good], self.M[reps[good]])
+        kk, good = self._winding_front(self.V[F[reps]].mean(1), reps)
+        self._seen(kk[good], self.M[reps[good]])
         wf_lab = np.full(self.n_patches_all, np.nan)
-        wf_lab[lab[reps]] = np.where(good, k, np.nan)
+        wf_lab[lab[reps]] = np.where(good, kk, np.nan)
         wf = np.where(uncut, wf_lab[lab], np.nan)
         uncertain = uncut & np.isnan(wf)
         safe = np.nan_to_num(wf)

@@ -53,15 +53,16 @@ from __future__ import annotations
 
 import math
 import time
+import types
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError
-from ._robust_caps import Caps, cap_region_bound, dedupe_faces
-from ._robust_pieces import Pieces, tetra_sums
-from .checks import validate_inputs
+from ._robust_caps import Caps, cap_region_bound
+from ._robust_pieces import Pieces
 from .integrals import reference_point
+from .mesh_arrays import validate_inputs, weld_map
 
 __all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", "robust_integrals"]
 
@@ -175,6 +176,7 @@ def derived_bounds(vol, first, second, bv, bf, bs) -> dict:
 
 
 def _winding_backend(backend):
+    """The kernels: compiled (:mod:`._robust_numba`) or plain Python (same source, same decisions)."""
     if backend not in ("auto", "numpy", "numba"):
         raise InputError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
     if backend != "numpy":
@@ -185,8 +187,8 @@ def _winding_backend(backend):
             if backend == "numba":
                 from .._core.errors import MissingDependencyError
                 raise MissingDependencyError("backend='numba' needs numba, which cannot be imported") from None
-    from . import _robust_kernels as k
-    return k
+    from . import _robust_kernels, _robust_topo
+    return types.SimpleNamespace(**{n: getattr(m, n) for m in (_robust_topo, _robust_kernels) for n in m.__all__})
 
 
 def _uncut_sums(pieces, p, stats):
@@ -194,13 +196,16 @@ def _uncut_sums(pieces, p, stats):
     winding evaluation; returns ``(volume, first, second, number of undecided faces)``."""
     weights, _, n_uncertain = pieces.patch_weights()
     stats["patches"] = pieces.n_patches
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    for sgn in (1, -1):
-        sel = np.flatnonzero(weights == sgn)
-        if len(sel):
-            dv, df, ds = _face_sums(pieces.V, pieces.F[sel], p)
-            vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
-    return vol, first, second, n_uncertain
+    out = np.zeros(10)
+    pieces.kern.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), float(p[0]), float(p[1]),
+                              float(p[2]), out)
+    return _unpacked(out) + (n_uncertain,)
+
+
+def _unpacked(out):
+    """(volume, first (3,), second (3, 3)) from the 10 sums of :func:`._robust_topo.weighted_sums`."""
+    xx, yy, zz, xy, xz, yz = out[4:10] / 120.0
+    return (float(out[0]) / 6.0, out[1:4] / 24.0, np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
@@ -227,23 +232,30 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     kern = _winding_backend(backend)
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
-    v, f, mult, r = _prepared(vertices, faces, reference)
+    v, f, mult, r, used = _prepared(vertices, faces, reference, kern)
     defects = []
     if (mult > 1).any():
         defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
                        "(counted with multiplicity)")
     # every integral is taken about the box center p (one apex for all the pieces: the
     # weighted chain is closed only as a whole), then moved to the reference exactly
-    p = reference_point(v)
-    eps = EPS_REL * max(float(np.linalg.norm(v.max(0) - v.min(0))), 1e-300)
-    caps = Caps(v, f, mult, eps)
-    stats = {"faces": len(faces), "boundary_edges": len(caps.edges), "caps": len(caps.apex)}
-    if len(caps.edges):
-        defects.append(f"open or inconsistently wound boundary: {len(caps.edges)} edges in {len(caps.apex)} "
+    vu = v[used]
+    p = reference_point(vu)
+    eps = EPS_REL * max(float(np.linalg.norm(vu.max(0) - vu.min(0))), 1e-300)
+    ptr = np.empty(len(v) + 1, np.int64)
+    idx = np.empty(3 * len(f), np.int64)
+    kern.vertex_faces(f, len(v), False, ptr, idx)
+    edges = np.empty((3 * len(f), 2), np.int64)
+    emult = np.empty(3 * len(f))
+    ne = kern.boundary_edges(f, mult, ptr, idx, edges, emult)
+    caps = Caps(v, edges[:ne], emult[:ne], eps)
+    stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
+    if ne:
+        defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
     pieces = Pieces(np.concatenate([v, caps.apex]), np.concatenate([f, caps.faces]),
                     np.concatenate([mult, caps.mult]), p, kern, eps)
-    stats.update(pieces.find_cuts(len(f)))
+    stats.update(pieces.find_cuts())
     if pieces.n_cut_faces:
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
                        f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping shells")
@@ -281,14 +293,17 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
                         tuple(defects), stats, der)
 
 
-def _prepared(vertices, faces, reference):
-    """Validated ``(vertices, faces, multiplicities, reference or None)``, exact duplicates merged."""
+def _prepared(vertices, faces, reference, kern):
+    """Validated ``(vertices, faces, multiplicities, reference or None, used-vertex mask)``;
+    exactly coincident vertices merged (no tolerance: the geometry is unchanged), so that
+    repeated copies of faces are recognised as one face with a multiplicity."""
     v, f = validate_inputs(vertices, faces)
     if len(f) == 0:
         raise InputError("faces is empty: a mesh needs at least one triangle")
     if f.min() < 0 or f.max() >= len(v):
         raise InputError(f"a face holds a vertex index outside [0, {len(v)})")
-    used = np.unique(f)
+    used = np.zeros(len(v), bool)
+    used[f.ravel()] = True
     if not np.isfinite(v[used]).all():
         raise InputError("a vertex used by a face is not finite")
     r = None
@@ -296,13 +311,16 @@ def _prepared(vertices, faces, reference):
         r = np.asarray(reference, dtype=np.float64)
         if r.shape != (3,) or not np.isfinite(r).all():
             raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
-    # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
-    # repeated copies of faces are recognised as one face with a multiplicity
-    v, inv = _weld_exact(v[used])
-    f, mult = dedupe_faces(inv[np.searchsorted(used, f)])
-    if len(f) == 0:
+    fw = np.ascontiguousarray(weld_map(v)[f])
+    ptr = np.empty(len(v) + 1, np.int64)
+    idx = np.empty(len(fw), np.int64)
+    kern.vertex_faces(fw, len(v), True, ptr, idx)
+    out = np.empty_like(fw)
+    mult = np.empty(len(fw))
+    n = kern.dedupe_faces(fw, ptr, idx, out, mult)
+    if n == 0:
         raise InputError("every face is degenerate or cancelled by an opposite copy: nothing to integrate")
-    return v, f, mult, r
+    return np.ascontiguousarray(v), out[:n], mult[:n], r, used
 
 
 def _cap_terms(caps, v, kern, p, enough, stats):
@@ -317,27 +335,6 @@ def _cap_terms(caps, v, kern, p, enough, stats):
     cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p, enough=enough)
     stats["cap_cells_left"] = left
     return amb, (cv, cf1, cs2)
-
-
-def _weld_exact(v):
-    """``np.unique(v, axis=0, return_inverse=True)`` for float rows, by one lexsort (faster)."""
-    o = np.lexsort((v[:, 2], v[:, 1], v[:, 0]))
-    s = v[o]
-    new = np.r_[True, np.any(s[1:] != s[:-1], axis=1)]
-    inv = np.empty(len(v), np.int64)
-    inv[o] = np.cumsum(new) - 1
-    return s[new], inv
-
-
-def _face_sums(V, F, p, chunk=65536):
-    """Signed-tetrahedron integrals (apex p) summed over faces, in chunks (bounded memory)."""
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    ones = np.ones(min(chunk, len(F)))
-    for s in range(0, len(F), chunk):
-        fc = F[s:s + chunk]
-        dv, df, ds = tetra_sums(V[fc], p, ones[:len(fc)])
-        vol, first, second = vol + dv, first + df, second + ds
-    return vol, first, second
 
 
 def _moved(vol, first, second, bv, bf, bs, d):

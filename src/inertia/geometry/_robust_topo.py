@@ -1,0 +1,505 @@
+"""Scalar topology kernels of :mod:`inertia.geometry.robust`, vertex by vertex in O(n).
+
+Like :mod:`._robust_kernels`, written once in plain scalar Python (the slow fallback) and
+compiled by numba (:mod:`._robust_numba`); nothing here imports numba.
+
+Everything is read from the faces around each vertex (:func:`vertex_faces`, a counting
+sort), so no hash table is needed:
+
+* :func:`dedupe_faces` merges faces with the same corner set into one face with a
+  multiplicity (orientation parity gives the sign of each copy);
+* :func:`boundary_edges`: the directed edges of non-zero net multiplicity (open edges,
+  inconsistently wound ones), which the caps close;
+* :func:`vertex_pass` proves, vertex by vertex, that no two faces around a vertex cut each
+  other (their projections along one direction tile a disc or a sector), and lists the
+  manifold, consistently wound edges of equal multiplicities that join faces into patches;
+* :func:`patch_labels` joins the uncut faces across those edges (union-find);
+* :func:`weighted_sums` adds the signed-tetrahedron integrals of weighted faces.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["face_boxes", "vertex_faces", "dedupe_faces", "boundary_edges", "vertex_pass", "patch_labels", "patch_reps",
+           "weighted_sums"]
+
+TWO_PI = 2.0 * math.pi
+#: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
+prange = range
+
+
+def face_boxes(V, F, lo, hi):
+    """Axis-aligned boxes of the faces: ``lo``, ``hi`` (F, 3)."""
+    for f in range(F.shape[0]):
+        for c in range(3):
+            a = V[F[f, 0], c]
+            b = V[F[f, 1], c]
+            d = V[F[f, 2], c]
+            lo[f, c] = min(a, min(b, d))
+            hi[f, c] = max(a, max(b, d))
+
+
+def vertex_faces(F, n_vertices, key_min, ptr, idx):
+    """CSR of faces by vertex: ``idx[ptr[v]:ptr[v + 1]]``, in increasing face order.
+
+    ``key_min``: register each face under its lowest corner only (else under all three).
+    """
+    for v in range(n_vertices + 1):
+        ptr[v] = 0
+    nf = F.shape[0]
+    for f in range(nf):
+        if key_min:
+            ptr[min(F[f, 0], min(F[f, 1], F[f, 2])) + 1] += 1
+        else:
+            for k in range(3):
+                ptr[F[f, k] + 1] += 1
+    for v in range(n_vertices):
+        ptr[v + 1] += ptr[v]
+    fill = ptr[:n_vertices].copy()
+    for f in range(nf):
+        if key_min:
+            v = min(F[f, 0], min(F[f, 1], F[f, 2]))
+            idx[fill[v]] = f
+            fill[v] += 1
+        else:
+            for k in range(3):
+                v = F[f, k]
+                idx[fill[v]] = f
+                fill[v] += 1
+
+
+def _odd(a, b, c):
+    """Parity of the permutation sorting (a, b, c) (distinct): True when odd."""
+    odd = False
+    if a > b:
+        a, b = b, a
+        odd = not odd
+    if b > c:
+        b, c = c, b
+        odd = not odd
+    if a > b:
+        odd = not odd
+    return odd
+
+
+def dedupe_faces(F, ptr, idx, out, mult):
+    """Faces with distinct corners, equal corner sets merged; returns how many were written.
+
+    ``ptr, idx``: :func:`vertex_faces` with ``key_min``.  ``out`` (F, 3) receives the groups
+    in order of first appearance with their net multiplicity ``mult`` (copies oriented like
+    the first copy count +1, the others -1); groups that cancel are dropped, a group with a
+    negative net count is written flipped.
+    """
+    nf = F.shape[0]
+    leader = np.arange(nf)
+    net = np.zeros(nf)
+    for v in range(ptr.shape[0] - 1):
+        for i in range(ptr[v], ptr[v + 1]):
+            f = idx[i]
+            if leader[f] != f:
+                continue
+            a = F[f, 0]
+            b = F[f, 1]
+            c = F[f, 2]
+            if a == b or b == c or c == a:
+                leader[f] = -1
+                continue
+            net[f] = 1.0
+            s = a + b + c
+            hi = max(a, max(b, c))
+            odd = _odd(a, b, c)
+            for j in range(i + 1, ptr[v + 1]):
+                g = idx[j]
+                if leader[g] != g:
+                    continue
+                x = F[g, 0]
+                y = F[g, 1]
+                z = F[g, 2]
+                # same lowest corner (v); equal sets iff equal sums and equal highest corners
+                if x + y + z == s and max(x, max(y, z)) == hi and x != y and y != z and z != x:
+                    leader[g] = f
+                    net[f] += 1.0 if _odd(x, y, z) == odd else -1.0
+    n = 0
+    for f in range(nf):
+        if leader[f] != f or net[f] == 0.0:
+            continue
+        m = net[f]
+        out[n, 0] = F[f, 0]
+        out[n, 1] = F[f, 1] if m > 0 else F[f, 2]
+        out[n, 2] = F[f, 2] if m > 0 else F[f, 1]
+        mult[n] = abs(m)
+        n += 1
+    return n
+
+
+def _star(F, ptr, idx, v, A, B, W):
+    """Corners after v (A[t], B[t]) of the faces W[t] around v; returns their number."""
+    k = 0
+    for i in range(ptr[v], ptr[v + 1]):
+        f = idx[i]
+        if F[f, 0] == v:
+            A[k] = F[f, 1]
+            B[k] = F[f, 2]
+        elif F[f, 1] == v:
+            A[k] = F[f, 2]
+            B[k] = F[f, 0]
+        else:
+            A[k] = F[f, 0]
+            B[k] = F[f, 1]
+        W[k] = f
+        k += 1
+    return k
+
+
+def _max_valence(ptr):
+    kmax = 1
+    for v in range(ptr.shape[0] - 1):
+        kmax = max(kmax, ptr[v + 1] - ptr[v])
+    return kmax
+
+
+def boundary_edges(F, M, ptr, idx, out, out_mult):
+    """Directed boundary edges (tail, head) of the chain (net multiplicity != 0); returns their count.
+
+    ``ptr, idx``: :func:`vertex_faces` with every corner.  Edge {v, x} is examined at its lower
+    end v: its net multiplicity is the sum of M over the faces traversing v -> x minus those
+    traversing x -> v.  The vertices are first counted (in parallel when compiled), then
+    the few with boundary edges write them.
+    """
+    nv = ptr.shape[0] - 1
+    kmax = _max_valence(ptr)
+    counts = np.zeros(nv, np.int64)
+    n_chunks = 64
+    for ch in prange(n_chunks):
+        A = np.empty(kmax, np.int64)
+        B = np.empty(kmax, np.int64)
+        W = np.empty(kmax, np.int64)
+        for v in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
+            counts[v] = _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, -1)
+    A = np.empty(kmax, np.int64)
+    B = np.empty(kmax, np.int64)
+    W = np.empty(kmax, np.int64)
+    n = 0
+    for v in range(nv):
+        if counts[v]:
+            n += _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, n)
+    return n
+
+
+def _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, n):
+    """Boundary edges owned by v (its lower end); written from ``out[n]`` on unless n < 0."""
+    k = _star(F, ptr, idx, v, A, B, W)
+    found = 0
+    for t in range(2 * k):
+        x = A[t] if t < k else B[t - k]
+        if x < v or _seen_before(A, B, k, t, x):
+            continue
+        net = 0.0
+        for u in range(k):
+            if A[u] == x:
+                net += M[W[u]]
+            if B[u] == x:
+                net -= M[W[u]]
+        if abs(net) < 0.5:
+            continue
+        if n >= 0:
+            out[n + found, 0] = v if net > 0 else x
+            out[n + found, 1] = x if net > 0 else v
+            out_mult[n + found] = abs(net)
+        found += 1
+    return found
+
+
+def _seen_before(A, B, k, t, x):
+    """x already appeared among the link corners listed before position t (A then B)."""
+    for u in range(t):
+        if (A[u] if u < k else B[u - k]) == x:
+            return True
+    return False
+
+
+def vertex_pass(V, F, M, ptr, idx, ok, joins):
+    """Certified vertices ``ok`` and the patch-joining edges ``joins`` (in parallel when compiled).
+
+    ``ok[v]``: no two faces around v share a point other than v and their common edges.
+    Sufficient test: the faces around v form one fan (their link edges a -> b, the corners
+    after v, make a single cycle, or a single path at a boundary), and projected along the
+    mean normal n every face is positively oriented (beyond a 1e-9 relative margin) and the
+    angular sectors cover the circle once (cycle: a direction inside the first sector lies in
+    no other sector, beyond a 1e-9 margin) or less (path: the angles add up to less than one
+    turn).  Then the projections of the faces lie in disjoint sectors around v, so two faces
+    can meet only where their projections do: in v and along a shared edge.
+
+    ``joins`` (3F,): for the star face ``idx[i]`` (i in ``ptr[v]..ptr[v + 1]``) traversing
+    v -> x with x > v, the other face of that edge when the edge is used by exactly these
+    two faces, in opposite directions, with equal multiplicities; else -1.
+    """
+    nv = ptr.shape[0] - 1
+    kmax = _max_valence(ptr)
+    n_chunks = 64
+    for ch in prange(n_chunks):
+        A = np.empty(kmax, np.int64)
+        B = np.empty(kmax, np.int64)
+        W = np.empty(kmax, np.int64)
+        nxt = np.empty(kmax, np.int64)
+        flag = np.empty(kmax, np.bool_)
+        C = np.empty((kmax, 3))
+        for v in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
+            k = _star(F, ptr, idx, v, A, B, W)
+            ok[v] = False
+            _manifold_pairs(M, v, A, B, W, k, joins, ptr[v])
+            if k < 2:
+                continue
+            kind = _fan_kind(A, B, k, nxt, flag)
+            if kind != 0:
+                ok[v] = _fan_flat(V, v, A, B, k, kind, C)
+
+
+def _manifold_pairs(M, v, A, B, W, k, joins, base):
+    """``joins[base + t]``: the other face of edge v -> A[t] (A[t] > v) when it is used once each way
+    with equal multiplicities, else -1."""
+    for t in range(k):
+        joins[base + t] = -1
+        x = A[t]
+        if x < v:
+            continue
+        other = -1
+        count = 0
+        for u in range(k):
+            if A[u] == x and u != t:
+                count += 2
+            if B[u] == x:
+                other = u
+                count += 1
+        if count == 1 and M[W[t]] == M[W[other]]:
+            joins[base + t] = W[other]
+
+
+def _fan_kind(A, B, k, nxt, flag):
+    """How the link edges A[t] -> B[t] of a vertex connect: 2 one cycle, 1 one path, 0 neither.
+
+    ``nxt[t]`` is the edge starting where edge t ends (B[t] == A[u]); the tails A must be
+    distinct, and the walk from the start (the edge whose tail is nobody's head, else edge 0)
+    must reach all k edges, then stop (path) or come back to the start (cycle).
+    """
+    for t in range(k):
+        flag[t] = False       # here: "is somebody's head"
+        nxt[t] = -1
+    for t in range(k):
+        for u in range(k):
+            if u != t and A[u] == A[t]:
+                return 0
+            if B[t] == A[u]:
+                nxt[t] = u
+                flag[u] = True
+    start = 0
+    n_starts = 0
+    for u in range(k):
+        if not flag[u]:
+            start = u
+            n_starts += 1
+    if n_starts > 1:
+        return 0
+    for t in range(k):
+        flag[t] = False       # now: "visited"
+    t = start
+    count = 0
+    last = -1
+    while t != -1 and not flag[t]:
+        flag[t] = True
+        count += 1
+        last = t
+        t = nxt[t]
+    if count != k:
+        return 0
+    if n_starts == 0:
+        return 2 if nxt[last] == start else 0
+    return 1 if nxt[last] == -1 else 0
+
+
+def _fan_flat(V, v, A, B, k, kind, C):
+    """The fan around v projects along its mean normal into disjoint sectors (see :func:`vertex_pass`)."""
+    px = V[v, 0]
+    py = V[v, 1]
+    pz = V[v, 2]
+    nx = 0.0
+    ny = 0.0
+    nz = 0.0
+    for t in range(k):
+        ax = V[A[t], 0] - px
+        ay = V[A[t], 1] - py
+        az = V[A[t], 2] - pz
+        bx = V[B[t], 0] - px
+        by = V[B[t], 1] - py
+        bz = V[B[t], 2] - pz
+        C[t, 0] = ay * bz - az * by
+        C[t, 1] = az * bx - ax * bz
+        C[t, 2] = ax * by - ay * bx
+        nx += C[t, 0]
+        ny += C[t, 1]
+        nz += C[t, 2]
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if not ln > 0.0:
+        return False
+    nx /= ln
+    ny /= ln
+    nz /= ln
+    for t in range(k):
+        cn = C[t, 0] * nx + C[t, 1] * ny + C[t, 2] * nz
+        if not cn > 1e-9 * math.sqrt(C[t, 0] * C[t, 0] + C[t, 1] * C[t, 1] + C[t, 2] * C[t, 2]):
+            return False
+    if kind == 1:
+        total = 0.0
+        for t in range(k):
+            ax = V[A[t], 0] - px
+            ay = V[A[t], 1] - py
+            az = V[A[t], 2] - pz
+            bx = V[B[t], 0] - px
+            by = V[B[t], 1] - py
+            bz = V[B[t], 2] - pz
+            an = ax * nx + ay * ny + az * nz
+            bn = bx * nx + by * ny + bz * nz
+            total += math.atan2(C[t, 0] * nx + C[t, 1] * ny + C[t, 2] * nz,
+                                ax * bx + ay * by + az * bz - an * bn)
+        return total < TWO_PI - 1e-9
+    # cycle: u = bisector of sector 0; sector t contains u iff a_t . w >= 0 >= b_t . w, w = u x n
+    ax = V[A[0], 0] - px
+    ay = V[A[0], 1] - py
+    az = V[A[0], 2] - pz
+    bx = V[B[0], 0] - px
+    by = V[B[0], 1] - py
+    bz = V[B[0], 2] - pz
+    la = math.sqrt(ax * ax + ay * ay + az * az)
+    lb = math.sqrt(bx * bx + by * by + bz * bz)
+    ux = ax / la + bx / lb
+    uy = ay / la + by / lb
+    uz = az / la + bz / lb
+    wx = uy * nz - uz * ny
+    wy = uz * nx - ux * nz
+    wz = ux * ny - uy * nx
+    lw = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if not lw > 0.0:
+        return False
+    for t in range(1, k):
+        ax = V[A[t], 0] - px
+        ay = V[A[t], 1] - py
+        az = V[A[t], 2] - pz
+        bx = V[B[t], 0] - px
+        by = V[B[t], 1] - py
+        bz = V[B[t], 2] - pz
+        aw = ax * wx + ay * wy + az * wz
+        bw = bx * wx + by * wy + bz * wz
+        ma = 1e-9 * lw * math.sqrt(ax * ax + ay * ay + az * az)
+        mb = 1e-9 * lw * math.sqrt(bx * bx + by * by + bz * bz)
+        if aw >= -ma and bw <= mb:
+            return False          # u in (or within the margin of) another sector
+    return True
+
+
+def _find(parent, x):
+    r = x
+    while parent[r] != r:
+        r = parent[r]
+    while parent[x] != r:
+        y = parent[x]
+        parent[x] = r
+        x = y
+    return r
+
+
+def patch_labels(idx, joins, cut, labels):
+    """Connected patches of uncut faces joined by ``joins`` (:func:`vertex_pass`, with the
+    same ``idx``); ``labels[f]`` in 0..n-1 (cut faces alone in theirs), returns n."""
+    nf = labels.shape[0]
+    parent = np.arange(nf)
+    for i in range(joins.shape[0]):
+        g = joins[i]
+        if g < 0:
+            continue
+        f = idx[i]
+        if cut[f] or cut[g]:
+            continue
+        rf = _find(parent, f)
+        rg = _find(parent, g)
+        if rf < rg:
+            parent[rg] = rf
+        elif rg < rf:
+            parent[rf] = rg
+    n = 0
+    for f in range(nf):
+        r = _find(parent, f)
+        if r == f:
+            labels[f] = n
+            n += 1
+        else:
+            labels[f] = labels[r]
+    return n
+
+
+def patch_reps(V, F, labels, uncut, reps):
+    """``reps[l]``: the uncut face of largest area in patch l (-1 if none)."""
+    best = np.full(reps.shape[0], -1.0)
+    for i in range(reps.shape[0]):
+        reps[i] = -1
+    for f in range(F.shape[0]):
+        if not uncut[f]:
+            continue
+        ax = V[F[f, 1], 0] - V[F[f, 0], 0]
+        ay = V[F[f, 1], 1] - V[F[f, 0], 1]
+        az = V[F[f, 1], 2] - V[F[f, 0], 2]
+        bx = V[F[f, 2], 0] - V[F[f, 0], 0]
+        by = V[F[f, 2], 1] - V[F[f, 0], 1]
+        bz = V[F[f, 2], 2] - V[F[f, 0], 2]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        a2 = cx * cx + cy * cy + cz * cz
+        lab = labels[f]
+        if a2 > best[lab]:
+            best[lab] = a2
+            reps[lab] = f
+
+
+def weighted_sums(V, F, w, px, py, pz, out):
+    """``out`` (10,) += sum_f w_f of the signed tetrahedron (p, face f) integrals, times
+    6, 24, 24, 24, 120 (x6): volume, int y (3), int y y^T (xx, yy, zz, xy, xz, yz), y = x - p.
+
+    Summed in blocks of 256 faces, then the blocks (rounding grows with the block count).
+    """
+    nf = F.shape[0]
+    blk = np.zeros(10)
+    for s in range(0, nf, 256):
+        for i in range(10):
+            blk[i] = 0.0
+        for f in range(s, min(nf, s + 256)):
+            wf = w[f]
+            if wf == 0.0:
+                continue
+            ax = V[F[f, 0], 0] - px
+            ay = V[F[f, 0], 1] - py
+            az = V[F[f, 0], 2] - pz
+            bx = V[F[f, 1], 0] - px
+            by = V[F[f, 1], 1] - py
+            bz = V[F[f, 1], 2] - pz
+            cx = V[F[f, 2], 0] - px
+            cy = V[F[f, 2], 1] - py
+            cz = V[F[f, 2], 2] - pz
+            det = wf * (ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx))
+            sx = ax + bx + cx
+            sy = ay + by + cy
+            sz = az + bz + cz
+            blk[0] += det
+            blk[1] += det * sx
+            blk[2] += det * sy
+            blk[3] += det * sz
+            blk[4] += det * (ax * ax + bx * bx + cx * cx + sx * sx)
+            blk[5] += det * (ay * ay + by * by + cy * cy + sy * sy)
+            blk[6] += det * (az * az + bz * bz + cz * cz + sz * sz)
+            blk[7] += det * (ax * ay + bx * by + cx * cy + sx * sy)
+            blk[8] += det * (ax * az + bx * bz + cx * cz + sx * sz)
+            blk[9] += det * (ay * az + by * bz + cy * cz + sy * sz)
+        for i in range(10):
+            out[i] += blk[i]
