@@ -88,80 +88,110 @@ class Caps:
         return out
 
 
-def cap_region_bound(caps: Caps, vertices, threshold, winding, p, *, max_level=7, max_cells=200_000,
-                     enough=0.0):
+class CapGeometry:
+    """The caps as the octree kernel (:func:`._robust_capk.cap_cells`) reads them: faces and
+    loop edges grouped by cap, boxes, and each cap's area, perimeter, diameter and flatness."""
+
+    def __init__(self, caps: Caps, vertices, eps):
+        order = np.argsort(caps.piece, kind="stable")
+        K = len(caps.apex)
+        self.ptr = np.searchsorted(caps.piece[order], np.arange(K + 1)).astype(np.int64)
+        self.CV = np.ascontiguousarray(np.concatenate([vertices, caps.apex]))
+        self.CF = np.ascontiguousarray(caps.faces[order])
+        self.CM = np.ascontiguousarray(caps.mult[order])
+        tri = self.CV[self.CF]
+        self.face_lo = np.ascontiguousarray(tri.min(1))
+        self.face_hi = np.ascontiguousarray(tri.max(1))
+        e = caps.edges[order]
+        self.E0 = np.ascontiguousarray(vertices[e[:, 0]])
+        self.E1 = np.ascontiguousarray(vertices[e[:, 1]])
+        self.EM = np.ascontiguousarray(caps.edge_mult[order])
+        self.cap_lo = np.array([self.face_lo[a:b].min(0) for a, b in zip(self.ptr[:-1], self.ptr[1:])]).reshape(K, 3)
+        self.cap_hi = np.array([self.face_hi[a:b].max(0) for a, b in zip(self.ptr[:-1], self.ptr[1:])]).reshape(K, 3)
+        fa = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1) * self.CM
+        el = np.linalg.norm(self.E1 - self.E0, axis=1) * self.EM
+        self.area = np.add.reduceat(fa, self.ptr[:-1]) if K else np.zeros(0)
+        self.perimeter = np.add.reduceat(el, self.ptr[:-1]) if K else np.zeros(0)
+        self.diameter = np.linalg.norm(self.cap_hi - self.cap_lo, axis=1)
+        self.flat = np.ascontiguousarray(caps.planar_simple)
+        nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]) * self.CM[:, None]
+        nrm = np.add.reduceat(nrm, self.ptr[:-1], axis=0) if K else np.zeros((0, 3))
+        ln = np.linalg.norm(nrm, axis=1)
+        self.normal = np.ascontiguousarray(nrm / np.where(ln > 0, ln, 1.0)[:, None])
+        self.apex = np.ascontiguousarray(caps.apex)
+        self.flat_tol = float(eps)
+        self.total_area = float(fa.sum())
+
+
+def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_cells=200_000, enough=0.0):
     """Upper bounds of ``int |1|, |y_i|, |y_i y_j|`` (y = x - p) over {x : |w_cap(x)| >= threshold}.
 
     Adaptive octree over the box around the caps outside which ``|w_cap| < threshold``
-    (``|Omega| <= area / d^2``).  A cell that no cap triangle's box reaches is certified
-    free when ``|w_cap(center)| + rho |grad w_cap|max < threshold``, the gradient bounded
-    by the Biot-Savart form of the cap boundary (the mesh boundary edges):
-    ``|grad w_cap| <= sum_e m_e len_e / (4 pi d_e^2)``.  Cells left at the last level
-    count whole; refinement also stops once their volume is at most ``enough``.
-    ``winding(points, cap_vertices, cap_faces, cap_mult, out)`` evaluates w_cap.
+    (``|Omega| <= area / d^2``); :func:`._robust_capk.cap_cells` certifies cells free, or
+    (threshold 1/2) bounds the part of a cell near a single flat cap in closed form.
+    Cells left at the last level count whole; refinement also stops once the bound is at
+    most ``enough``.
 
     Returns ``(volume bound, first (3,), second (3, 3), n_cells_left)``.
     """
-    cv = np.concatenate([vertices, caps.apex])
-    cf = caps.faces
-    tri = cv[cf]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1) * caps.mult
-    A = area.sum()
-    lo = tri.reshape(-1, 3).min(0)
-    hi = tri.reshape(-1, 3).max(0)
-    r = math.sqrt(A / (4.0 * math.pi * threshold))
-    lo, hi = lo - r, hi + r
-    size = (hi - lo).max()
+    r = math.sqrt(geo.total_area / (4.0 * math.pi * threshold))
+    lo, hi = geo.cap_lo.min(0) - r, geo.cap_hi.max(0) + r
+    size = float((hi - lo).max())
     centers = (0.5 * (lo + hi))[None, :]
     half = 0.5 * size
-    tlo = tri.min(1)
-    thi = tri.max(1)
-    e0 = cv[caps.edges[:, 0]]
-    e1 = cv[caps.edges[:, 1]]
-    elen = np.linalg.norm(e1 - e0, axis=1) * caps.edge_mult
-    vol = 0.0
-    first = np.zeros(3)
-    second = np.zeros((3, 3))
+    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
     left = 0
+    args = (geo.CV, geo.CF, geo.CM, geo.ptr, geo.face_lo, geo.face_hi, geo.E0, geo.E1, geo.EM, geo.ptr,
+            geo.flat, geo.diameter, geo.normal, geo.apex, geo.flat_tol)
+    K = len(geo.area)
+    cap_delta = np.zeros(K)                 # largest Delta of the accepted cells near each flat cap
+    # Delta that keeps the flat caps' layers within half of ``enough`` (V_k ~ 4 A_k D_k Delta)
+    target = 0.5 * enough / max(4.0 * float(geo.area @ geo.diameter), 1e-300)
     for level in range(max_level + 1):
-        rho = half * math.sqrt(3.0)
-        # distance lower bound from each cell's ball to each cap triangle's box
-        dbox = np.sqrt((np.maximum(0.0, np.maximum(tlo[None] - centers[:, None], centers[:, None] - thi[None])) ** 2)
-                       .sum(-1)) - rho
-        crossing = (dbox <= 0.0).any(1)
-        w = np.zeros(len(centers))
-        winding(centers, cv, cf, caps.mult, w)
-        dedge = _segment_distance(centers, e0, e1) - rho
-        with np.errstate(divide="ignore"):
-            grad = np.where(dedge > 0, elen[None] / (4.0 * math.pi * np.maximum(dedge, 1e-300) ** 2), np.inf).sum(1)
-        free = ~crossing & (np.abs(w) + rho * grad < threshold)
-        busy = centers[~free]
+        n = len(centers)
+        status, which = np.empty(n, np.int64), np.empty(n, np.int64)
+        delta, w_rest = np.empty(n), np.empty(n)
+        kern.cap_cells(np.ascontiguousarray(centers), half, threshold, *args, status, which, delta, w_rest)
+        cell_vol = (2 * half) ** 3
+        last = level == max_level or 8 * int((status != 0).sum()) > max_cells
+        # a cell near one flat cap is accepted once its Delta meets the target, or stops
+        # shrinking (a cell well inside the cap's size, the other caps' value dominating),
+        # or refinement has to stop
+        near = status == 1
+        small = half <= 0.25 * geo.diameter[np.maximum(which, 0)]
+        accept = near & ((delta <= target) | ((delta <= 2.0 * w_rest) & small) | last)
+        np.maximum.at(cap_delta, which[accept], delta[accept])
+        status[near & ~accept] = 2
+        busy = centers[status == 2]
         if len(busy) == 0:
             break
-        if level == max_level or 8 * len(busy) > max_cells or len(busy) * (2 * half) ** 3 <= enough:
-            cv_vol, cf1, cs2 = _box_bounds(busy, half, p)
-            vol += cv_vol
-            first += cf1
-            second += cs2
-            left = len(busy)
+        if last or _flat_total(geo, cap_delta) + vol + len(busy) * cell_vol <= enough:
+            deferred = (status == 2) & near
+            np.maximum.at(cap_delta, which[deferred], delta[deferred])
+            whole = centers[(status == 2) & ~near]
+            dv, df, ds = _box_bounds(whole, half, p, np.full(len(whole), cell_vol))
+            vol, first, second = vol + dv, first + df, second + ds
+            left = len(whole)
             break
         half *= 0.5
         offs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float) * half
         centers = (busy[:, None, :] + offs[None]).reshape(-1, 3)
+    for k in np.flatnonzero(cap_delta > 0):
+        dv = kern.flat_cap_volume(float(cap_delta[k]), float(geo.area[k]), float(geo.perimeter[k]),
+                                  float(geo.diameter[k]), geo.flat_tol)
+        h_in, r_max, h_max = kern.flat_cap_heights(float(cap_delta[k]), float(geo.diameter[k]))
+        grow = r_max + max(h_in, h_max) + geo.flat_tol
+        m = np.maximum(np.abs(geo.cap_lo[k] - grow - p), np.abs(geo.cap_hi[k] + grow - p))
+        vol, first, second = vol + dv, first + dv * m, second + dv * np.outer(m, m)
     return vol, first, second, left
 
 
-def _segment_distance(pts, a, b):
-    """Distances (P, E) from points to segments a-b."""
-    d = b - a
-    dd = np.maximum((d * d).sum(1), 1e-300)
-    t = np.clip(((pts[:, None, :] - a[None]) * d[None]).sum(-1) / dd[None], 0.0, 1.0)
-    q = a[None] + t[..., None] * d[None]
-    return np.linalg.norm(pts[:, None, :] - q, axis=-1)
+def _flat_total(geo, cap_delta):
+    """Sum of the closed-form layer bounds of the flat caps for their current Delta (approximate: 4 A D Delta)."""
+    return float(4.0 * (geo.area * geo.diameter) @ cap_delta)
 
 
-def _box_bounds(centers, half, p):
-    """Bounds of the integrals of |1|, |y_i|, |y_i y_j| over cubes (centers, half side)."""
-    vol = (2.0 * half) ** 3
+def _box_bounds(centers, half, p, vols):
+    """Bounds of the integrals of |1|, |y_i|, |y_i y_j| over parts (volumes ``vols``) of cubes."""
     m = np.abs(centers - p) + half          # max |y_i| over each cube
-    return vol * len(centers), vol * m.sum(0), vol * (m[:, :, None] * m[:, None, :]).sum(0)
+    return float(vols.sum()), vols @ m, np.einsum("i,ij,ik->jk", vols, m, m)

@@ -1,5 +1,5 @@
-"""Numba-compiled twins of :mod:`._robust_kernels` and :mod:`._robust_topo` (optional;
-imports numba at its top).
+"""Numba-compiled twins of :mod:`._robust_kernels`, :mod:`._robust_topo` and :mod:`._robust_capk`
+(optional; imports numba at its top).
 
 Only :mod:`inertia.geometry.robust` imports this module, lazily, and falls back to the
 plain-Python kernels when numba is missing.  The kernels are compiled from the very same
@@ -17,14 +17,14 @@ import types
 
 import numba as nb
 
-from . import _robust_kernels, _robust_topo
+from . import _robust_capk, _robust_kernels, _robust_topo
 
 _JIT = {"cache": True, "nogil": True, "boundscheck": False}
 
 
 def _compiled_namespace():
     ns = {"__name__": __name__}
-    for mod in (_robust_topo, _robust_kernels):
+    for mod in (_robust_topo, _robust_kernels, _robust_capk):
         path = mod.__file__
         with open(path, encoding="utf-8") as fh:
             code = compile(fh.read(), path, "exec")
@@ -39,4 +39,4 @@ def _compiled_namespace():
 
 
 _NS = _compiled_namespace()
-globals().update({name: _NS[name] for name in _robust_topo.__all__ + _robust_kernels.__all__})
+globals().update({name: _NS[name] for name in _robust_topo.__all__ + _robust_kernels.__all__ + _robust_capk.__all__})

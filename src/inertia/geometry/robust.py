@@ -59,7 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError
-from ._robust_caps import Caps, cap_region_bound
+from ._robust_caps import CapGeometry, Caps, cap_region_bound
 from ._robust_pieces import Pieces
 from .integrals import reference_point
 from .mesh_arrays import validate_inputs, weld_map
@@ -187,8 +187,9 @@ def _winding_backend(backend):
             if backend == "numba":
                 from .._core.errors import MissingDependencyError
                 raise MissingDependencyError("backend='numba' needs numba, which cannot be imported") from None
-    from . import _robust_kernels, _robust_topo
-    return types.SimpleNamespace(**{n: getattr(m, n) for m in (_robust_topo, _robust_kernels) for n in m.__all__})
+    from . import _robust_capk, _robust_kernels, _robust_topo
+    mods = (_robust_topo, _robust_kernels, _robust_capk)
+    return types.SimpleNamespace(**{n: getattr(m, n) for m in mods for n in m.__all__})
 
 
 def _uncut_sums(pieces, p, stats):
@@ -264,7 +265,7 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
-    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, 0.25 * tol * abs(vol), stats)
+    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, 0.25 * tol * abs(vol), eps, stats)
     # 3. cut faces and uncertain patches: refine
     deadline = None if time_budget is None else t0 + time_budget
 
@@ -323,16 +324,17 @@ def _prepared(vertices, faces, reference, kern):
     return np.ascontiguousarray(v), out[:n], mult[:n], r, used
 
 
-def _cap_terms(caps, v, kern, p, enough, stats):
+def _cap_terms(caps, v, kern, p, enough, eps, stats):
     """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region."""
     zero = (0.0, np.zeros(3), np.zeros((3, 3)))
     if not len(caps.apex):
         return 0.0, zero
+    geo = CapGeometry(caps, v, eps)
     # an indicator, not an error: a coarse octree is enough
-    amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p, max_level=4, max_cells=20_000)[0]
+    amb = cap_region_bound(geo, AMBIGUOUS_LOW, kern, p, max_level=4, max_cells=20_000)[0]
     if len(caps.apex) == 1 and caps.planar_simple[0]:
         return amb, zero
-    cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p, enough=enough)
+    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, kern, p, enough=enough)
     stats["cap_cells_left"] = left
     return amb, (cv, cf1, cs2)
 
@@ -344,13 +346,6 @@ def _moved(vol, first, second, bv, bf, bs, d):
     bFd = np.multiply.outer(bf, ad)
     return (vol, first + vol * d, second + Fd + Fd.T + vol * np.multiply.outer(d, d),
             bv, bf + bv * ad, bs + bFd + bFd.T + bv * np.multiply.outer(ad, ad))
-
-
-def _all_winding(kern):
-    """``winding(points, V, F, mult, out)``: the full winding number (no face left out)."""
-    def winding(points, V, F, mult, out):
-        kern.winding_rest(np.ascontiguousarray(points), np.full(len(points), -1, np.int64), V, F, mult, out)
-    return winding
 
 
 def _relative_ok(vol, first, second, bv, bf, bs, tol):
