@@ -200,12 +200,16 @@ def test_crossing_boxes_rotated():
 
 
 def test_bound_budget_reported():
-    b1, b2 = ([0, 0, 0], [1, 1, 1]), ([0.5, 0.5, 0.5], [1.5, 1.5, 1.5])
-    v, f = concat(box(*b1), box(*b2))
-    res = robust_integrals(v, f, reference=ORIGIN, tol=1e-9, max_pieces=5000)
+    """A hole that is not flat (two neighbouring faces removed) leaves a first-order cap
+    region: tol = 1e-9 is out of reach, and the result says so."""
+    v, f = hull(200, 4)
+    a = 0
+    b = next(i for i in range(1, len(f)) if len(set(f[a]) & set(f[i])) == 2)
+    res = robust_integrals(v, np.delete(f, [a, b], axis=0), reference=ORIGIN, tol=1e-9)
     assert not res.converged
     assert any("did not reach" in d for d in res.defects)
-    assert within_bound(res, union_moments([np.array(b1, float), np.array(b2, float)]))
+    exact = solid_integrals(v, f, reference=ORIGIN)[0]
+    assert abs(res.volume - exact) < 0.01 * exact
 
 
 def test_derived_bounds_cover_com_and_inertia():

@@ -12,8 +12,7 @@ mesh boundary):
   other caps neither cross the cell nor reach it with a loop edge, and add at most
   ``Delta = |w_rest(c)| + rho |grad w_rest| < 1/10`` on the cell.  Then D meets the cell
   only where ``|w_k| >= 1/2 - Delta``, a thin layer around the polygon whose volume
-  :func:`flat_cap_volume` bounds in closed form, once per cap for the largest Delta of
-  its cells;
+  :func:`flat_cap_volume` bounds in closed form over the cell's shadow;
 * status 2: refine (or count the cell whole at the last level).
 """
 
@@ -38,9 +37,10 @@ def flat_cap_heights(delta, diameter):
     return b * diameter, r_max, b * (r_max + diameter)
 
 
-def flat_cap_volume(delta, area, perimeter, diameter, flat_tol):
+def flat_cap_volume(delta, area, perimeter, diameter, flat_tol, shadow):
     """Bound of the volume where ``|w_k| >= 1/2 - delta`` for a flat polygon k (area,
-    perimeter, diameter; flat within ``flat_tol``), 0 <= delta < 1/4.
+    perimeter, diameter; flat within ``flat_tol``), 0 <= delta < 1/10, over a region of the
+    plane of area ``shadow`` (the shadow of an octree cell; inf for the whole polygon).
 
     Let x be at height h over the polygon's plane, with foot q.  ``b = 2 delta / sqrt(1 - 4 delta^2)``.
 
@@ -53,12 +53,13 @@ def flat_cap_volume(delta, area, perimeter, diameter, flat_tol):
       only for ``r <= r_max = b diameter / (a - b)``, ``a = (1 - 2 delta) / (2 sqrt(delta (1 - delta)))``,
       and ``|h| <= h_max = b (r_max + diameter)``.
 
-    So the set lies in a layer over the polygon and a band around it (prisms); the polygon
-    being flat only within ``flat_tol`` thickens both by that much.
+    So the set lies in a layer over the polygon and a band around it (prisms, over at most
+    ``shadow`` of the plane each); the polygon being flat only within ``flat_tol`` thickens
+    both by that much.
     """
     h_in, r_max, h_max = flat_cap_heights(delta, diameter)
-    return (2.0 * area * (h_in + flat_tol)
-            + 2.0 * (perimeter * r_max + math.pi * r_max * r_max) * (h_max + flat_tol))
+    return (2.0 * min(area, shadow) * (h_in + flat_tol)
+            + 2.0 * min(perimeter * r_max + math.pi * r_max * r_max, shadow) * (h_max + flat_tol))
 
 
 def _solid_angle(V, F, f, px, py, pz):
@@ -106,18 +107,24 @@ def _segment_distance(px, py, pz, E0, E1, e):
 
 
 def cap_cells(centers, half, thr, CV, CF, CM, face_ptr, face_lo, face_hi, E0, E1, EM, edge_ptr,
-              flat, diameter, normal, apex, flat_tol, status, which, delta, w_rest):
+              flat, area, perimeter, diameter, normal, apex, flat_dev, eps, status, which, delta, w_rest, contrib):
     """Classify cubic cells (``centers`` (N, 3), half side ``half``); see the module docstring.
 
     Caps: faces ``CF`` (over vertices ``CV``, multiplicities ``CM``) of cap j are
     ``face_ptr[j]:face_ptr[j + 1]`` (boxes ``face_lo``, ``face_hi``); its loop edges
     ``E0 -> E1`` (multiplicities ``EM``) are ``edge_ptr[j]:edge_ptr[j + 1]``; ``flat[j]``,
     ``diameter`` as in :func:`flat_cap_volume`, ``normal`` (unit) and ``apex`` a point of
-    its plane.  The cap k of largest ``|w_k(c)| + rho |grad w_k|`` is the one a cell may be
+    its plane, ``flat_dev`` how far its vertices stray from that plane (0: within eps).
+    A nearly flat cap (``flat_dev`` > 0) differs from the flat polygon below it by a strip
+    along its loop (height ``flat_dev``) and a region within ``flat_dev`` of the plane; the
+    strip adds at most ``flat_dev sum_e len_e / (4 pi (d_e - rho - flat_dev)^2)`` to Delta.
+    The cap k of largest ``|w_k(c)| + rho |grad w_k|`` is the one a cell may be
     near; the others must neither cross the cell nor reach it with a loop edge.
 
-    Status 1 cells get ``which`` = k, ``delta`` = Delta and ``w_rest`` = ``|w_rest(c)|``; a
-    cell farther from k's plane than the layer of its Delta is free (status 0).
+    Status 1 cells get ``which`` = k, ``delta`` = Delta, ``w_rest`` = ``|w_rest(c)|`` and
+    ``contrib`` the bound of :func:`flat_cap_volume` over the cell's shadow on k's plane
+    (area ``(2 half)^2 (|n_x| + |n_y| + |n_z|)``, at most the cell's volume); a cell farther
+    from k's plane than the layer of its Delta is free (status 0).
     """
     K = face_ptr.shape[0] - 1
     rho = half * math.sqrt(3.0)
@@ -162,6 +169,7 @@ def cap_cells(centers, half, thr, CV, CF, CM, face_ptr, face_lo, face_hi, E0, E1
         which[i] = -1
         delta[i] = 0.0
         w_rest[i] = 0.0
+        contrib[i] = 0.0
         if n_cross == 0 and n_inf == 0 and abs(w_all) + rho * g_fin < thr:
             status[i] = 0
             continue
@@ -171,17 +179,24 @@ def cap_cells(centers, half, thr, CV, CF, CM, face_ptr, face_lo, face_hi, E0, E1
         if n_cross - cross_k > 0 or n_inf - (g_k == math.inf) > 0:
             continue
         d = abs(w_all - w_k) + rho * (g_fin - (g_k if g_k < math.inf else 0.0))
+        if flat_dev[nk] > 0.0:
+            d += flat_dev[nk] * _loop_gradient(px, py, pz, rho + flat_dev[nk], E0, E1, EM, edge_ptr[nk],
+                                               edge_ptr[nk + 1])
         if d < 0.1:
             height = ((px - apex[nk, 0]) * normal[nk, 0] + (py - apex[nk, 1]) * normal[nk, 1]
                       + (pz - apex[nk, 2]) * normal[nk, 2])
             h_in, r_max, h_max = flat_cap_heights(d, diameter[nk])
-            if abs(height) > rho + max(h_in, h_max) + flat_tol:
+            if abs(height) > rho + max(h_in, h_max) + flat_dev[nk] + eps:
                 status[i] = 0
             else:
                 status[i] = 1
                 which[i] = nk
                 delta[i] = d
                 w_rest[i] = abs(w_all - w_k)
+                side = 2.0 * half
+                shadow = side * side * (abs(normal[nk, 0]) + abs(normal[nk, 1]) + abs(normal[nk, 2]))
+                contrib[i] = min(side * side * side, flat_cap_volume(d, area[nk], perimeter[nk], diameter[nk],
+                                                                     flat_dev[nk] + eps, shadow))
 
 
 def _loop_gradient(px, py, pz, rho, E0, E1, EM, e_start, e_end):

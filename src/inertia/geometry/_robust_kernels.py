@@ -443,19 +443,15 @@ def grid_pairs(V, F, lo, hi, small, cert, mode, origin, cell, eps, out):
     for b in range(T):
         kmax = max(kmax, start[b + 1] - start[b])
     n_chunks = 64
-    cap = 64
-    while True:
-        counts = np.zeros(n_chunks, np.int64)
-        buf = np.empty((n_chunks, cap, 2), np.int64)
-        for ch in prange(n_chunks):
-            counts[ch] = _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode,
-                                     T * ch // n_chunks, T * (ch + 1) // n_chunks, kmax, buf[ch])
-        need = 0
-        for ch in range(n_chunks):
-            need = max(need, counts[ch])
-        if need <= cap:
-            break
-        cap = need
+    counts = np.zeros(n_chunks, np.int64)
+    buf = _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, 64,
+                       counts)
+    need = 0
+    for ch in range(n_chunks):
+        need = max(need, counts[ch])
+    if need > 64:
+        buf = _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, need,
+                           counts)
     cnt = 0
     for ch in range(n_chunks):
         for i in range(counts[ch]):
@@ -464,6 +460,17 @@ def grid_pairs(V, F, lo, hi, small, cert, mode, origin, cell, eps, out):
                 out[cnt, 1] = buf[ch, i, 1]
             cnt += 1
     return cnt
+
+
+def _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, cap, counts):
+    """Run :func:`_grid_chunk` on ``n_chunks`` ranges of buckets (in parallel when compiled);
+    returns their pairs (n_chunks, cap, 2), ``counts`` how many each found."""
+    T = start.shape[0] - 1
+    buf = np.empty((n_chunks, cap, 2), np.int64)
+    for ch in prange(n_chunks):
+        counts[ch] = _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode,
+                                 T * ch // n_chunks, T * (ch + 1) // n_chunks, kmax, buf[ch])
+    return buf
 
 
 def _grid_build(F, lo, hi, small, mode, origin, cell, eps):
@@ -542,8 +549,9 @@ def _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mo
     """Cutting pairs found in buckets ``b_start..b_end-1`` into ``out``; returns how many
     (more than ``len(out)``: call again with more room).
 
-    The box test is branch-free and its survivors are collected before the rarer tests:
-    no certified common corner, the low-corner bucket, then :func:`faces_cut`.
+    The box test and the certified-corner test are branch-free; their survivors are
+    collected before the rarer tests: the low-corner bucket, then :func:`faces_cut`.  In
+    mode 1 each big face scans its whole bucket.
     """
     mask = start.shape[0] - 2
     hits = np.empty(kmax, np.int64)
@@ -554,34 +562,36 @@ def _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mo
     for b in range(b_start, b_end):
         e1 = start[b + 1]
         for ea in range(start[b], e1):
+            f = who[ea]
+            if mode == 1 and small[f]:
+                continue            # mode 1: pairs with a big face, scanned from that face
             x0 = box[ea, 0]
             y0 = box[ea, 1]
             z0 = box[ea, 2]
             x1 = box[ea, 3]
             y1 = box[ea, 4]
             z1 = box[ea, 5]
-            nh = 0
-            for eb in range(ea + 1, e1):
-                hits[nh] = eb
-                nh += ((box[eb, 0] <= x1) & (box[eb, 3] >= x0) & (box[eb, 1] <= y1) & (box[eb, 4] >= y0)
-                       & (box[eb, 2] <= z1) & (box[eb, 5] >= z0))
             c0 = corner[ea, 0]
             c1 = corner[ea, 1]
             c2 = corner[ea, 2]
             k0 = cert[c0]
             k1 = cert[c1]
             k2 = cert[c2]
-            for h in range(nh):
-                eb = hits[h]
+            nh = 0
+            for eb in range(start[b] if mode == 1 else ea + 1, e1):
                 g0 = corner[eb, 0]
                 g1 = corner[eb, 1]
                 g2 = corner[eb, 2]
-                if ((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) | (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2)))
-                        | (k2 & ((c2 == g0) | (c2 == g1) | (c2 == g2)))):
-                    continue
-                f = who[ea]
+                hits[nh] = eb
+                # boxes overlap and no certified common corner (branch-free)
+                nh += ((box[eb, 0] <= x1) & (box[eb, 3] >= x0) & (box[eb, 1] <= y1) & (box[eb, 4] >= y0)
+                       & (box[eb, 2] <= z1) & (box[eb, 5] >= z0)
+                       & ~((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) | (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2)))
+                           | (k2 & ((c2 == g0) | (c2 == g1) | (c2 == g2)))))
+            for h in range(nh):
+                eb = hits[h]
                 g = who[eb]
-                if g == f or (mode == 1 and small[f] and small[g]):
+                if g == f or (mode == 1 and not small[g] and g < f):
                     continue
                 i = max(ilo[f, 0], ilo[g, 0])
                 j = max(ilo[f, 1], ilo[g, 1])

@@ -17,14 +17,15 @@ import types
 
 import numba as nb
 
-from . import _robust_capk, _robust_kernels, _robust_topo
+from . import _robust_capk, _robust_clip, _robust_kernels, _robust_topo
 
+_MODULES = (_robust_topo, _robust_kernels, _robust_capk, _robust_clip)
 _JIT = {"cache": True, "nogil": True, "boundscheck": False}
 
 
 def _compiled_namespace():
     ns = {"__name__": __name__}
-    for mod in (_robust_topo, _robust_kernels, _robust_capk):
+    for mod in _MODULES:
         path = mod.__file__
         with open(path, encoding="utf-8") as fh:
             code = compile(fh.read(), path, "exec")
@@ -39,4 +40,4 @@ def _compiled_namespace():
 
 
 _NS = _compiled_namespace()
-globals().update({name: _NS[name] for name in _robust_topo.__all__ + _robust_kernels.__all__ + _robust_capk.__all__})
+globals().update({name: _NS[name] for mod in _MODULES for name in mod.__all__})

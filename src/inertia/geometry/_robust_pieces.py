@@ -13,6 +13,8 @@ import numpy as np
 #: A winding W_rest - m/2 this far from an integer is not trusted (the point is too close
 #: to another sheet, or the kernel lost accuracy); the face or piece is refined instead.
 INTEGER_TOL = 1e-3
+#: Distances below this times a face's size count as touching in the cut-face kernels.
+REL_TOL = 1e-9
 
 
 def tetra_sums(P, p, w):
@@ -66,7 +68,7 @@ class Pieces:
         cert = np.zeros(len(V), np.bool_)
         self.joins = np.empty(3 * nf, np.int64)
         k.vertex_pass(V, F, self.M, ptr, idx, cert, self.joins)
-        self.star_idx = idx
+        self.star_ptr, self.star_idx = ptr, idx
         t_cert = time.perf_counter() - t
         pairs = self._grid_pairs(cert)
         if len(pairs):
@@ -137,93 +139,147 @@ class Pieces:
         uncertain = uncut & np.isnan(wf)
         safe = np.nan_to_num(wf)
         weights = np.where(np.isnan(wf), 0, (safe + self.M >= 1).astype(int) - (safe >= 1).astype(int))
+        self.wf = wf
         self.uncut = uncut & ~uncertain
         self.refine_faces = np.flatnonzero(self.cut | uncertain)
         return weights, wf, int(uncertain.sum())
 
     # ------------------------------------------------------------------ refinement
-    def _piece_windings(self, cen, own):
-        """Front windings at piece centroids: by crossings from a reference point on the same
-        face (:func:`._robust_kernels.crossing_windings`), the full sum where that is uncertain."""
-        k = np.zeros(len(cen))
-        good = np.zeros(len(cen), bool)
-        if not hasattr(self, "ref_w"):
-            self.ref_pt = np.zeros((len(self.F), 3))
-            self.ref_w = np.zeros(len(self.F))
-            self.has_ref = np.zeros(len(self.F), bool)
-        # one full evaluation for each face without a reference point yet
-        need = np.flatnonzero(~self.has_ref[own])
-        if len(need):
-            _, first = np.unique(own[need], return_index=True)
-            sel = need[first]
-            ks, gs = self._winding_front(cen[sel], own[sel])
-            k[sel], good[sel] = ks, gs
-            ok = sel[gs]
-            self.ref_pt[own[ok]] = cen[ok]
-            self.ref_w[own[ok]] = ks[gs]
-            self.has_ref[own[ok]] = True
-            done = np.zeros(len(cen), bool)
-            done[sel] = True
-        else:
-            done = np.zeros(len(cen), bool)
-        rest = np.flatnonzero(~done & self.has_ref[own])
-        if len(rest):
-            w = np.empty(len(rest))
-            okc = np.empty(len(rest), np.bool_)
-            self.kern.crossing_windings(np.ascontiguousarray(cen[rest]), np.ascontiguousarray(own[rest]),
-                                        self.ref_pt, self.ref_w, self.cut_ptr, self.cut_idx, self.V, self.F,
-                                        self.M, 1e-9, w, okc)
-            k[rest[okc]], good[rest[okc]] = w[okc], True
-            done[rest[okc]] = True
-        left = np.flatnonzero(~done)
+    def _traces(self):
+        """Classify every cutter's trace in its face's plane (:func:`._robust_clip.classify_traces`)."""
+        n = len(self.cut_idx)
+        owner = np.repeat(np.arange(len(self.F)), np.diff(self.cut_ptr))
+        self.tr_type = np.zeros(n, np.int64)
+        self.tr_P = np.zeros((n, 3, 3))
+        self.tr_J = np.zeros(n)
+        self.kern.classify_traces(self.V, self.F, self.M, owner, self.cut_idx, self.eps, self.tr_type, self.tr_P,
+                                  self.tr_J)
+        self.trace_args = (self.cut_ptr, self.cut_idx, self.tr_type, self.tr_P, self.tr_J)
+
+    def _reference_windings(self, faces, stats):
+        """Reference point and front winding of each face to refine: by walks from a known
+        neighbour across a manifold edge (repeated until nothing changes), else by the full sum.
+
+        Returns ``(ref (n, 3), w (n,), ok (n,))``.
+        """
+        k, n = self.kern, len(faces)
+        cut_ptr, cut_idx, tr_type, tr_P, tr_J = self.trace_args
+        ref, net, ok = np.zeros((n, 3)), np.zeros(n), np.zeros(n, np.bool_)
+        k.reference_points(self.V, self.F, faces, cut_ptr, cut_idx, tr_type, tr_P, tr_J, self.M, REL_TOL, ref, net, ok)
+        slot = np.full(len(self.F), -1, np.int64)
+        slot[faces] = np.arange(n)
+        w = np.full(n, np.nan)
+        # known front windings: uncut faces (at their centroids), then resolved faces
+        known_face = ~np.isnan(self.wf)
+        a, b, u, v = self._adjacency()
+        rounds = 0
+        while True:
+            sa, sb = slot[a], slot[b]
+            ka = np.where(sa >= 0, ~np.isnan(w[np.maximum(sa, 0)]), known_face[a])
+            want = (sb >= 0) & ka & (sb >= 0) & np.isnan(w[np.maximum(sb, 0)]) & ok[np.maximum(sb, 0)]
+            want &= (sa < 0) | ok[np.maximum(sa, 0)]
+            idx = np.flatnonzero(want)
+            if len(idx) == 0:
+                break
+            rounds += 1
+            pairs = np.ascontiguousarray(np.stack([a[idx], b[idx], u[idx], v[idx]], 1))
+            jump, good = np.zeros(len(idx)), np.zeros(len(idx), np.bool_)
+            k.walk_pairs(self.V, self.F, pairs, ref, slot, cut_ptr, tr_type, tr_P, tr_J, cut_idx, self.M, REL_TOL,
+                         jump, good)
+            src = np.where(sa[idx] >= 0, w[np.maximum(sa[idx], 0)], self.wf[a[idx]])
+            hit = np.flatnonzero(good)
+            if len(hit) == 0:
+                break
+            tgt = sb[idx[hit]]
+            w[tgt] = (src + jump)[hit]          # several neighbours: the last write wins
+        left = np.flatnonzero(ok & np.isnan(w))
+        stats["reference_walk_rounds"] = rounds
+        stats["reference_full_sums"] = len(left)
         if len(left):
-            k[left], good[left] = self._winding_front(cen[left], own[left])
-        return k, good
+            W = np.empty(len(left))
+            k.winding_excluding(np.ascontiguousarray(ref[left]), faces[left], self.V, self.F, self.M, cut_ptr,
+                                cut_idx, tr_type, W)
+            wf = W - 0.5 * net[left]
+            kk = np.round(wf)
+            good = np.abs(wf - kk) <= INTEGER_TOL
+            w[left[good]] = kk[good]
+        ok &= ~np.isnan(w)
+        return ref, np.nan_to_num(w), ok
+
+    def _adjacency(self):
+        """Both directions of the manifold edges joining faces: ``(a, b, u, v)`` (edge u-v)."""
+        ptr, idx, joins = self.star_ptr, self.star_idx, self.joins
+        i = np.flatnonzero(joins >= 0)
+        vtx = np.repeat(np.arange(len(ptr) - 1), np.diff(ptr))[i]
+        fa, fb = idx[i], joins[i]
+        Fa = self.F[fa]
+        pos = np.argmax(Fa == vtx[:, None], axis=1)
+        x = Fa[np.arange(len(fa)), (pos + 1) % 3]
+        return (np.concatenate([fa, fb]), np.concatenate([fb, fa]), np.concatenate([vtx, vtx]),
+                np.concatenate([x, x]))
 
     def refine(self, good_enough, max_pieces, max_depth, deadline):
-        """Split the faces to refine 1 -> 4 until ``good_enough(bounds)`` or a budget ends.
+        """Resolve the faces to refine piece by piece (:func:`._robust_clip.resolve_pieces`),
+        splitting 1 -> 4 the pieces that could not be, until ``good_enough(values, bounds)``
+        or a budget ends.
 
         Returns ``(vol, first, second, bound_vol, bound_first, bound_second, stats)``, the
         integrals of the refined faces' boundary parts and the bounds of the unresolved pieces.
         """
-        p = self.p
-        val = [0.0, np.zeros(3), np.zeros((3, 3))]
-        owner = self.refine_faces
-        P = self.V[self.F[owner]]
-        used, depth, clean_n = 0, 0, 0
-        B, scratch = np.empty((3, 3)), np.empty(8)
-        bnd = (0.0, np.zeros(3), np.zeros((3, 3)))
+        p, k = self.p, self.kern
+        stats = {"depth": 0, "pieces": 0, "pieces_resolved": 0, "pieces_unresolved": 0}
+        acc = np.zeros(10)
+        faces = self.refine_faces
+        if len(faces) == 0:
+            z = np.zeros(3), np.zeros((3, 3))
+            return 0.0, z[0], z[1], 0.0, z[0], z[1], stats
+        self._traces()
+        ref, w_ref, ok = self._reference_windings(faces, stats)
+        stats["faces_without_reference"] = int((~ok).sum())
+        slot = np.flatnonzero(ok)
+        P = self.V[self.F[faces[slot]]]
+        owner, rows = faces[slot], slot
+        # faces without a reference winding stay whole and unresolved
+        P_left = self.V[self.F[faces[~ok]]]
+        used, depth = 0, 0
         while len(P):
             used += len(P)
-            clean = np.empty(len(P), np.bool_)
-            self.kern.pieces_clean(np.ascontiguousarray(P), owner, self.cut_ptr, self.cut_idx, self.V, self.F,
-                                   self.eps, B, scratch, clean)
-            idx = np.flatnonzero(clean)
-            k, good = self._piece_windings(P[idx].mean(1), owner[idx])
-            done = idx[good]
-            clean_n += len(done)
-            if len(done):
-                kd, md = k[good], self.M[owner[done]]
-                self._seen(kd, md)
-                w = (kd + md >= 1).astype(float) - (kd >= 1).astype(float)
-                for i, x in enumerate(tetra_sums(P[done], p, w)):
-                    val[i] = val[i] + x
-            rest = np.ones(len(P), bool)
-            rest[done] = False
-            P, owner = P[rest], owner[rest]
-            # unresolved if we stop now: weight in [0, 1] (m >= 1), taken as 1/2 +- 1/2
-            half = np.full(len(P), 0.5)
-            bnd = tetra_abs(P, p, half)
-            guess = tetra_sums(P, p, half)
+            status = np.empty(len(P), np.int64)
+            pacc = np.zeros((len(P), 10))
+            w_seen = np.empty((len(P), 2))
+            w_seen[:, 0], w_seen[:, 1] = np.inf, -np.inf
+            k.resolve_pieces(np.ascontiguousarray(P), owner, rows, ref, w_ref, self.V, self.F, self.M,
+                             *self.trace_args, p, REL_TOL, status, pacc, w_seen)
+            done = status == 0
+            stats["pieces_resolved"] += int(done.sum())
+            acc += pacc[done].sum(0)
+            if done.any():
+                self.w_min = min(self.w_min, float(w_seen[done, 0].min()))
+                self.w_max = max(self.w_max, float(w_seen[done, 1].max()))
+            P, owner, rows = P[~done], owner[~done], rows[~done]
+            val = _unpacked(acc)
+            half = np.full(len(P) + len(P_left), 0.5)
+            allP = np.concatenate([P, P_left])
+            bnd = tetra_abs(allP, p, half)
+            guess = tetra_sums(allP, p, half)
             out_of_budget = (depth >= max_depth or used + 4 * len(P) > max_pieces
                              or (deadline is not None and time.perf_counter() > deadline))
             if len(P) == 0 or out_of_budget or good_enough([a + b for a, b in zip(val, guess)], bnd):
-                val = [a + b for a, b in zip(val, guess)]
                 break
             depth += 1
-            P, owner = _split4(P), np.repeat(owner, 4)
-        stats = {"depth": depth, "pieces": used, "pieces_clean": clean_n, "pieces_unresolved": len(P)}
+            P, owner, rows = _split4(P), np.repeat(owner, 4), np.repeat(rows, 4)
+        allP = np.concatenate([P, P_left])
+        half = np.full(len(allP), 0.5)
+        bnd = tetra_abs(allP, p, half)
+        val = [a + b for a, b in zip(_unpacked(acc), tetra_sums(allP, p, half))]
+        stats.update({"depth": depth, "pieces": used, "pieces_unresolved": len(allP)})
         return val[0], val[1], val[2], bnd[0], bnd[1], bnd[2], stats
+
+
+def _unpacked(out):
+    """(volume, first (3,), second (3, 3)) from 10 sums (see :func:`._robust_topo.weighted_sums`)."""
+    xx, yy, zz, xy, xz, yz = out[4:10] / 120.0
+    return (float(out[0]) / 6.0, out[1:4] / 24.0, np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
 
 
 def _split4(P):

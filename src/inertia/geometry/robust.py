@@ -60,7 +60,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from ._robust_caps import CapGeometry, Caps, cap_region_bound
-from ._robust_pieces import Pieces
+from ._robust_pieces import Pieces, _unpacked
 from .integrals import reference_point
 from .mesh_arrays import validate_inputs, weld_map
 
@@ -187,8 +187,8 @@ def _winding_backend(backend):
             if backend == "numba":
                 from .._core.errors import MissingDependencyError
                 raise MissingDependencyError("backend='numba' needs numba, which cannot be imported") from None
-    from . import _robust_capk, _robust_kernels, _robust_topo
-    mods = (_robust_topo, _robust_kernels, _robust_capk)
+    from . import _robust_capk, _robust_clip, _robust_kernels, _robust_topo
+    mods = (_robust_topo, _robust_kernels, _robust_capk, _robust_clip)
     return types.SimpleNamespace(**{n: getattr(m, n) for m in mods for n in m.__all__})
 
 
@@ -201,12 +201,6 @@ def _uncut_sums(pieces, p, stats):
     pieces.kern.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), float(p[0]), float(p[1]),
                               float(p[2]), out)
     return _unpacked(out) + (n_uncertain,)
-
-
-def _unpacked(out):
-    """(volume, first (3,), second (3, 3)) from the 10 sums of :func:`._robust_topo.weighted_sums`."""
-    xx, yy, zz, xy, xz, yz = out[4:10] / 120.0
-    return (float(out[0]) / 6.0, out[1:4] / 24.0, np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
@@ -265,7 +259,8 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
-    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, 0.25 * tol * abs(vol), eps, stats)
+    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps,
+                                   stats)
     # 3. cut faces and uncertain patches: refine
     deadline = None if time_budget is None else t0 + time_budget
 
@@ -346,6 +341,16 @@ def _moved(vol, first, second, bv, bf, bs, d):
     bFd = np.multiply.outer(bf, ad)
     return (vol, first + vol * d, second + Fd + Fd.T + vol * np.multiply.outer(d, d),
             bv, bf + bv * ad, bs + bFd + bFd.T + bv * np.multiply.outer(ad, ad))
+
+
+def _volume_budget(vol, first, second, vertices, p, target):
+    """The volume bound, placed as far from p as the mesh reaches, whose derived relative
+    bounds (volume, COM, inertia) stay within ``target``: the octree's stopping point."""
+    m = np.maximum(np.abs(vertices.min(0) - p), np.abs(vertices.max(0) - p))
+    unit = 1e-6 * abs(vol)
+    rel = derived_bounds(vol, first, second, unit, unit * m, unit * np.outer(m, m))["relative"]
+    worst = max(rel.values())
+    return target * unit / worst if worst > 0 and np.isfinite(worst) else 0.25 * target * abs(vol)
 
 
 def _relative_ok(vol, first, second, bv, bf, bs, tol):
