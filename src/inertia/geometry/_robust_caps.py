@@ -22,72 +22,77 @@ from scipy.sparse.csgraph import connected_components
 
 
 class Caps:
-    """Fan caps closing the boundary, one per connected piece of it.
+    """Caps closing the boundary: the boundary edges (multiplicity 1) split into simple
+    cycles, each capped on its own; edges of higher multiplicity, piece by connected piece.
+
+    A cycle whose fan from the mean of its vertices is a flat star (every fan triangle
+    positive about the mean normal, angles adding up to one turn) is capped by that fan;
+    otherwise a cycle flat within 1e-3 of its size and simple once projected on its plane
+    by an ear-clipping triangulation (a flat polygon covered once); anything else by the fan.
 
     Attributes
     ----------
-    apex : (K, 3) float, the fan apexes (mean of each piece's vertices).
-    faces : (C, 3) int, cap faces ``(apex, head, tail)``; apex k has index ``n_vertices + k``.
+    apex : (K, 3) float, the mean of each piece's vertices (fan apex k has index ``n_vertices + k``).
+    faces : (C, 3) int, cap faces (orientation opposite to the boundary edges).
     mult : (C,) float, their multiplicities.
-    piece : (C,) int, the boundary piece of each cap face.
-    planar_simple : (K,) bool, the piece is one planar loop around its apex, so its cap is
-        a flat, simply covered polygon (``|w_cap| < 1/2`` off its plane).
+    piece : (C,) int, the piece of each cap face.
+    planar_simple : (K,) bool, the cap is a flat polygon covered once (``|w_cap| < 1/2`` off
+        its plane).
     near_flat : (K,) bool, flat_dev : (K,) float, the same within ``flat_dev`` of a plane
         (at most 1e-3 of the cap's size).
-    edges : (E, 2) int, edge_mult : (E,) float, the boundary edges.
+    edges : (E, 2) int, edge_mult : (E,) float, edge_piece : (E,) int, the boundary edges.
     """
 
-    def __init__(self, vertices, edges, emult, eps):
+    def __init__(self, vertices, edges, emult, eps, kern):
         nv = len(vertices)
-        self.edges, self.edge_mult = edges, emult
-        if len(edges) == 0:
-            self.apex = np.zeros((0, 3))
-            self.faces = np.zeros((0, 3), np.int64)
-            self.mult = np.zeros(0)
-            self.piece = np.zeros(0, np.int64)
-            self.planar_simple = np.zeros(0, bool)
-            self.near_flat = np.zeros(0, bool)
-            self.flat_dev = np.zeros(0)
-            return
-        g = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(nv, nv))
-        _, lab = connected_components(g, directed=False)
-        piece_of_edge = lab[edges[:, 0]]
-        pieces, piece_of_edge = np.unique(piece_of_edge, return_inverse=True)
-        K = len(pieces)
-        used = np.unique(edges.ravel())
-        vp = np.searchsorted(pieces, lab[used])
-        cnt = np.bincount(vp, minlength=K)
-        apex = np.stack([np.bincount(vp, weights=vertices[used, c], minlength=K) for c in range(3)], 1)
-        apex /= cnt[:, None]
-        self.apex = apex
-        self.faces = np.stack([nv + piece_of_edge, edges[:, 1], edges[:, 0]], 1).astype(np.int64)
-        self.mult = emult
-        self.piece = piece_of_edge
-        self.planar_simple = self._planar_simple(vertices, eps)
+        piece_of_edge, K = _pieces(edges, emult, nv)
+        order = np.argsort(piece_of_edge, kind="stable")
+        self.edges, self.edge_mult, self.edge_piece = edges[order], emult[order], piece_of_edge[order]
+        edges, emult, piece_of_edge = self.edges, self.edge_mult, self.edge_piece
+        cnt = np.bincount(piece_of_edge, minlength=K).astype(float)
+        self.apex = np.stack([np.bincount(piece_of_edge, weights=vertices[edges[:, 0], c], minlength=K)
+                              for c in range(3)], 1).reshape(K, 3) / np.maximum(cnt, 1)[:, None]
+        fan = np.stack([nv + piece_of_edge, edges[:, 1], edges[:, 0]], 1).astype(np.int64)
+        self.near_flat, self.flat_dev = np.zeros(K, bool), np.zeros(K)
+        star = self._stars(vertices, fan)
+        keep = star[piece_of_edge]
+        faces, mult, piece = [fan[keep]], [emult[keep]], [piece_of_edge[keep]]
+        bounds = np.searchsorted(piece_of_edge, np.arange(K + 1))
+        for k in np.flatnonzero(~star):
+            sel = slice(bounds[k], bounds[k + 1])
+            tri = self._ear_cap(vertices, edges[sel], emult[sel], k, kern)
+            if tri is None:
+                faces.append(fan[sel])
+                mult.append(emult[sel])
+                piece.append(piece_of_edge[sel])
+            else:
+                faces.append(tri)
+                mult.append(np.ones(len(tri)))
+                piece.append(np.full(len(tri), k))
+        self.faces = np.concatenate(faces).astype(np.int64).reshape(-1, 3)
+        self.mult = np.concatenate(mult)
+        self.piece = np.concatenate(piece).astype(np.int64)
+        self.planar_simple = self.near_flat & (self.flat_dev <= eps)
 
-    def _planar_simple(self, vertices, eps):
-        """Flat caps: exactly (within eps) and nearly (a star fan projected along its mean normal,
-        within 1e-3 of its size of that plane); sets ``flat_dev``, the largest distance of a loop
-        vertex from the plane through the apex (0 when exactly flat)."""
+    def _stars(self, vertices, fan):
+        """Pieces whose fan is a flat star (within 1e-3 of its size); sets ``near_flat``, ``flat_dev``."""
         K = len(self.apex)
-        out = np.zeros(K, bool)
-        self.near_flat = np.zeros(K, bool)
-        self.flat_dev = np.zeros(K)
-        a = self.apex[self.piece]
-        u = vertices[self.faces[:, 1]] - a
-        v = vertices[self.faces[:, 2]] - a
-        n = np.cross(u, v) * self.mult[:, None]
+        star = np.zeros(K, bool)
+        a = self.apex[self.edge_piece]
+        u = vertices[fan[:, 1]] - a
+        v = vertices[fan[:, 2]] - a
+        n = np.cross(u, v) * self.edge_mult[:, None]
+        bounds = np.searchsorted(self.edge_piece, np.arange(K + 1))
         for k in range(K):
-            sel = self.piece == k
+            sel = slice(bounds[k], bounds[k + 1])
             nk = n[sel].sum(0)
             ln = np.linalg.norm(nk)
-            if ln == 0.0 or np.any(self.mult[sel] != 1):
+            if ln == 0.0 or np.any(self.edge_mult[sel] != 1):
                 continue
             nh = nk / ln
             pts = np.concatenate([u[sel], v[sel]])
             dev = float(np.abs(pts @ nh).max())
-            size = float(np.linalg.norm(pts.max(0) - pts.min(0)))
-            if dev > 1e-3 * size:
+            if dev > 1e-3 * float(np.linalg.norm(pts.max(0) - pts.min(0))):
                 continue                      # not flat
             s = n[sel] @ nh
             if np.any(s <= 0.0):
@@ -95,12 +100,94 @@ class Caps:
             # in-plane angles of the fan triangles must add up to one full turn
             un = u[sel] - np.outer(u[sel] @ nh, nh)
             vn = v[sel] - np.outer(v[sel] @ nh, nh)
-            ang = np.arctan2(s, np.einsum("ij,ij->i", un, vn)).sum()
-            if abs(ang - 2.0 * math.pi) < 1e-6:
-                self.near_flat[k] = True
+            if abs(np.arctan2(s, np.einsum("ij,ij->i", un, vn)).sum() - 2.0 * math.pi) < 1e-6:
+                star[k] = self.near_flat[k] = True
                 self.flat_dev[k] = dev
-                out[k] = dev <= eps
-        return out
+        return star
+
+    def _ear_cap(self, vertices, edges, emult, k, kern):
+        """Ear-clipped cap of piece k when it is one flat loop, simple in its plane; else None."""
+        if np.any(emult != 1):
+            return None
+        nxt = dict(zip(edges[:, 0].tolist(), edges[:, 1].tolist()))
+        if len(nxt) != len(edges):
+            return None
+        loop = [int(edges[0, 0])]
+        while len(loop) <= len(edges):
+            w = nxt.get(loop[-1])
+            if w is None or w == loop[0]:
+                break
+            loop.append(w)
+        if len(loop) != len(edges) or nxt.get(loop[-1]) != loop[0]:
+            return None
+        P = vertices[loop]
+        c = P.mean(0)
+        nrm = np.cross(P - c, np.roll(P, -1, axis=0) - c).sum(0)      # Newell
+        ln = np.linalg.norm(nrm)
+        if ln == 0.0:
+            return None
+        nrm /= ln
+        dev = float(np.abs((P - c) @ nrm).max())
+        if dev > 1e-3 * float(np.linalg.norm(P.max(0) - P.min(0))):
+            return None
+        e1 = np.cross(nrm, [1.0, 0.0, 0.0] if abs(nrm[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(nrm, e1)
+        P2 = np.ascontiguousarray(np.stack([(P - c) @ e1, (P - c) @ e2], 1))
+        out = np.empty((len(loop), 3), np.int64)
+        nt = kern.ear_clip(P2, out)
+        if nt < 1:
+            return None
+        loop = np.asarray(loop)
+        self.near_flat[k], self.flat_dev[k] = True, max(dev, float(np.abs((self.apex[k] - c) @ nrm)))
+        return np.stack([loop[out[:nt, 0]], loop[out[:nt, 2]], loop[out[:nt, 1]]], 1)      # reversed
+
+
+def _pieces(edges, emult, nv):
+    """Piece of each boundary edge and the number of pieces: the edges of multiplicity 1 split
+    into simple cycles (a vertex at most once per cycle), the others by connected piece."""
+    piece = np.full(len(edges), -1, np.int64)
+    ones = np.flatnonzero(emult == 1)
+    out = {}
+    for i in ones:
+        out.setdefault(int(edges[i, 0]), []).append(int(i))
+    K = 0
+    for i0 in ones:
+        if piece[i0] >= 0:
+            continue
+        # walk unused edges; a vertex met again closes a simple cycle, cut off the path
+        path_v, path_e, where = [int(edges[i0, 0])], [], {int(edges[i0, 0]): 0}
+        e = int(i0)
+        while e is not None:
+            out[int(edges[e, 0])].remove(e)
+            piece[e] = -2
+            path_e.append(e)
+            w = int(edges[e, 1])
+            if w in where:
+                j = where[w]
+                for ee in path_e[j:]:
+                    piece[ee] = K
+                K += 1
+                for vv in path_v[j + 1:]:
+                    del where[vv]
+                path_v, path_e = path_v[:j + 1], path_e[:j]
+            else:
+                where[w] = len(path_v)
+                path_v.append(w)
+            nxt_e = out.get(path_v[-1])
+            e = nxt_e[0] if nxt_e else None
+        if path_e:            # cannot happen for a boundary (every vertex balanced): keep as one piece
+            for ee in path_e:
+                piece[ee] = K
+            K += 1
+    rest = np.flatnonzero(piece < 0)
+    if len(rest):
+        g = coo_matrix((np.ones(len(rest)), (edges[rest, 0], edges[rest, 1])), shape=(nv, nv))
+        _, lab = connected_components(g, directed=False)
+        _, inv = np.unique(lab[edges[rest, 0]], return_inverse=True)
+        piece[rest] = K + inv
+        K += int(inv.max()) + 1
+    return piece, K
 
 
 class CapGeometry:
@@ -126,7 +213,7 @@ class CapGeometry:
         hi0 = np.full((K0, 3), -np.inf)
         np.minimum.at(lo0, caps.piece, tri0.min(1))
         np.maximum.at(hi0, caps.piece, tri0.max(1))
-        group = _coplanar_groups(caps, nrm0, lo0, hi0, eps)
+        group = _coplanar_groups(caps, nrm0, lo0, hi0, eps, self.CV)
         order = np.lexsort((caps.piece, group[caps.piece]))
         G = int(group.max()) + 1 if K0 else 0
         gface = group[caps.piece][order]
@@ -136,13 +223,16 @@ class CapGeometry:
         tri = self.CV[self.CF]
         self.face_lo = np.ascontiguousarray(tri.min(1))
         self.face_hi = np.ascontiguousarray(tri.max(1))
-        e = caps.edges[order]
+        eorder = np.lexsort((caps.edge_piece, group[caps.edge_piece]))
+        gedge = group[caps.edge_piece][eorder]
+        self.edge_ptr = np.searchsorted(gedge, np.arange(G + 1)).astype(np.int64)
+        e = caps.edges[eorder]
         self.E0 = np.ascontiguousarray(vertices[e[:, 0]])
         self.E1 = np.ascontiguousarray(vertices[e[:, 1]])
-        self.EM = np.ascontiguousarray(caps.edge_mult[order])
+        self.EM = np.ascontiguousarray(caps.edge_mult[eorder])
         el = np.linalg.norm(self.E1 - self.E0, axis=1) * self.EM
         self.area = np.bincount(gface, weights=fa0[order], minlength=G)
-        self.perimeter = np.bincount(gface, weights=el, minlength=G)
+        self.perimeter = np.bincount(gedge, weights=el, minlength=G)
         self.cap_lo = np.full((G, 3), np.inf)
         self.cap_hi = np.full((G, 3), -np.inf)
         np.minimum.at(self.cap_lo, group, lo0)
@@ -169,11 +259,11 @@ class CapGeometry:
         self.n_groups = G
 
 
-def _coplanar_groups(caps, normal, lo, hi, eps):
+def _coplanar_groups(caps, normal, lo, hi, eps, CV):
     """Group index of each cap: nearly flat caps in one plane (normals parallel within 1e-9,
     apexes within 1e-3 of the caps' size of each other's plane) whose boxes meet, any two of
-    opposite orientation (then the net coverage stays in {-1, 0, 1}).  Caps apart stay alone:
-    each other's share of Delta is small there."""
+    opposite orientation or with disjoint interiors (then the net coverage stays in
+    {-1, 0, 1}).  Caps apart stay alone: each other's share of Delta is small there."""
     K = len(caps.apex)
     group = np.arange(K)
     flat = np.flatnonzero(caps.near_flat)
@@ -183,11 +273,12 @@ def _coplanar_groups(caps, normal, lo, hi, eps):
             size = float(np.linalg.norm(hi[i] - lo[i]) + np.linalg.norm(hi[j] - lo[j]))
             if abs(c) < 1.0 - 1e-9 or abs(float(normal[i] @ (caps.apex[j] - caps.apex[i]))) > 1e-3 * size + eps:
                 continue
-            if np.any(lo[i] > hi[j]) or np.any(lo[j] > hi[i]):
+            if not _boxes_meet(lo, hi, i, j):
                 continue
             gi, gj = group[i], group[j]
             members = np.flatnonzero((group == gi) | (group == gj))
             if all(float(normal[a] @ normal[b]) < 0.0 or not _boxes_meet(lo, hi, a, b)
+                   or _interiors_disjoint(caps, CV, normal[a], a, b, 1e-9 * size)
                    for a in members for b in members if a < b):
                 group[group == gj] = gi
     return np.unique(group, return_inverse=True)[1]
@@ -195,6 +286,30 @@ def _coplanar_groups(caps, normal, lo, hi, eps):
 
 def _boxes_meet(lo, hi, a, b):
     return not (np.any(lo[a] > hi[b]) or np.any(lo[b] > hi[a]))
+
+
+def _interiors_disjoint(caps, CV, n, a, b, tol):
+    """No triangle of cap a overlaps a triangle of cap b by more than ``tol`` (2-D separating
+    axes, the edge normals of both triangles, in the plane of normal n)."""
+    e1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    ta, tb = CV[caps.faces[caps.piece == a]], CV[caps.faces[caps.piece == b]]
+    if len(ta) * len(tb) > 1_000_000:
+        return False
+    A = np.stack([ta @ e1, ta @ e2], -1)            # (Ta, 3, 2)
+    B = np.stack([tb @ e1, tb @ e2], -1)            # (Tb, 3, 2)
+    separated = np.zeros((len(A), len(B)), bool)
+    for own, other, first in ((A, B, True), (B, A, False)):
+        for k in range(3):
+            d = own[:, (k + 1) % 3] - own[:, k]
+            ax = np.stack([-d[:, 1], d[:, 0]], -1)
+            ax /= np.maximum(np.linalg.norm(ax, axis=1), 1e-300)[:, None]
+            p_own = np.einsum("tvc,tc->tv", own, ax)            # (To, 3)
+            p_oth = np.einsum("svc,tc->tsv", other, ax)         # (To, Ts, 3)
+            sep = ((p_oth.min(2) >= p_own.max(1)[:, None] - tol) | (p_oth.max(2) <= p_own.min(1)[:, None] + tol))
+            separated |= sep if first else sep.T
+    return bool(separated.all())
 
 
 def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_cells=200_000, enough=0.0):
@@ -215,7 +330,7 @@ def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_
     half = 0.5 * size
     vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
     left = 0
-    args = (geo.CV, geo.CF, geo.CM, geo.ptr, geo.face_lo, geo.face_hi, geo.E0, geo.E1, geo.EM, geo.ptr,
+    args = (geo.CV, geo.CF, geo.CM, geo.ptr, geo.face_lo, geo.face_hi, geo.E0, geo.E1, geo.EM, geo.edge_ptr,
             geo.flat, geo.area, geo.perimeter, geo.diameter, geo.normal, geo.apex, geo.flat_dev, geo.eps)
     G = len(geo.area)
     near_parts = _NearParts(G)

@@ -8,12 +8,13 @@ integer, constant except across the *traces* that other faces leave in f's plane
 * type 1, a *jump segment*: a cutter g crossing the plane (or standing on it with an edge,
   in front of f) leaves a segment; ``w_front`` changes by ``J = -m_g sign(nl . n_g)`` when
   moving across it towards the side of its in-plane normal ``nl = n_f x (P1 - P0)``;
-* type 2, *coplanar*: a cutter g lying in f's plane (both ways within ``eps``) stacks on f
+* type 2, *coplanar*: a cutter g lying in f's plane (both within ``eps`` of the plane of the
+  better shaped of the two, so that f and g agree) stacks on f
   where they overlap; the stack's net multiplicity is ``m_f + sum sigma_g m_g`` (sigma = +-1,
   same or opposite orientation) and the part is counted once, by its lowest face;
-* type 3, *ambiguous*: nearly coplanar one way only, or grazing: pieces touching it are
-  not resolved;
-* type 0: no effect (touching at a point, or standing on the plane behind f).
+* type 3, *ambiguous*: grazing the plane, or f of zero area: pieces touching it are not
+  resolved;
+* type 0: no effect (touching at a point, standing on the plane behind f, or of zero area).
 
 A piece (a triangle of f) is clipped by the lines of the traces that reach it into convex
 cells of constant ``w_front`` and stack (exactly: no trace passes through a cell); each
@@ -35,9 +36,9 @@ FOUR_PI = 4.0 * math.pi
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
 prange = range
 #: Most lines a piece is clipped by (more: split it).
-LMAX = 12
+LMAX = 16
 #: Most cells of a clipped piece, and vertices of a cell.
-CMAX = 96
+CMAX = 160
 PMAX = 3 + LMAX + 1
 
 
@@ -63,6 +64,33 @@ def _unit_normal(V, F, f, out):
     return ln
 
 
+def _coplanar(V, F, f, g, lf, lg, nf, ng, eps, d):
+    """Faces f and g lie in one plane: all six corners within ``eps`` of the plane of the
+    better shaped of the two (largest ``|n| / sum of squared edges``; ties: lower index),
+    so that both faces decide alike."""
+    qf = lf / _edge_squares(V, F, f)
+    qg = lg / _edge_squares(V, F, g)
+    h = f if (qf > qg or (qf == qg and f < g)) else g
+    n = nf if h == f else ng
+    for t in range(2):
+        o = g if t == 0 else f
+        for i in range(3):
+            d[i] = (n[0] * (V[F[o, i], 0] - V[F[h, 0], 0]) + n[1] * (V[F[o, i], 1] - V[F[h, 0], 1])
+                    + n[2] * (V[F[o, i], 2] - V[F[h, 0], 2]))
+            if abs(d[i]) > eps:
+                return False
+    return True
+
+
+def _edge_squares(V, F, f):
+    s = 0.0
+    for e in range(3):
+        for c in range(3):
+            x = V[F[f, (e + 1) % 3], c] - V[F[f, e], c]
+            s += x * x
+    return s
+
+
 def classify_traces(V, F, M, owner, cut_idx, eps, tr_type, tr_P, tr_J):
     """The trace of cutter ``cut_idx[k]`` in the plane of face ``owner[k]``, for every k.
 
@@ -81,27 +109,21 @@ def classify_traces(V, F, M, owner, cut_idx, eps, tr_type, tr_P, tr_J):
         tr_J[k] = 0.0
         lf = _unit_normal(V, F, f, nf)
         lg = _unit_normal(V, F, g, ng)
-        if lf == 0.0 or lg == 0.0:
+        if lg == 0.0:
+            continue                      # no area: crossing it changes no winding
+        if lf == 0.0:
             tr_type[k] = 3
             continue
-        all_g = True
-        all_f = True
         n_pos = 0
         n_neg = 0
         for i in range(3):
             dg[i] = (nf[0] * (V[F[g, i], 0] - V[F[f, 0], 0]) + nf[1] * (V[F[g, i], 1] - V[F[f, 0], 1])
                      + nf[2] * (V[F[g, i], 2] - V[F[f, 0], 2]))
-            df[i] = (ng[0] * (V[F[f, i], 0] - V[F[g, 0], 0]) + ng[1] * (V[F[f, i], 1] - V[F[g, 0], 1])
-                     + ng[2] * (V[F[f, i], 2] - V[F[g, 0], 2]))
-            if abs(dg[i]) > eps:
-                all_g = False
-                if dg[i] > 0.0:
-                    n_pos += 1
-                else:
-                    n_neg += 1
-            if abs(df[i]) > eps:
-                all_f = False
-        if all_g and all_f:
+            if dg[i] > eps:
+                n_pos += 1
+            elif dg[i] < -eps:
+                n_neg += 1
+        if _coplanar(V, F, f, g, lf, lg, nf, ng, eps, df):
             tr_type[k] = 2
             sig = 1.0 if nf[0] * ng[0] + nf[1] * ng[1] + nf[2] * ng[2] > 0.0 else -1.0
             for i in range(3):
@@ -109,9 +131,6 @@ def classify_traces(V, F, M, owner, cut_idx, eps, tr_type, tr_P, tr_J):
                 for c in range(3):
                     tr_P[k, i, c] = V[F[g, src], c] - dg[src] * nf[c]
             tr_J[k] = sig * M[g]
-            continue
-        if all_g or all_f:
-            tr_type[k] = 3
             continue
         n_on = 3 - n_pos - n_neg
         if not ((n_pos > 0 and n_neg > 0) or (n_on == 2 and n_pos == 1)):
@@ -153,11 +172,16 @@ def classify_traces(V, F, M, owner, cut_idx, eps, tr_type, tr_P, tr_J):
 
 # ---------------------------------------------------------------------------------- 2-D helpers
 def _line_of(P0x, P0y, P0z, P1x, P1y, P1z, nf, out):
-    """Unit in-plane normal of the line P0 -> P1 (n_f x e / |e|) into out; returns |e|."""
+    """Unit in-plane normal of the line P0 -> P1 (n_f x e / |e|) into out; returns |e| (0: a point)."""
     ex = P1x - P0x
     ey = P1y - P0y
     ez = P1z - P0z
     le = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if not le > 0.0:
+        out[0] = 0.0
+        out[1] = 0.0
+        out[2] = 0.0
+        return 0.0
     lx = nf[1] * ez - nf[2] * ey
     ly = nf[2] * ex - nf[0] * ez
     lz = nf[0] * ey - nf[1] * ex
@@ -173,6 +197,8 @@ def _segment_vs_piece(P, A0x, A0y, A0z, A1x, A1y, A1z, nf, tol, nl):
     crosses P but the segment does not reach it, 3 otherwise (an end in or near P).
     ``nl`` receives the line's unit in-plane normal."""
     le = _line_of(A0x, A0y, A0z, A1x, A1y, A1z, nf, nl)
+    if le == 0.0:
+        return 3
     ux = (A1x - A0x) / le
     uy = (A1y - A0y) / le
     uz = (A1z - A0z) / le
@@ -266,9 +292,10 @@ def _stack_at(cut_ptr, cut_idx, tr_type, tr_P, tr_J, f, x, y, z, nf, tol, M):
         for e in range(3):
             a = e
             b = (e + 1) % 3
-            _line_of(tr_P[k, a, 0], tr_P[k, a, 1], tr_P[k, a, 2], tr_P[k, b, 0], tr_P[k, b, 1], tr_P[k, b, 2], nf, nl)
+            le = _line_of(tr_P[k, a, 0], tr_P[k, a, 1], tr_P[k, a, 2], tr_P[k, b, 0], tr_P[k, b, 1], tr_P[k, b, 2],
+                          nf, nl)
             d = _point_side(nl, tr_P[k, a, 0], tr_P[k, a, 1], tr_P[k, a, 2], x, y, z)
-            if abs(d) <= tol:
+            if le == 0.0 or abs(d) <= tol:
                 return net, leader, False
             if d < 0.0:
                 inside = False
@@ -318,12 +345,19 @@ def reference_points(V, F, faces, cut_ptr, cut_idx, tr_type, tr_P, tr_J, M, rel_
             size = max(size, abs(V[F[f, 1], c] - V[F[f, 0], c]), abs(V[F[f, 2], c] - V[F[f, 0], c]))
         tol = rel_tol * size
         ok[i] = False
-        for trial in range(7):
+        for trial in range(16):
+            # the centroid, then points of an additive recurrence (golden ratios): off the
+            # medians and any rational line a symmetric mesh may draw
             w0 = 1.0 / 3.0
             w1 = 1.0 / 3.0
-            if trial > 0:         # off the medians (where fan caps have their edges)
-                w0 = (0.5, 0.2, 0.3, 0.6, 0.15, 0.25)[trial - 1]
-                w1 = (0.3, 0.5, 0.2, 0.15, 0.25, 0.6)[trial - 1]
+            if trial > 0:
+                a = (0.5 + trial * 0.6180339887498949) % 1.0
+                b = (0.5 + trial * 0.7548776662466927) % 1.0
+                if a + b > 1.0:
+                    a = 1.0 - a
+                    b = 1.0 - b
+                w0 = 0.05 + 0.9 * a
+                w1 = 0.05 + 0.9 * b * (1.0 - a)
             w2 = 1.0 - w0 - w1
             x = w0 * V[F[f, 0], 0] + w1 * V[F[f, 1], 0] + w2 * V[F[f, 2], 0]
             y = w0 * V[F[f, 0], 1] + w1 * V[F[f, 1], 1] + w2 * V[F[f, 2], 1]
@@ -572,18 +606,21 @@ def _add_cell(cells, ncv, c, weight, p, acc):
 
 
 def resolve_pieces(P, owner, slot, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_P, tr_J, p, rel_tol,
-                   status, acc, w_seen):
+                   status, acc, bnd, w_seen):
     """Resolve pieces ``P`` (N, 3, 3) of faces ``owner`` (``slot``: the row of ``ref``/``w_ref``).
 
     ``status[i]``: 0 resolved (its cells' boundary weights times their tetrahedron sums are
-    added to ``acc[i]`` (10,)), 1 to split.  ``w_seen[i]``: (min front, max back) winding met.
+    added to ``acc[i]`` (10,); slivers left undecided add their absolute sums to ``bnd[i]``
+    (13,: volume, first (3), second (9))), 1 to split.  ``w_seen[i]``: (min front, max back)
+    winding met.
     """
     for i in prange(P.shape[0]):
         status[i] = _resolve_one(P, i, owner[i], slot[i], ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_P,
-                                 tr_J, p, rel_tol, acc, w_seen)
+                                 tr_J, p, rel_tol, acc, bnd, w_seen)
 
 
-def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_P, tr_J, p, rel_tol, acc, w_seen):
+def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_P, tr_J, p, rel_tol, acc, bnd,
+                 w_seen):
     """One piece of :func:`resolve_pieces`: 0 resolved, 1 to split.
 
     The piece is clipped by the full line of every trace that reaches it (a jump segment
@@ -608,6 +645,7 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
     nlines = 0
     side_fixed = np.zeros((n_tr, 3), np.int64)    # coplanar edge line missing the piece: side +1 / -1
     line_of = np.full((n_tr, 3), -1, np.int64)
+    flip = np.zeros((n_tr, 3), np.bool_)
     for k in range(cut_ptr[f], cut_ptr[f + 1]):
         t = tr_type[k]
         if t == 0:
@@ -630,6 +668,12 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
                     if abs(dq) > abs(d):
                         d = dq
                 side_fixed[k - cut_ptr[f], e] = 1 if d > 0.0 else -1
+                continue
+            same = _same_line(lines, nlines, nl, tr_P[k, a, 0], tr_P[k, a, 1], tr_P[k, a, 2], tol)
+            if same != 0:
+                # a line already there (a shared edge): the same bit, maybe the other way round
+                line_of[k - cut_ptr[f], e] = abs(same) - 1
+                flip[k - cut_ptr[f], e] = same < 0
                 continue
             if nlines >= LMAX:
                 return 1
@@ -659,8 +703,14 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
     known = np.zeros(n_cells, np.bool_)
     live = np.zeros(n_cells, np.bool_)
     tiny = tol * tol
+    areas = np.empty(n_cells)
+    piece_area = 0.0
     for c in range(n_cells):
-        live[c] = _cell_area_centroid(cells, ncv, c, nf, cen[c]) > tiny
+        areas[c] = _cell_area_centroid(cells, ncv, c, nf, cen[c])
+        live[c] = areas[c] > tiny
+        piece_area += abs(areas[c])
+        if not live[c] and ncv[c] >= 3:
+            _add_cell_abs(cells, ncv, c, p, bnd[i])       # a crumb from the clipping: bounded
     for c in range(n_cells):
         if not live[c]:
             continue
@@ -681,7 +731,12 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
                     known[c] = True
                     break
         if not known[c]:
-            return 1
+            if areas[c] > 1e-9 * piece_area:
+                return 1
+            # a sliver along a trace (its centroid within the tolerance of it): weight in
+            # [-1, 1], taken as 0, bounded by its whole tetrahedron sums
+            _add_cell_abs(cells, ncv, c, p, bnd[i])
+            live[c] = False
     # 4. each cell's stack and weight
     for c in range(n_cells):
         if not live[c]:
@@ -696,7 +751,7 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
             for e in range(3):
                 li = line_of[k - cut_ptr[f], e]
                 if li >= 0:
-                    inside = inside and ((sides[c] >> li) & 1) == 1
+                    inside = inside and (((sides[c] >> li) & 1) == 1) != flip[k - cut_ptr[f], e]
                 else:
                     inside = inside and side_fixed[k - cut_ptr[f], e] > 0
             if inside:
@@ -711,6 +766,52 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
         if weight != 0.0:
             _add_cell(cells, ncv, c, weight, p, acc[i])
     return 0
+
+
+def _same_line(lines, nlines, nl, x, y, z, tol):
+    """1 + index of a line among ``lines[:nlines]`` equal to the line through (x, y, z) with unit
+    normal nl (negative: opposite normal), 0 if none."""
+    for li in range(nlines):
+        c = lines[li, 3] * nl[0] + lines[li, 4] * nl[1] + lines[li, 5] * nl[2]
+        if abs(c) < 1.0 - 1e-12:
+            continue
+        d = lines[li, 3] * (x - lines[li, 0]) + lines[li, 4] * (y - lines[li, 1]) + lines[li, 5] * (z - lines[li, 2])
+        if abs(d) <= tol:
+            return li + 1 if c > 0.0 else -(li + 1)
+    return 0
+
+
+def _add_cell_abs(cells, ncv, c, p, out):
+    """out (13,) += bounds of the tetrahedron integrals (apex p) of the fan triangles of cell c:
+    |V|, |V| max|y_j|, |V| max|y_j| max|y_k| (y = x - p; its largest |y_j| is at a corner)."""
+    m = ncv[c]
+    for i in range(1, m - 1):
+        ax = cells[c, 0, 0] - p[0]
+        ay = cells[c, 0, 1] - p[1]
+        az = cells[c, 0, 2] - p[2]
+        bx = cells[c, i, 0] - p[0]
+        by = cells[c, i, 1] - p[1]
+        bz = cells[c, i, 2] - p[2]
+        cx = cells[c, i + 1, 0] - p[0]
+        cy = cells[c, i + 1, 1] - p[1]
+        cz = cells[c, i + 1, 2] - p[2]
+        vol = abs(ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)) / 6.0
+        mx = max(abs(ax), max(abs(bx), abs(cx)))
+        my = max(abs(ay), max(abs(by), abs(cy)))
+        mz = max(abs(az), max(abs(bz), abs(cz)))
+        out[0] += vol
+        out[1] += vol * mx
+        out[2] += vol * my
+        out[3] += vol * mz
+        out[4] += vol * mx * mx
+        out[5] += vol * mx * my
+        out[6] += vol * mx * mz
+        out[7] += vol * my * mx
+        out[8] += vol * my * my
+        out[9] += vol * my * mz
+        out[10] += vol * mz * mx
+        out[11] += vol * mz * my
+        out[12] += vol * mz * mz
 
 
 def _piece_near_type3(V, F, g, Pi, nf, tol):

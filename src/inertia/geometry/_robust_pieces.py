@@ -221,7 +221,7 @@ class Pieces:
     def refine(self, good_enough, max_pieces, max_depth, deadline):
         """Resolve the faces to refine piece by piece (:func:`._robust_clip.resolve_pieces`),
         splitting 1 -> 4 the pieces that could not be, until ``good_enough(values, bounds)``
-        or a budget ends.
+        or a budget ends.  Faces of zero area add nothing and are left out.
 
         Returns ``(vol, first, second, bound_vol, bound_first, bound_second, stats)``, the
         integrals of the refined faces' boundary parts and the bounds of the unresolved pieces.
@@ -230,6 +230,8 @@ class Pieces:
         stats = {"depth": 0, "pieces": 0, "pieces_resolved": 0, "pieces_unresolved": 0}
         acc = np.zeros(10)
         faces = self.refine_faces
+        faces = faces[np.any(np.cross(self.V[self.F[faces, 1]] - self.V[self.F[faces, 0]],
+                                      self.V[self.F[faces, 2]] - self.V[self.F[faces, 0]]) != 0, axis=1)]
         if len(faces) == 0:
             z = np.zeros(3), np.zeros((3, 3))
             return 0.0, z[0], z[1], 0.0, z[0], z[1], stats
@@ -242,17 +244,20 @@ class Pieces:
         # faces without a reference winding stay whole and unresolved
         P_left = self.V[self.F[faces[~ok]]]
         used, depth = 0, 0
+        sliver = np.zeros(13)          # slivers left undecided inside resolved pieces
         while len(P):
             used += len(P)
             status = np.empty(len(P), np.int64)
             pacc = np.zeros((len(P), 10))
+            pbnd = np.zeros((len(P), 13))
             w_seen = np.empty((len(P), 2))
             w_seen[:, 0], w_seen[:, 1] = np.inf, -np.inf
             k.resolve_pieces(np.ascontiguousarray(P), owner, rows, ref, w_ref, self.V, self.F, self.M,
-                             *self.trace_args, p, REL_TOL, status, pacc, w_seen)
+                             *self.trace_args, p, REL_TOL, status, pacc, pbnd, w_seen)
             done = status == 0
             stats["pieces_resolved"] += int(done.sum())
             acc += pacc[done].sum(0)
+            sliver += pbnd[done].sum(0)
             if done.any():
                 self.w_min = min(self.w_min, float(w_seen[done, 0].min()))
                 self.w_max = max(self.w_max, float(w_seen[done, 1].max()))
@@ -260,7 +265,7 @@ class Pieces:
             val = _unpacked(acc)
             half = np.full(len(P) + len(P_left), 0.5)
             allP = np.concatenate([P, P_left])
-            bnd = tetra_abs(allP, p, half)
+            bnd = _plus_sliver(tetra_abs(allP, p, half), sliver)
             guess = tetra_sums(allP, p, half)
             out_of_budget = (depth >= max_depth or used + 4 * len(P) > max_pieces
                              or (deadline is not None and time.perf_counter() > deadline))
@@ -270,10 +275,15 @@ class Pieces:
             P, owner, rows = _split4(P), np.repeat(owner, 4), np.repeat(rows, 4)
         allP = np.concatenate([P, P_left])
         half = np.full(len(allP), 0.5)
-        bnd = tetra_abs(allP, p, half)
+        bnd = _plus_sliver(tetra_abs(allP, p, half), sliver)
         val = [a + b for a, b in zip(_unpacked(acc), tetra_sums(allP, p, half))]
         stats.update({"depth": depth, "pieces": used, "pieces_unresolved": len(allP)})
         return val[0], val[1], val[2], bnd[0], bnd[1], bnd[2], stats
+
+
+def _plus_sliver(bnd, sliver):
+    """Bounds (volume, first, second) plus the slivers' (13,: volume, first (3), second (9))."""
+    return bnd[0] + sliver[0], bnd[1] + sliver[1:4], bnd[2] + sliver[4:13].reshape(3, 3)
 
 
 def _unpacked(out):

@@ -23,8 +23,8 @@ import math
 
 import numpy as np
 
-__all__ = ["face_boxes", "vertex_faces", "dedupe_faces", "boundary_edges", "vertex_pass", "patch_labels", "patch_reps",
-           "weighted_sums"]
+__all__ = ["ear_clip", "face_boxes", "vertex_faces", "dedupe_faces", "boundary_edges", "vertex_pass",
+           "patch_labels", "patch_reps", "weighted_sums"]
 
 TWO_PI = 2.0 * math.pi
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
@@ -503,3 +503,109 @@ def weighted_sums(V, F, w, px, py, pz, out):
             blk[9] += det * (ay * az + by * bz + cy * cz + sy * sz)
         for i in range(10):
             out[i] += blk[i]
+
+
+def ear_clip(P, out):
+    """Triangulate the simple polygon P (n, 2) (in order) by ear clipping: triangles (a, b, c)
+    of vertex indices into ``out`` (n - 2, 3), in P's order; returns n - 2, or -1 when P is
+    not simple (two non-adjacent edges meet, or an edge turns back) or no ear is found.
+
+    O(n^2): the simplicity test compares every pair of edges; an ear is a convex vertex whose
+    triangle holds no other remaining vertex (boundary included: conservative).
+    """
+    n = P.shape[0]
+    if n < 3:
+        return -1
+    scale = 0.0
+    area2 = 0.0
+    for i in range(n):
+        j = (i + 1) % n
+        scale = max(scale, abs(P[i, 0]), abs(P[i, 1]))
+        area2 += P[i, 0] * P[j, 1] - P[j, 0] * P[i, 1]
+    if area2 == 0.0:
+        return -1
+    sgn = 1.0 if area2 > 0.0 else -1.0
+    tiny = 1e-14 * scale * scale
+    # simple: no edge turns back, non-adjacent edges do not meet
+    for i in range(n):
+        a = (i + n - 1) % n
+        c = (i + 1) % n
+        cr = (P[i, 0] - P[a, 0]) * (P[c, 1] - P[i, 1]) - (P[i, 1] - P[a, 1]) * (P[c, 0] - P[i, 0])
+        dt = (P[i, 0] - P[a, 0]) * (P[c, 0] - P[i, 0]) + (P[i, 1] - P[a, 1]) * (P[c, 1] - P[i, 1])
+        if abs(cr) <= tiny and dt < 0.0:
+            return -1
+    for i in range(n):
+        for j in range(i + 2, n):
+            if i == 0 and j == n - 1:
+                continue
+            if _segments_meet(P, i, (i + 1) % n, j, (j + 1) % n, tiny):
+                return -1
+    prv = np.empty(n, np.int64)
+    nxt = np.empty(n, np.int64)
+    for i in range(n):
+        prv[i] = (i + n - 1) % n
+        nxt[i] = (i + 1) % n
+    left = n
+    b = 0
+    nt = 0
+    misses = 0
+    while left > 3:
+        a = prv[b]
+        c = nxt[b]
+        if _is_ear(P, prv, nxt, a, b, c, sgn, tiny):
+            out[nt, 0] = a
+            out[nt, 1] = b
+            out[nt, 2] = c
+            nt += 1
+            nxt[a] = c
+            prv[c] = a
+            left -= 1
+            misses = 0
+            b = c
+        else:
+            misses += 1
+            if misses > left:
+                return -1
+            b = c
+    out[nt, 0] = prv[b]
+    out[nt, 1] = b
+    out[nt, 2] = nxt[b]
+    return nt + 1
+
+
+def _cross2(P, a, b, c):
+    return (P[b, 0] - P[a, 0]) * (P[c, 1] - P[a, 1]) - (P[b, 1] - P[a, 1]) * (P[c, 0] - P[a, 0])
+
+
+def _segments_meet(P, a, b, c, d, tiny):
+    """Closed segments ab and cd share a point (within ``tiny`` of the cross products)."""
+    d1 = _cross2(P, a, b, c)
+    d2 = _cross2(P, a, b, d)
+    d3 = _cross2(P, c, d, a)
+    d4 = _cross2(P, c, d, b)
+    if ((d1 > tiny and d2 > tiny) or (d1 < -tiny and d2 < -tiny) or (d3 > tiny and d4 > tiny)
+            or (d3 < -tiny and d4 < -tiny)):
+        return False
+    if abs(d1) <= tiny and abs(d2) <= tiny:
+        # collinear: do the projections overlap?
+        for k in range(2):
+            lo1 = min(P[a, k], P[b, k])
+            hi1 = max(P[a, k], P[b, k])
+            lo2 = min(P[c, k], P[d, k])
+            hi2 = max(P[c, k], P[d, k])
+            if lo1 > hi2 or lo2 > hi1:
+                return False
+    return True
+
+
+def _is_ear(P, prv, nxt, a, b, c, sgn, tiny):
+    """b is convex (beyond tiny) and no other remaining vertex lies in the closed triangle abc."""
+    if sgn * _cross2(P, a, b, c) <= tiny:
+        return False
+    q = nxt[c]
+    while q != a:
+        if (sgn * _cross2(P, a, b, q) >= -tiny and sgn * _cross2(P, b, c, q) >= -tiny
+                and sgn * _cross2(P, c, a, q) >= -tiny):
+            return False
+        q = nxt[q]
+    return True

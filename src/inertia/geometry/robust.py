@@ -70,6 +70,8 @@ __all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", 
 AMBIGUOUS_LOW, AMBIGUOUS_HIGH = 0.1, 0.9
 #: Relative geometric tolerance of the intersection tests (times the box diagonal).
 EPS_REL = 1e-10
+#: Cut pieces are refined until their bound is this fraction of tol (or a budget ends).
+REFINE_BELOW = 1e-3
 
 
 @dataclass(frozen=True)
@@ -243,7 +245,7 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     edges = np.empty((3 * len(f), 2), np.int64)
     emult = np.empty(3 * len(f))
     ne = kern.boundary_edges(f, mult, ptr, idx, edges, emult)
-    caps = Caps(v, edges[:ne], emult[:ne], eps)
+    caps = Caps(v, edges[:ne], emult[:ne], eps, kern)
     stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
     if ne:
         defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
@@ -265,8 +267,9 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     deadline = None if time_budget is None else t0 + time_budget
 
     def good_enough(val, extra):
+        # the unresolved pieces shrink fourfold per level: go well below tol while cheap
         return _relative_ok(vol + val[0], first + val[1], second + val[2],
-                            bv + extra[0], bf + extra[1], bs + extra[2], tol)
+                            bv + extra[0], bf + extra[1], bs + extra[2], REFINE_BELOW * tol)
 
     rv, rf, rs, ev, ef, es, info = pieces.refine(good_enough, max_pieces, max_depth, deadline)
     vol, first, second = vol + rv, first + rf, second + rs
