@@ -42,7 +42,8 @@ def tetra_abs(P, p, w):
 class Pieces:
     """The closed chain (V, F, M) about p, with its cut faces found and refined."""
 
-    def __init__(self, V, F, M, p, kern, eps):
+    def __init__(self, V, F, M, p, kern, eps, cert, nbr):
+        self.cert, self.nbr = cert, nbr          # certified vertices, face across each manifold edge
         self.V = np.ascontiguousarray(V, dtype=np.float64)
         self.F = np.ascontiguousarray(F, dtype=np.int64)
         self.M = np.ascontiguousarray(M, dtype=np.float64)
@@ -58,18 +59,10 @@ class Pieces:
 
     # ------------------------------------------------------------------ cuts
     def find_cuts(self):
-        """Pairs of faces that may cut each other: ``cut`` mask and CSR lists of cutters;
-        also the manifold edges that join faces into patches (:func:`._robust_topo.vertex_pass`)."""
+        """Pairs of faces that may cut each other: ``cut`` mask and CSR lists of cutters."""
         t = time.perf_counter()
-        k, V, F, nf = self.kern, self.V, self.F, len(self.F)
-        ptr = np.empty(len(V) + 1, np.int64)
-        idx = np.empty(3 * nf, np.int64)
-        k.vertex_faces(F, len(V), False, ptr, idx)
-        cert = np.zeros(len(V), np.bool_)
-        self.joins = np.empty(3 * nf, np.int64)
-        k.vertex_pass(V, F, self.M, ptr, idx, cert, self.joins)
-        self.star_ptr, self.star_idx = ptr, idx
-        t_cert = time.perf_counter() - t
+        nf = len(self.F)
+        cert = self.cert
         pairs = self._grid_pairs(cert)
         if len(pairs):
             nf1 = np.int64(nf + 1)
@@ -82,8 +75,7 @@ class Pieces:
         self.cut[both[:, 0]] = True
         self.n_cut_pairs, self.n_cut_faces = len(pairs), int(self.cut.sum())
         return {"cut_pairs": self.n_cut_pairs, "cut_faces": self.n_cut_faces,
-                "certified_vertices": int(cert.sum()), "seconds_vertices": t_cert,
-                "seconds_cuts": time.perf_counter() - t}
+                "certified_vertices": int(cert.sum()), "seconds_cuts": time.perf_counter() - t}
 
     def _grid_pairs(self, cert):
         """Candidate pairs from two uniform grids: a fine one (cell twice the median face box)
@@ -126,7 +118,7 @@ class Pieces:
         F, nf, k = self.F, len(self.F), self.kern
         uncut = ~self.cut
         lab = np.empty(nf, np.int64)
-        self.n_patches_all = k.patch_labels(self.star_idx, self.joins, self.cut, lab)
+        self.n_patches_all = k.patch_labels(self.nbr, self.cut, lab)
         reps = np.empty(self.n_patches_all, np.int64)
         k.patch_reps(self.V, F, lab, uncut, reps)
         reps = reps[reps >= 0]
@@ -208,15 +200,9 @@ class Pieces:
 
     def _adjacency(self):
         """Both directions of the manifold edges joining faces: ``(a, b, u, v)`` (edge u-v)."""
-        ptr, idx, joins = self.star_ptr, self.star_idx, self.joins
-        i = np.flatnonzero(joins >= 0)
-        vtx = np.repeat(np.arange(len(ptr) - 1), np.diff(ptr))[i]
-        fa, fb = idx[i], joins[i]
-        Fa = self.F[fa]
-        pos = np.argmax(Fa == vtx[:, None], axis=1)
-        x = Fa[np.arange(len(fa)), (pos + 1) % 3]
-        return (np.concatenate([fa, fb]), np.concatenate([fb, fa]), np.concatenate([vtx, vtx]),
-                np.concatenate([x, x]))
+        fa, e = np.nonzero(self.nbr >= 0)
+        fb = self.nbr[fa, e]
+        return fa, fb, self.F[fa, e], self.F[fa, (e + 1) % 3]
 
     def refine(self, good_enough, max_pieces, max_depth, deadline):
         """Resolve the faces to refine piece by piece (:func:`._robust_clip.resolve_pieces`),

@@ -8,11 +8,11 @@ sort), so no hash table is needed:
 
 * :func:`dedupe_faces` merges faces with the same corner set into one face with a
   multiplicity (orientation parity gives the sign of each copy);
-* :func:`boundary_edges`: the directed edges of non-zero net multiplicity (open edges,
-  inconsistently wound ones), which the caps close;
 * :func:`vertex_pass` proves, vertex by vertex, that no two faces around a vertex cut each
-  other (their projections along one direction tile a disc or a sector), and lists the
-  manifold, consistently wound edges of equal multiplicities that join faces into patches;
+  other (their projections along one direction tile a disc or a sector), finds the face
+  across each manifold, consistently wound edge of equal multiplicities, and counts the
+  boundary edges (non-zero net multiplicity: open, or inconsistently wound), which
+  :func:`boundary_edges` then writes out and the caps close;
 * :func:`patch_labels` joins the uncut faces across those edges (union-find);
 * :func:`weighted_sums` adds the signed-tetrahedron integrals of weighted faces.
 """
@@ -135,21 +135,17 @@ def dedupe_faces(F, ptr, idx, out, mult):
     return n
 
 
-def _star(F, ptr, idx, v, A, B, W):
-    """Corners after v (A[t], B[t]) of the faces W[t] around v; returns their number."""
+def _star(F, ptr, idx, v, A, B, W, Q):
+    """Corners after v (A[t], B[t]) of the faces W[t] around v, and v's position Q[t] in
+    the face; returns their number."""
     k = 0
     for i in range(ptr[v], ptr[v + 1]):
         f = idx[i]
-        if F[f, 0] == v:
-            A[k] = F[f, 1]
-            B[k] = F[f, 2]
-        elif F[f, 1] == v:
-            A[k] = F[f, 2]
-            B[k] = F[f, 0]
-        else:
-            A[k] = F[f, 0]
-            B[k] = F[f, 1]
+        q = 0 if F[f, 0] == v else (1 if F[f, 1] == v else 2)
+        A[k] = F[f, (q + 1) % 3]
+        B[k] = F[f, (q + 2) % 3]
         W[k] = f
+        Q[k] = q
         k += 1
     return k
 
@@ -161,68 +157,9 @@ def _max_valence(ptr):
     return kmax
 
 
-def boundary_edges(F, M, ptr, idx, out, out_mult):
-    """Directed boundary edges (tail, head) of the chain (net multiplicity != 0); returns their count.
-
-    ``ptr, idx``: :func:`vertex_faces` with every corner.  Edge {v, x} is examined at its lower
-    end v: its net multiplicity is the sum of M over the faces traversing v -> x minus those
-    traversing x -> v.  The vertices are first counted (in parallel when compiled), then
-    the few with boundary edges write them.
-    """
-    nv = ptr.shape[0] - 1
-    kmax = _max_valence(ptr)
-    counts = np.zeros(nv, np.int64)
-    n_chunks = 64
-    for ch in prange(n_chunks):
-        A = np.empty(kmax, np.int64)
-        B = np.empty(kmax, np.int64)
-        W = np.empty(kmax, np.int64)
-        for v in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
-            counts[v] = _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, -1)
-    A = np.empty(kmax, np.int64)
-    B = np.empty(kmax, np.int64)
-    W = np.empty(kmax, np.int64)
-    n = 0
-    for v in range(nv):
-        if counts[v]:
-            n += _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, n)
-    return n
-
-
-def _vertex_boundary(F, M, ptr, idx, v, A, B, W, out, out_mult, n):
-    """Boundary edges owned by v (its lower end); written from ``out[n]`` on unless n < 0."""
-    k = _star(F, ptr, idx, v, A, B, W)
-    found = 0
-    for t in range(2 * k):
-        x = A[t] if t < k else B[t - k]
-        if x < v or _seen_before(A, B, k, t, x):
-            continue
-        net = 0.0
-        for u in range(k):
-            if A[u] == x:
-                net += M[W[u]]
-            if B[u] == x:
-                net -= M[W[u]]
-        if abs(net) < 0.5:
-            continue
-        if n >= 0:
-            out[n + found, 0] = v if net > 0 else x
-            out[n + found, 1] = x if net > 0 else v
-            out_mult[n + found] = abs(net)
-        found += 1
-    return found
-
-
-def _seen_before(A, B, k, t, x):
-    """x already appeared among the link corners listed before position t (A then B)."""
-    for u in range(t):
-        if (A[u] if u < k else B[u - k]) == x:
-            return True
-    return False
-
-
-def vertex_pass(V, F, M, ptr, idx, ok, joins):
-    """Certified vertices ``ok`` and the patch-joining edges ``joins`` (in parallel when compiled).
+def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary):
+    """For each vertex v of ``verts`` (in parallel when compiled): is v certified (``ok[v]``),
+    the faces across the edges v owns (``nbr``), how many boundary edges v owns (``n_boundary[v]``).
 
     ``ok[v]``: no two faces around v share a point other than v and their common edges.
     Sufficient test: the faces around v form one fan (their link edges a -> b, the corners
@@ -233,24 +170,29 @@ def vertex_pass(V, F, M, ptr, idx, ok, joins):
     turn).  Then the projections of the faces lie in disjoint sectors around v, so two faces
     can meet only where their projections do: in v and along a shared edge.
 
-    ``joins`` (3F,): for the star face ``idx[i]`` (i in ``ptr[v]..ptr[v + 1]``) traversing
-    v -> x with x > v, the other face of that edge when the edge is used by exactly these
-    two faces, in opposite directions, with equal multiplicities; else -1.
+    Edge {v, x} is v's when v < x.  ``nbr[f, e]`` (edge e of face f runs from corner e to
+    corner e + 1): the other face of that edge when exactly two faces use it, in opposite
+    directions, with equal multiplicities (left alone otherwise: -1 from the caller).  A
+    boundary edge has a net multiplicity (faces v -> x minus faces x -> v) other than 0.
     """
-    nv = ptr.shape[0] - 1
     kmax = _max_valence(ptr)
     n_chunks = 64
+    nv = verts.shape[0]
     for ch in prange(n_chunks):
         A = np.empty(kmax, np.int64)
         B = np.empty(kmax, np.int64)
         W = np.empty(kmax, np.int64)
+        Q = np.empty(kmax, np.int64)
         nxt = np.empty(kmax, np.int64)
         flag = np.empty(kmax, np.bool_)
         C = np.empty((kmax, 3))
-        for v in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
-            k = _star(F, ptr, idx, v, A, B, W)
+        no_out = np.empty((0, 2), np.int64)
+        no_mult = np.empty(0)
+        for j in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
+            v = verts[j]
+            k = _star(F, ptr, idx, v, A, B, W, Q)
             ok[v] = False
-            _manifold_pairs(M, v, A, B, W, k, joins, ptr[v])
+            n_boundary[v] = _owned_edges(F, M, v, A, B, W, Q, k, True, nbr, no_out, no_mult, 0)
             if k < 2:
                 continue
             kind = _fan_kind(A, B, k, nxt, flag)
@@ -258,24 +200,66 @@ def vertex_pass(V, F, M, ptr, idx, ok, joins):
                 ok[v] = _fan_flat(V, v, A, B, k, kind, C)
 
 
-def _manifold_pairs(M, v, A, B, W, k, joins, base):
-    """``joins[base + t]``: the other face of edge v -> A[t] (A[t] > v) when it is used once each way
-    with equal multiplicities, else -1."""
-    for t in range(k):
-        joins[base + t] = -1
-        x = A[t]
-        if x < v:
+def boundary_edges(F, M, ptr, idx, n_boundary, out, out_mult):
+    """Write the boundary edges (tail, head) and their net multiplicities of the vertices with
+    ``n_boundary[v] > 0`` (:func:`vertex_pass`); returns their count."""
+    kmax = _max_valence(ptr)
+    A = np.empty(kmax, np.int64)
+    B = np.empty(kmax, np.int64)
+    W = np.empty(kmax, np.int64)
+    Q = np.empty(kmax, np.int64)
+    no_nbr = np.empty((0, 3), np.int64)
+    n = 0
+    for v in range(ptr.shape[0] - 1):
+        if n_boundary[v] > 0:
+            k = _star(F, ptr, idx, v, A, B, W, Q)
+            n += _owned_edges(F, M, v, A, B, W, Q, k, False, no_nbr, out, out_mult, n)
+    return n
+
+
+def _owned_edges(F, M, v, A, B, W, Q, k, pair, nbr, out, out_mult, n):
+    """The edges {v, x}, x > v, of v's star: with ``pair``, pair the faces of manifold ones
+    into ``nbr``; else write the boundary ones into ``out``, ``out_mult`` from row n on.
+    Returns the number of boundary edges."""
+    found = 0
+    for t in range(2 * k):
+        x = A[t] if t < k else B[t - k]
+        if x < v or _seen_before(A, B, k, t, x):
             continue
-        other = -1
-        count = 0
+        net = 0.0
+        n_out = 0
+        n_in = 0
+        t_out = -1
+        t_in = -1
         for u in range(k):
-            if A[u] == x and u != t:
-                count += 2
+            if A[u] == x:
+                net += M[W[u]]
+                n_out += 1
+                t_out = u
             if B[u] == x:
-                other = u
-                count += 1
-        if count == 1 and M[W[t]] == M[W[other]]:
-            joins[base + t] = W[other]
+                net -= M[W[u]]
+                n_in += 1
+                t_in = u
+        if pair:
+            if n_out == 1 and n_in == 1 and M[W[t_out]] == M[W[t_in]]:
+                # W[t_out] runs v -> x along its edge Q[t_out]; W[t_in] runs x -> v along Q[t_in] + 2
+                nbr[W[t_out], Q[t_out]] = W[t_in]
+                nbr[W[t_in], (Q[t_in] + 2) % 3] = W[t_out]
+        elif abs(net) >= 0.5:
+            out[n + found, 0] = v if net > 0 else x
+            out[n + found, 1] = x if net > 0 else v
+            out_mult[n + found] = abs(net)
+        if abs(net) >= 0.5:
+            found += 1
+    return found
+
+
+def _seen_before(A, B, k, t, x):
+    """x already appeared among the link corners listed before position t (A then B)."""
+    for u in range(t):
+        if (A[u] if u < k else B[u - k]) == x:
+            return True
+    return False
 
 
 def _fan_kind(A, B, k, nxt, flag):
@@ -410,24 +394,24 @@ def _find(parent, x):
     return r
 
 
-def patch_labels(idx, joins, cut, labels):
-    """Connected patches of uncut faces joined by ``joins`` (:func:`vertex_pass`, with the
-    same ``idx``); ``labels[f]`` in 0..n-1 (cut faces alone in theirs), returns n."""
+def patch_labels(nbr, cut, labels):
+    """Connected patches of uncut faces joined by ``nbr`` (:func:`vertex_pass`); ``labels[f]``
+    in 0..n-1 (cut faces alone in theirs), returns n."""
     nf = labels.shape[0]
     parent = np.arange(nf)
-    for i in range(joins.shape[0]):
-        g = joins[i]
-        if g < 0:
+    for f in range(nf):
+        if cut[f]:
             continue
-        f = idx[i]
-        if cut[f] or cut[g]:
-            continue
-        rf = _find(parent, f)
-        rg = _find(parent, g)
-        if rf < rg:
-            parent[rg] = rf
-        elif rg < rf:
-            parent[rf] = rg
+        for e in range(3):
+            g = nbr[f, e]
+            if g < 0 or cut[g]:
+                continue
+            rf = _find(parent, f)
+            rg = _find(parent, g)
+            if rf < rg:
+                parent[rg] = rf
+            elif rg < rf:
+                parent[rf] = rg
     n = 0
     for f in range(nf):
         r = _find(parent, f)

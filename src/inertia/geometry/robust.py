@@ -239,19 +239,13 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     vu = v[used]
     p = reference_point(vu)
     eps = EPS_REL * max(float(np.linalg.norm(vu.max(0) - vu.min(0))), 1e-300)
-    ptr = np.empty(len(v) + 1, np.int64)
-    idx = np.empty(3 * len(f), np.int64)
-    kern.vertex_faces(f, len(v), False, ptr, idx)
-    edges = np.empty((3 * len(f), 2), np.int64)
-    emult = np.empty(3 * len(f))
-    ne = kern.boundary_edges(f, mult, ptr, idx, edges, emult)
-    caps = Caps(v, edges[:ne], emult[:ne], eps, kern)
+    caps, chain, cert, nbr = _closed_chain(v, f, mult, kern, eps)
+    ne = len(caps.edges)
     stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
     if ne:
         defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
-    pieces = Pieces(np.concatenate([v, caps.apex]), np.concatenate([f, caps.faces]),
-                    np.concatenate([mult, caps.mult]), p, kern, eps)
+    pieces = Pieces(*chain, p, kern, eps, cert, nbr)
     stats.update(pieces.find_cuts())
     if pieces.n_cut_faces:
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
@@ -290,6 +284,33 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     stats["seconds"] = time.perf_counter() - t0
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
                         tuple(defects), stats, der)
+
+
+def _closed_chain(v, f, mult, kern, eps):
+    """The caps and the closed chain ``(V, F, M)`` (mesh and caps), its certified vertices and
+    the face across each manifold edge (:func:`._robust_topo.vertex_pass`): one pass over the
+    mesh, then again over the vertices the caps touch."""
+    nv, nf = len(v), len(f)
+    ptr, idx = np.empty(nv + 1, np.int64), np.empty(3 * nf, np.int64)
+    kern.vertex_faces(f, nv, False, ptr, idx)
+    cert, nbr, nb = np.zeros(nv, np.bool_), np.full((nf, 3), -1, np.int64), np.zeros(nv, np.int64)
+    kern.vertex_pass(v, f, mult, ptr, idx, np.arange(nv), cert, nbr, nb)
+    ne = int(nb.sum())
+    edges, emult = np.empty((ne, 2), np.int64), np.empty(ne)
+    kern.boundary_edges(f, mult, ptr, idx, nb, edges, emult)
+    caps = Caps(v, edges, emult, eps, kern)
+    if not ne:
+        return caps, (v, f, mult), cert, nbr
+    V = np.ascontiguousarray(np.concatenate([v, caps.apex]))
+    F = np.ascontiguousarray(np.concatenate([f, caps.faces]))
+    M = np.ascontiguousarray(np.concatenate([mult, caps.mult]))
+    ptr, idx = np.empty(len(V) + 1, np.int64), np.empty(3 * len(F), np.int64)
+    kern.vertex_faces(F, len(V), False, ptr, idx)
+    cert = np.concatenate([cert, np.zeros(len(caps.apex), np.bool_)])
+    nbr = np.concatenate([nbr, np.full((len(caps.faces), 3), -1, np.int64)])
+    touched = np.union1d(np.unique(edges), np.arange(nv, len(V)))
+    kern.vertex_pass(V, F, M, ptr, idx, touched, cert, nbr, np.zeros(len(V), np.int64))
+    return caps, (V, F, M), cert, nbr
 
 
 def _prepared(vertices, faces, reference, kern):
