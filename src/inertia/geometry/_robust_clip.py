@@ -193,8 +193,9 @@ def _line_of(P0x, P0y, P0z, P1x, P1y, P1z, nf, out):
 
 def _segment_vs_piece(P, A0x, A0y, A0z, A1x, A1y, A1z, nf, tol, nl):
     """Where the segment A0 -> A1 (in f's plane) stands with respect to the triangle P:
-    0 its line misses P, 1 it crosses P completely (no end inside, beyond tol), 2 its line
-    crosses P but the segment does not reach it, 3 otherwise (an end in or near P).
+    0 its line does not enter P's interior (beyond tol), 1 it crosses P completely (no end
+    inside, beyond tol), 2 its line crosses P but the segment does not reach it, 3 otherwise
+    (an end in or near P).
     ``nl`` receives the line's unit in-plane normal."""
     le = _line_of(A0x, A0y, A0z, A1x, A1y, A1z, nf, nl)
     if le == 0.0:
@@ -224,11 +225,8 @@ def _segment_vs_piece(P, A0x, A0y, A0z, A1x, A1y, A1z, nf, tol, nl):
                  + uz * (P[i, 2] + s * (P[j, 2] - P[i, 2]) - A0z))
             tmin = min(tmin, t)
             tmax = max(tmax, t)
-    if not (pos and neg) and tmin == math.inf:
-        return 0
     if not (pos and neg):
-        # touches P at a corner or along an edge only: no interior crossing
-        return 0 if (tmax < -tol or tmin > le + tol or (tmin > tol and tmax < le - tol)) else 3
+        return 0                  # misses P, or touches it at a corner or along an edge only
     if tmax < -tol or tmin > le + tol:
         return 2
     if tmin > tol and tmax < le - tol:
@@ -714,11 +712,23 @@ def _resolve_one(P, i, f, s, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_
     for c in range(n_cells):
         if not live[c]:
             continue
-        ok, jmp = _walk(V, F, cut_ptr, tr_type, tr_P, tr_J, f, ref[s, 0], ref[s, 1], ref[s, 2], cen[c, 0],
-                        cen[c, 1], cen[c, 2], nf, tol)
-        if ok:
-            w_cell[c] = w_ref[s] + jmp
-            known[c] = True
+        # any point inside the cell will do: the centroid, else points towards its corners
+        # (a symmetric mesh may line the centroid up with a trace's end)
+        for trial in range(ncv[c] + 1):
+            if trial == 0:
+                qx = cen[c, 0]
+                qy = cen[c, 1]
+                qz = cen[c, 2]
+            else:
+                qx = 0.7 * cen[c, 0] + 0.3 * cells[c, trial - 1, 0]
+                qy = 0.7 * cen[c, 1] + 0.3 * cells[c, trial - 1, 1]
+                qz = 0.7 * cen[c, 2] + 0.3 * cells[c, trial - 1, 2]
+            ok, jmp = _walk(V, F, cut_ptr, tr_type, tr_P, tr_J, f, ref[s, 0], ref[s, 1], ref[s, 2], qx, qy, qz,
+                            nf, tol)
+            if ok:
+                w_cell[c] = w_ref[s] + jmp
+                known[c] = True
+                break
     for c in range(n_cells):
         if not live[c] or known[c]:
             continue

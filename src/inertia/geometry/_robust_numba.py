@@ -7,8 +7,8 @@ source text: each kernel file is executed once more into one private namespace (
 under the file's own name, so numba's on-disk cache can locate it) and every function there
 is replaced by its ``numba.njit`` version before any is called, so that the compiled
 functions call each other.  Both backends therefore make the same decisions.  A kernel
-that loops with ``prange`` is compiled with ``parallel=True`` (its iterations are
-independent: each writes its own slots).
+that loops with ``prange`` (its iterations are independent: each writes its own slots) is
+also compiled with ``parallel=True``; that version runs when the loop is long.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from __future__ import annotations
 import types
 
 import numba as nb
+import numpy as np
 
 from . import _robust_capk, _robust_clip, _robust_kernels, _robust_topo
 
@@ -32,12 +33,27 @@ def _compiled_namespace():
         ns["__file__"] = path
         exec(code, ns)  # noqa: S102 (our own kernel files, see the module docstring)
     ns["prange"] = nb.prange
+    exported = {}
     for name, obj in list(ns.items()):
         if isinstance(obj, types.FunctionType) and obj.__module__ == ns["__name__"]:
-            parallel = "prange" in obj.__code__.co_names
-            ns[name] = nb.njit(parallel=parallel, **_JIT)(obj)
-    return ns
+            ns[name] = nb.njit(**_JIT)(obj)
+            if "prange" in obj.__code__.co_names:
+                exported[name] = _by_size(nb.njit(parallel=True, **_JIT)(obj), ns[name])
+    return ns, exported
 
 
-_NS = _compiled_namespace()
-globals().update({name: _NS[name] for mod in _MODULES for name in mod.__all__})
+def _by_size(parallel, serial):
+    """Run ``parallel`` when the first array argument has at least PARALLEL_FROM rows, else
+    ``serial`` (starting the threads costs more than a small loop)."""
+    def run(*args):
+        first = next((a for a in args if isinstance(a, np.ndarray)), None)
+        big = first is not None and first.ndim > 0 and len(first) >= PARALLEL_FROM
+        return (parallel if big else serial)(*args)
+    run.__name__ = parallel.__name__
+    return run
+
+
+#: Loops over fewer items than this run on one thread.
+PARALLEL_FROM = 4096
+_NS, _PARALLEL = _compiled_namespace()
+globals().update({name: _PARALLEL.get(name, _NS[name]) for mod in _MODULES for name in mod.__all__})
