@@ -157,9 +157,11 @@ def _max_valence(ptr):
     return kmax
 
 
-def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary):
+def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary, kinds):
     """For each vertex v of ``verts`` (in parallel when compiled): is v certified (``ok[v]``),
-    the faces across the edges v owns (``nbr``), how many boundary edges v owns (``n_boundary[v]``).
+    the faces across the edges v owns (``nbr``), how many boundary edges v owns (``n_boundary[v]``),
+    and how many of its edges are open (used once), inconsistently wound (twice, the same
+    way) or non-manifold (more than twice), counting multiplicities (``kinds[v]``, (3,)).
 
     ``ok[v]``: no two faces around v share a point other than v and their common edges.
     Sufficient test: the faces around v form one fan (their link edges a -> b, the corners
@@ -193,6 +195,7 @@ def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary):
             k = _star(F, ptr, idx, v, A, B, W, Q)
             ok[v] = False
             n_boundary[v] = _owned_edges(F, M, v, A, B, W, Q, k, True, nbr, no_out, no_mult, 0)
+            _edge_kinds(M, v, A, B, W, k, kinds)
             if k < 2:
                 continue
             kind = _fan_kind(A, B, k, nxt, flag)
@@ -252,6 +255,35 @@ def _owned_edges(F, M, v, A, B, W, Q, k, pair, nbr, out, out_mult, n):
         if abs(net) >= 0.5:
             found += 1
     return found
+
+
+def _edge_kinds(M, v, A, B, W, k, kinds):
+    """kinds[v] = (open, inconsistently wound, non-manifold) edges {v, x}, x > v (uses counted
+    with multiplicity)."""
+    if kinds.shape[0] == 0:
+        return
+    kinds[v, 0] = 0
+    kinds[v, 1] = 0
+    kinds[v, 2] = 0
+    for t in range(2 * k):
+        x = A[t] if t < k else B[t - k]
+        if x < v or _seen_before(A, B, k, t, x):
+            continue
+        m_out = 0.0
+        m_in = 0.0
+        for u in range(k):
+            if A[u] == x:
+                m_out += M[W[u]]
+            if B[u] == x:
+                m_in += M[W[u]]
+        uses = m_out + m_in
+        if uses < 1.5:
+            kinds[v, 0] += 1
+        elif uses < 2.5:
+            if m_out != m_in:
+                kinds[v, 1] += 1
+        else:
+            kinds[v, 2] += 1
 
 
 def _seen_before(A, B, k, t, x):

@@ -93,6 +93,10 @@ class RobustResult:
     converged : bool, the bounds meet ``tol`` (see :attr:`relative_bounds`).
     defects : tuple of str, what was found (holes, overlaps, cut faces, inside-out shells).
     stats : dict, counts and timings.
+    codes : tuple of str, the same in :func:`inertia.geometry.checks.check_mesh`'s codes
+        (``duplicate_faces``, ``open_edges``, ``non_manifold_edges``, ``inconsistent_winding``,
+        ``inverted``, ``overlapping_shells`` for faces that cross), so that a caller need not
+        run the full check as well.
     """
 
     volume: float
@@ -108,6 +112,7 @@ class RobustResult:
     defects: tuple = ()
     stats: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict, repr=False)
+    codes: tuple = ()
 
     @property
     def ambiguous_fraction(self) -> float:
@@ -229,7 +234,7 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     kern = _winding_backend(backend)
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
-    v, f, mult, r, used = _prepared(vertices, faces, reference, kern)
+    v, f, mult, r, used, n_valid = _prepared(vertices, faces, reference, kern)
     defects = []
     if (mult > 1).any():
         defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
@@ -282,8 +287,19 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
         p = r
     stats["seconds"] = time.perf_counter() - t0
+    codes = _codes(caps.edge_kinds, n_valid > len(f), pieces, len(f))
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
-                        tuple(defects), stats, der)
+                        tuple(defects), stats, der, codes)
+
+
+def _codes(edge_kinds, duplicates, pieces, n_mesh):
+    """check_mesh's codes for what the robust pass found (see :class:`RobustResult`)."""
+    crossing = bool(np.any((np.repeat(np.arange(len(pieces.F)), np.diff(pieces.cut_ptr)) < n_mesh)
+                           & (pieces.cut_idx < n_mesh)))
+    found = {"duplicate_faces": duplicates, "open_edges": edge_kinds[0] > 0,
+             "non_manifold_edges": edge_kinds[2] > 0, "inconsistent_winding": edge_kinds[1] > 0,
+             "inverted": pieces.w_min <= -1, "overlapping_shells": crossing}
+    return tuple(code for code, hit in found.items() if hit)
 
 
 def _closed_chain(v, f, mult, kern, eps):
@@ -294,11 +310,14 @@ def _closed_chain(v, f, mult, kern, eps):
     ptr, idx = np.empty(nv + 1, np.int64), np.empty(3 * nf, np.int64)
     kern.vertex_faces(f, nv, False, ptr, idx)
     cert, nbr, nb = np.zeros(nv, np.bool_), np.full((nf, 3), -1, np.int64), np.zeros(nv, np.int64)
-    kern.vertex_pass(v, f, mult, ptr, idx, np.arange(nv), cert, nbr, nb)
+    kinds = np.zeros((nv, 3), np.int64)
+    kern.vertex_pass(v, f, mult, ptr, idx, np.arange(nv), cert, nbr, nb, kinds)
+    edge_kinds = kinds.sum(0)
     ne = int(nb.sum())
     edges, emult = np.empty((ne, 2), np.int64), np.empty(ne)
     kern.boundary_edges(f, mult, ptr, idx, nb, edges, emult)
     caps = Caps(v, edges, emult, eps, kern)
+    caps.edge_kinds = edge_kinds
     if not ne:
         return caps, (v, f, mult), cert, nbr
     V = np.ascontiguousarray(np.concatenate([v, caps.apex]))
@@ -309,12 +328,13 @@ def _closed_chain(v, f, mult, kern, eps):
     cert = np.concatenate([cert, np.zeros(len(caps.apex), np.bool_)])
     nbr = np.concatenate([nbr, np.full((len(caps.faces), 3), -1, np.int64)])
     touched = np.union1d(np.unique(edges), np.arange(nv, len(V)))
-    kern.vertex_pass(V, F, M, ptr, idx, touched, cert, nbr, np.zeros(len(V), np.int64))
+    kern.vertex_pass(V, F, M, ptr, idx, touched, cert, nbr, np.zeros(len(V), np.int64), np.zeros((0, 3), np.int64))
     return caps, (V, F, M), cert, nbr
 
 
 def _prepared(vertices, faces, reference, kern):
-    """Validated ``(vertices, faces, multiplicities, reference or None, used-vertex mask)``;
+    """Validated ``(vertices, faces, multiplicities, reference or None, used-vertex mask, number of
+    faces with three distinct corners)``;
     exactly coincident vertices merged (no tolerance: the geometry is unchanged), so that
     repeated copies of faces are recognised as one face with a multiplicity."""
     v, f = validate_inputs(vertices, faces)
@@ -340,7 +360,8 @@ def _prepared(vertices, faces, reference, kern):
     n = kern.dedupe_faces(fw, ptr, idx, out, mult)
     if n == 0:
         raise InputError("every face is degenerate or cancelled by an opposite copy: nothing to integrate")
-    return np.ascontiguousarray(v), out[:n], mult[:n], r, used
+    n_valid = int(np.count_nonzero((fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 2] != fw[:, 0])))
+    return np.ascontiguousarray(v), out[:n], mult[:n], r, used, n_valid
 
 
 def _cap_terms(caps, v, kern, p, enough, eps, stats):
