@@ -185,105 +185,162 @@ def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary, kinds):
         B = np.empty(kmax, np.int64)
         W = np.empty(kmax, np.int64)
         Q = np.empty(kmax, np.int64)
-        nxt = np.empty(kmax, np.int64)
+        L = np.empty((kmax, 6), np.int64)
         flag = np.empty(kmax, np.bool_)
-        C = np.empty((kmax, 3))
-        no_out = np.empty((0, 2), np.int64)
-        no_mult = np.empty(0)
+        C = np.empty((kmax, 9))
         for j in range(nv * ch // n_chunks, nv * (ch + 1) // n_chunks):
             v = verts[j]
             k = _star(F, ptr, idx, v, A, B, W, Q)
             ok[v] = False
-            n_boundary[v] = _owned_edges(F, M, v, A, B, W, Q, k, True, nbr, no_out, no_mult, 0)
-            _edge_kinds(M, v, A, B, W, k, kinds)
+            _link(A, B, k, L)
+            n_boundary[v] = _vertex_edges(M, v, A, B, W, Q, k, L, nbr, kinds)
             if k < 2:
                 continue
-            kind = _fan_kind(A, B, k, nxt, flag)
+            kind = _fan_kind(L, k, flag)
             if kind != 0:
                 ok[v] = _fan_flat(V, v, A, B, k, kind, C)
 
 
+def _link(A, B, k, L):
+    """One pass over the pairs of v's link edges A[t] -> B[t]: ``L[t]`` = (next: the first u with
+    A[u] == B[t], previous: the first u with B[u] == A[t], how many u have A[u] == A[t], B[u] ==
+    B[t], A[u] == B[t], B[u] == A[t]); -1 for none."""
+    for t in range(k):
+        a = A[t]
+        b = B[t]
+        nxt = -1
+        prv = -1
+        ca = 0
+        cb = 0
+        cn = 0
+        cp = 0
+        for u in range(k):
+            au = A[u]
+            bu = B[u]
+            ca += au == a
+            cb += bu == b
+            if au == b:
+                cn += 1
+                if nxt < 0:
+                    nxt = u
+            if bu == a:
+                cp += 1
+                if prv < 0:
+                    prv = u
+        L[t, 0] = nxt
+        L[t, 1] = prv
+        L[t, 2] = ca
+        L[t, 3] = cb
+        L[t, 4] = cn
+        L[t, 5] = cp
+
+
+def _vertex_edges(M, v, A, B, W, Q, k, L, nbr, kinds):
+    """Pair the faces of v's manifold edges {v, x}, x > v, into ``nbr``; count open,
+    inconsistent and non-manifold ones into ``kinds[v]`` (if given); returns the number of
+    boundary edges (net multiplicity not 0).  Edges met more than once on a side go to
+    :func:`_edge_uses`."""
+    n_bnd = 0
+    count = kinds.shape[0] > 0
+    k_open = 0
+    k_inc = 0
+    k_nm = 0
+    for t in range(k):
+        # edge v -> A[t]
+        x = A[t]
+        if x > v:
+            if L[t, 2] > 1 or L[t, 5] > 1:
+                if _first_in(A, t, x):
+                    m_out, m_in = _edge_uses(M, x, A, B, W, k)
+                    n_bnd += abs(m_out - m_in) >= 0.5
+                    k_open, k_inc, k_nm = _count_kind(k_open, k_inc, k_nm, m_out, m_in)
+            else:
+                m_out = M[W[t]]
+                m_in = 0.0
+                u = L[t, 1]
+                if u >= 0:
+                    m_in = M[W[u]]
+                    if m_out == m_in:
+                        nbr[W[t], Q[t]] = W[u]
+                        nbr[W[u], (Q[u] + 2) % 3] = W[t]
+                n_bnd += abs(m_out - m_in) >= 0.5
+                if m_out != 1.0 or m_in != 1.0:
+                    k_open, k_inc, k_nm = _count_kind(k_open, k_inc, k_nm, m_out, m_in)
+        # edge B[t] -> v with no face v -> B[t]
+        x = B[t]
+        if x > v and L[t, 4] == 0:
+            if L[t, 3] > 1:
+                if _first_in(B, t, x):
+                    m_out, m_in = _edge_uses(M, x, A, B, W, k)
+                    n_bnd += abs(m_out - m_in) >= 0.5
+                    k_open, k_inc, k_nm = _count_kind(k_open, k_inc, k_nm, m_out, m_in)
+            else:
+                n_bnd += M[W[t]] >= 0.5
+                k_open, k_inc, k_nm = _count_kind(k_open, k_inc, k_nm, 0.0, M[W[t]])
+    if count:
+        kinds[v, 0] = k_open
+        kinds[v, 1] = k_inc
+        kinds[v, 2] = k_nm
+    return n_bnd
+
+
+def _first_in(X, t, x):
+    for u in range(t):
+        if X[u] == x:
+            return False
+    return True
+
+
+def _count_kind(k_open, k_inc, k_nm, m_out, m_in):
+    """Counts of open, inconsistently wound, non-manifold edges, with edge (m_out, m_in) added."""
+    uses = m_out + m_in
+    if uses < 1.5:
+        k_open += 1
+    elif uses < 2.5:
+        if m_out != m_in:
+            k_inc += 1
+    else:
+        k_nm += 1
+    return k_open, k_inc, k_nm
+
+
+def _edge_uses(M, x, A, B, W, k):
+    """(multiplicity v -> x, multiplicity x -> v) of edge {v, x} over v's star."""
+    m_out = 0.0
+    m_in = 0.0
+    for u in range(k):
+        if A[u] == x:
+            m_out += M[W[u]]
+        if B[u] == x:
+            m_in += M[W[u]]
+    return m_out, m_in
+
+
 def boundary_edges(F, M, ptr, idx, n_boundary, out, out_mult):
     """Write the boundary edges (tail, head) and their net multiplicities of the vertices with
-    ``n_boundary[v] > 0`` (:func:`vertex_pass`); returns their count."""
+    ``n_boundary[v] > 0`` (:func:`vertex_pass`); returns their count.  Edge {v, x} is
+    v's when v < x; its net multiplicity is that of the faces v -> x less that of x -> v."""
     kmax = _max_valence(ptr)
     A = np.empty(kmax, np.int64)
     B = np.empty(kmax, np.int64)
     W = np.empty(kmax, np.int64)
     Q = np.empty(kmax, np.int64)
-    no_nbr = np.empty((0, 3), np.int64)
     n = 0
     for v in range(ptr.shape[0] - 1):
-        if n_boundary[v] > 0:
-            k = _star(F, ptr, idx, v, A, B, W, Q)
-            n += _owned_edges(F, M, v, A, B, W, Q, k, False, no_nbr, out, out_mult, n)
+        if n_boundary[v] == 0:
+            continue
+        k = _star(F, ptr, idx, v, A, B, W, Q)
+        for t in range(2 * k):
+            x = A[t] if t < k else B[t - k]
+            if x < v or _seen_before(A, B, k, t, x):
+                continue
+            m_out, m_in = _edge_uses(M, x, A, B, W, k)
+            if abs(m_out - m_in) >= 0.5:
+                out[n, 0] = v if m_out > m_in else x
+                out[n, 1] = x if m_out > m_in else v
+                out_mult[n] = abs(m_out - m_in)
+                n += 1
     return n
-
-
-def _owned_edges(F, M, v, A, B, W, Q, k, pair, nbr, out, out_mult, n):
-    """The edges {v, x}, x > v, of v's star: with ``pair``, pair the faces of manifold ones
-    into ``nbr``; else write the boundary ones into ``out``, ``out_mult`` from row n on.
-    Returns the number of boundary edges."""
-    found = 0
-    for t in range(2 * k):
-        x = A[t] if t < k else B[t - k]
-        if x < v or _seen_before(A, B, k, t, x):
-            continue
-        net = 0.0
-        n_out = 0
-        n_in = 0
-        t_out = -1
-        t_in = -1
-        for u in range(k):
-            if A[u] == x:
-                net += M[W[u]]
-                n_out += 1
-                t_out = u
-            if B[u] == x:
-                net -= M[W[u]]
-                n_in += 1
-                t_in = u
-        if pair:
-            if n_out == 1 and n_in == 1 and M[W[t_out]] == M[W[t_in]]:
-                # W[t_out] runs v -> x along its edge Q[t_out]; W[t_in] runs x -> v along Q[t_in] + 2
-                nbr[W[t_out], Q[t_out]] = W[t_in]
-                nbr[W[t_in], (Q[t_in] + 2) % 3] = W[t_out]
-        elif abs(net) >= 0.5:
-            out[n + found, 0] = v if net > 0 else x
-            out[n + found, 1] = x if net > 0 else v
-            out_mult[n + found] = abs(net)
-        if abs(net) >= 0.5:
-            found += 1
-    return found
-
-
-def _edge_kinds(M, v, A, B, W, k, kinds):
-    """kinds[v] = (open, inconsistently wound, non-manifold) edges {v, x}, x > v (uses counted
-    with multiplicity)."""
-    if kinds.shape[0] == 0:
-        return
-    kinds[v, 0] = 0
-    kinds[v, 1] = 0
-    kinds[v, 2] = 0
-    for t in range(2 * k):
-        x = A[t] if t < k else B[t - k]
-        if x < v or _seen_before(A, B, k, t, x):
-            continue
-        m_out = 0.0
-        m_in = 0.0
-        for u in range(k):
-            if A[u] == x:
-                m_out += M[W[u]]
-            if B[u] == x:
-                m_in += M[W[u]]
-        uses = m_out + m_in
-        if uses < 1.5:
-            kinds[v, 0] += 1
-        elif uses < 2.5:
-            if m_out != m_in:
-                kinds[v, 1] += 1
-        else:
-            kinds[v, 2] += 1
 
 
 def _seen_before(A, B, k, t, x):
@@ -294,33 +351,24 @@ def _seen_before(A, B, k, t, x):
     return False
 
 
-def _fan_kind(A, B, k, nxt, flag):
-    """How the link edges A[t] -> B[t] of a vertex connect: 2 one cycle, 1 one path, 0 neither.
+def _fan_kind(L, k, flag):
+    """How the link edges of a vertex connect (:func:`_link`): 2 one cycle, 1 one path, 0 neither.
 
-    ``nxt[t]`` is the edge starting where edge t ends (B[t] == A[u]); the tails A must be
-    distinct, and the walk from the start (the edge whose tail is nobody's head, else edge 0)
-    must reach all k edges, then stop (path) or come back to the start (cycle).
+    The tails must be distinct, and the walk along ``next`` from the start (the edge whose tail
+    is nobody's head, else edge 0) must reach all k edges, then stop (path) or come back to
+    the start (cycle).
     """
-    for t in range(k):
-        flag[t] = False       # here: "is somebody's head"
-        nxt[t] = -1
-    for t in range(k):
-        for u in range(k):
-            if u != t and A[u] == A[t]:
-                return 0
-            if B[t] == A[u]:
-                nxt[t] = u
-                flag[u] = True
     start = 0
     n_starts = 0
-    for u in range(k):
-        if not flag[u]:
-            start = u
+    for t in range(k):
+        if L[t, 2] > 1:
+            return 0
+        if L[t, 5] == 0:
+            start = t
             n_starts += 1
+        flag[t] = False
     if n_starts > 1:
         return 0
-    for t in range(k):
-        flag[t] = False       # now: "visited"
     t = start
     count = 0
     last = -1
@@ -328,16 +376,17 @@ def _fan_kind(A, B, k, nxt, flag):
         flag[t] = True
         count += 1
         last = t
-        t = nxt[t]
+        t = L[t, 0]
     if count != k:
         return 0
     if n_starts == 0:
-        return 2 if nxt[last] == start else 0
-    return 1 if nxt[last] == -1 else 0
+        return 2 if L[last, 0] == start else 0
+    return 1 if L[last, 0] == -1 else 0
 
 
 def _fan_flat(V, v, A, B, k, kind, C):
-    """The fan around v projects along its mean normal into disjoint sectors (see :func:`vertex_pass`)."""
+    """The fan around v projects along its mean normal into disjoint sectors (see :func:`vertex_pass`).
+    ``C`` (k, 9) receives each face's cross product and corner vectors, read once."""
     px = V[v, 0]
     py = V[v, 1]
     pz = V[v, 2]
@@ -354,6 +403,12 @@ def _fan_flat(V, v, A, B, k, kind, C):
         C[t, 0] = ay * bz - az * by
         C[t, 1] = az * bx - ax * bz
         C[t, 2] = ax * by - ay * bx
+        C[t, 3] = ax
+        C[t, 4] = ay
+        C[t, 5] = az
+        C[t, 6] = bx
+        C[t, 7] = by
+        C[t, 8] = bz
         nx += C[t, 0]
         ny += C[t, 1]
         nz += C[t, 2]
@@ -370,24 +425,24 @@ def _fan_flat(V, v, A, B, k, kind, C):
     if kind == 1:
         total = 0.0
         for t in range(k):
-            ax = V[A[t], 0] - px
-            ay = V[A[t], 1] - py
-            az = V[A[t], 2] - pz
-            bx = V[B[t], 0] - px
-            by = V[B[t], 1] - py
-            bz = V[B[t], 2] - pz
+            ax = C[t, 3]
+            ay = C[t, 4]
+            az = C[t, 5]
+            bx = C[t, 6]
+            by = C[t, 7]
+            bz = C[t, 8]
             an = ax * nx + ay * ny + az * nz
             bn = bx * nx + by * ny + bz * nz
             total += math.atan2(C[t, 0] * nx + C[t, 1] * ny + C[t, 2] * nz,
                                 ax * bx + ay * by + az * bz - an * bn)
         return total < TWO_PI - 1e-9
     # cycle: u = bisector of sector 0; sector t contains u iff a_t . w >= 0 >= b_t . w, w = u x n
-    ax = V[A[0], 0] - px
-    ay = V[A[0], 1] - py
-    az = V[A[0], 2] - pz
-    bx = V[B[0], 0] - px
-    by = V[B[0], 1] - py
-    bz = V[B[0], 2] - pz
+    ax = C[0, 3]
+    ay = C[0, 4]
+    az = C[0, 5]
+    bx = C[0, 6]
+    by = C[0, 7]
+    bz = C[0, 8]
     la = math.sqrt(ax * ax + ay * ay + az * az)
     lb = math.sqrt(bx * bx + by * by + bz * bz)
     ux = ax / la + bx / lb
@@ -400,12 +455,12 @@ def _fan_flat(V, v, A, B, k, kind, C):
     if not lw > 0.0:
         return False
     for t in range(1, k):
-        ax = V[A[t], 0] - px
-        ay = V[A[t], 1] - py
-        az = V[A[t], 2] - pz
-        bx = V[B[t], 0] - px
-        by = V[B[t], 1] - py
-        bz = V[B[t], 2] - pz
+        ax = C[t, 3]
+        ay = C[t, 4]
+        az = C[t, 5]
+        bx = C[t, 6]
+        by = C[t, 7]
+        bz = C[t, 8]
         aw = ax * wx + ay * wy + az * wz
         bw = bx * wx + by * wy + bz * wz
         ma = 1e-9 * lw * math.sqrt(ax * ax + ay * ay + az * az)
