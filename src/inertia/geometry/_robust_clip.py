@@ -30,6 +30,9 @@ import math
 
 import numpy as np
 
+from ._robust_capk import _solid_angle
+from ._robust_topo import tetra_add
+
 __all__ = ["classify_traces", "reference_points", "walk_pairs", "resolve_pieces", "winding_excluding"]
 
 FOUR_PI = 4.0 * math.pi
@@ -407,30 +410,11 @@ def winding_excluding(pts, owner, V, F, M, cut_ptr, cut_idx, tr_type, out):
         s = 0.0
         for f in range(F.shape[0]):
             if f != o:
-                s += M[f] * _omega(V, F, f, px, py, pz)
+                s += M[f] * _solid_angle(V, F, f, px, py, pz)
         for k in range(cut_ptr[o], cut_ptr[o + 1]):
             if tr_type[k] == 2:
-                s -= M[cut_idx[k]] * _omega(V, F, cut_idx[k], px, py, pz)
+                s -= M[cut_idx[k]] * _solid_angle(V, F, cut_idx[k], px, py, pz)
         out[i] = s / FOUR_PI
-
-
-def _omega(V, F, f, px, py, pz):
-    ax = V[F[f, 0], 0] - px
-    ay = V[F[f, 0], 1] - py
-    az = V[F[f, 0], 2] - pz
-    bx = V[F[f, 1], 0] - px
-    by = V[F[f, 1], 1] - py
-    bz = V[F[f, 1], 2] - pz
-    cx = V[F[f, 2], 0] - px
-    cy = V[F[f, 2], 1] - py
-    cz = V[F[f, 2], 2] - pz
-    la = math.sqrt(ax * ax + ay * ay + az * az)
-    lb = math.sqrt(bx * bx + by * by + bz * bz)
-    lc = math.sqrt(cx * cx + cy * cy + cz * cz)
-    det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
-    den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la \
-        + (cx * ax + cy * ay + cz * az) * lb
-    return 2.0 * math.atan2(det, den)
 
 
 def walk_pairs(V, F, pairs, ref, face_slot, cut_ptr, tr_type, tr_P, tr_J, cut_idx, M, rel_tol, jump, ok):
@@ -576,31 +560,10 @@ def _cell_area_centroid(cells, ncv, c, nf, out):
 
 def _add_cell(cells, ncv, c, weight, p, acc):
     """acc (10,) += weight x the tetrahedron sums (apex p) of the fan triangles of cell c."""
-    m = ncv[c]
-    for i in range(1, m - 1):
-        ax = cells[c, 0, 0] - p[0]
-        ay = cells[c, 0, 1] - p[1]
-        az = cells[c, 0, 2] - p[2]
-        bx = cells[c, i, 0] - p[0]
-        by = cells[c, i, 1] - p[1]
-        bz = cells[c, i, 2] - p[2]
-        cx = cells[c, i + 1, 0] - p[0]
-        cy = cells[c, i + 1, 1] - p[1]
-        cz = cells[c, i + 1, 2] - p[2]
-        det = weight * (ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx))
-        sx = ax + bx + cx
-        sy = ay + by + cy
-        sz = az + bz + cz
-        acc[0] += det
-        acc[1] += det * sx
-        acc[2] += det * sy
-        acc[3] += det * sz
-        acc[4] += det * (ax * ax + bx * bx + cx * cx + sx * sx)
-        acc[5] += det * (ay * ay + by * by + cy * cy + sy * sy)
-        acc[6] += det * (az * az + bz * bz + cz * cz + sz * sz)
-        acc[7] += det * (ax * ay + bx * by + cx * cy + sx * sy)
-        acc[8] += det * (ax * az + bx * bz + cx * cz + sx * sz)
-        acc[9] += det * (ay * az + by * bz + cy * cz + sy * sz)
+    for i in range(1, ncv[c] - 1):
+        tetra_add(acc, weight, cells[c, 0, 0] - p[0], cells[c, 0, 1] - p[1], cells[c, 0, 2] - p[2],
+                  cells[c, i, 0] - p[0], cells[c, i, 1] - p[1], cells[c, i, 2] - p[2],
+                  cells[c, i + 1, 0] - p[0], cells[c, i + 1, 1] - p[1], cells[c, i + 1, 2] - p[2])
 
 
 def resolve_pieces(P, owner, slot, ref, w_ref, V, F, M, cut_ptr, cut_idx, tr_type, tr_P, tr_J, p, rel_tol,

@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 
+from ._robust_capk import _solid_angle
+
 __all__ = ["winding_rest", "grid_pairs", "crossing_windings", "pieces_clean"]
 
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
@@ -46,27 +48,8 @@ def winding_rest(pts, owner, V, F, mult, out):
         o = owner[i]
         s = 0.0
         for f in range(nf):
-            if f == o:
-                continue
-            ia = F[f, 0]
-            ib = F[f, 1]
-            ic = F[f, 2]
-            ax = V[ia, 0] - px
-            ay = V[ia, 1] - py
-            az = V[ia, 2] - pz
-            bx = V[ib, 0] - px
-            by = V[ib, 1] - py
-            bz = V[ib, 2] - pz
-            cx = V[ic, 0] - px
-            cy = V[ic, 1] - py
-            cz = V[ic, 2] - pz
-            la = math.sqrt(ax * ax + ay * ay + az * az)
-            lb = math.sqrt(bx * bx + by * by + bz * bz)
-            lc = math.sqrt(cx * cx + cy * cy + cz * cz)
-            det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
-            den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc
-                   + (bx * cx + by * cy + bz * cz) * la + (cx * ax + cy * ay + cz * az) * lb)
-            s += mult[f] * 2.0 * math.atan2(det, den)
+            if f != o:
+                s += mult[f] * _solid_angle(V, F, f, px, py, pz)
         out[i] = s / FOUR_PI
 
 

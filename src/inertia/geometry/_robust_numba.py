@@ -6,7 +6,9 @@ plain-Python kernels when numba is missing.  The kernels are compiled from the v
 source text: each kernel file is executed once more into one private namespace (compiled
 under the file's own name, so numba's on-disk cache can locate it) and every function there
 is replaced by its ``numba.njit`` version before any is called, so that the compiled
-functions call each other.  Both backends therefore make the same decisions.  A kernel
+functions call each other (a helper one file imports from another is rebuilt over the
+namespace, so it calls the compiled kernels too).  Both backends therefore make the same
+decisions.  A kernel
 that loops with ``prange`` (its iterations are independent: each writes its own slots) is
 also compiled with ``parallel=True``; that version runs when the loop is long.
 """
@@ -33,12 +35,15 @@ def _compiled_namespace():
         ns["__file__"] = path
         exec(code, ns)  # noqa: S102 (our own kernel files, see the module docstring)
     ns["prange"] = nb.prange
+    ours = {ns["__name__"]} | {mod.__name__ for mod in _MODULES}
     exported = {}
     for name, obj in list(ns.items()):
-        if isinstance(obj, types.FunctionType) and obj.__module__ == ns["__name__"]:
-            ns[name] = nb.njit(**_JIT)(obj)
+        if isinstance(obj, types.FunctionType) and obj.__module__ in ours:
+            # a helper one kernel file imports from another is rebuilt over this namespace
+            fn = types.FunctionType(obj.__code__, ns, obj.__name__, obj.__defaults__)
+            ns[name] = nb.njit(**_JIT)(fn)
             if "prange" in obj.__code__.co_names:
-                exported[name] = _by_size(nb.njit(parallel=True, **_JIT)(obj), ns[name])
+                exported[name] = _by_size(nb.njit(parallel=True, **_JIT)(fn), ns[name])
     return ns, exported
 
 

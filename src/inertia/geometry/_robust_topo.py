@@ -534,6 +534,25 @@ def patch_reps(V, F, labels, uncut, reps):
             reps[lab] = f
 
 
+def tetra_add(acc, weight, ax, ay, az, bx, by, bz, cx, cy, cz):
+    """``acc`` (10,) += weight x the signed tetrahedron (0, a, b, c) integrals, times 6, 24
+    (x3), 120 (x6): volume, int y (3), int y y^T (xx, yy, zz, xy, xz, yz)."""
+    det = weight * (ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx))
+    sx = ax + bx + cx
+    sy = ay + by + cy
+    sz = az + bz + cz
+    acc[0] += det
+    acc[1] += det * sx
+    acc[2] += det * sy
+    acc[3] += det * sz
+    acc[4] += det * (ax * ax + bx * bx + cx * cx + sx * sx)
+    acc[5] += det * (ay * ay + by * by + cy * cy + sy * sy)
+    acc[6] += det * (az * az + bz * bz + cz * cz + sz * sz)
+    acc[7] += det * (ax * ay + bx * by + cx * cy + sx * sy)
+    acc[8] += det * (ax * az + bx * bz + cx * cz + sx * sz)
+    acc[9] += det * (ay * az + by * bz + cy * cz + sy * sz)
+
+
 def weighted_sums(V, F, w, px, py, pz, out):
     """``out`` (10,) += sum_f w_f of the signed tetrahedron (p, face f) integrals, times
     6, 24, 24, 24, 120 (x6): volume, int y (3), int y y^T (xx, yy, zz, xy, xz, yz), y = x - p.
@@ -558,20 +577,7 @@ def weighted_sums(V, F, w, px, py, pz, out):
             cx = V[F[f, 2], 0] - px
             cy = V[F[f, 2], 1] - py
             cz = V[F[f, 2], 2] - pz
-            det = wf * (ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx))
-            sx = ax + bx + cx
-            sy = ay + by + cy
-            sz = az + bz + cz
-            blk[0] += det
-            blk[1] += det * sx
-            blk[2] += det * sy
-            blk[3] += det * sz
-            blk[4] += det * (ax * ax + bx * bx + cx * cx + sx * sx)
-            blk[5] += det * (ay * ay + by * by + cy * cy + sy * sy)
-            blk[6] += det * (az * az + bz * bz + cz * cz + sz * sz)
-            blk[7] += det * (ax * ay + bx * by + cx * cy + sx * sy)
-            blk[8] += det * (ax * az + bx * bz + cx * cz + sx * sz)
-            blk[9] += det * (ay * az + by * bz + cy * cz + sy * sz)
+            tetra_add(blk, wf, ax, ay, az, bx, by, bz, cx, cy, cz)
         for i in range(10):
             out[i] += blk[i]
 
