@@ -14,6 +14,10 @@ mesh boundary):
   only where ``|w_k| >= 1/2 - Delta``, a thin layer around the polygon whose volume
   :func:`flat_cap_volume` bounds in closed form over the cell's shadow;
 * status 2: refine (or count the cell whole at the last level).
+
+The scalar style of :mod:`._robust_kernels` holds here too: loading a face's corners
+relative to a point is written out where it is used (a helper returning a 9-tuple costs
+measurably in the inner loops); ``duplicates`` lists those few lines.
 """
 
 from __future__ import annotations

@@ -22,6 +22,10 @@ cell's ``w_front`` comes from a walk from f's reference point, summing the jumps
 segments crossed.  A walk passing within the tolerance of a segment's end, a type-3 trace,
 or too many lines split the piece again (those are points: the unresolved area shrinks
 fourfold per level).
+
+The scalar style of :mod:`._robust_kernels` holds here too: loading a face's corners
+relative to a point is written out where it is used (a helper returning a 9-tuple costs
+measurably in the inner loops); ``duplicates`` lists those few lines.
 """
 
 from __future__ import annotations

@@ -15,6 +15,10 @@ sort), so no hash table is needed:
   :func:`boundary_edges` then writes out and the caps close;
 * :func:`patch_labels` joins the uncut faces across those edges (union-find);
 * :func:`weighted_sums` adds the signed-tetrahedron integrals of weighted faces.
+
+The scalar style of :mod:`._robust_kernels` holds here too: loading a face's corners
+relative to a point is written out where it is used (a helper returning a 9-tuple costs
+measurably in the inner loops); ``duplicates`` lists those few lines.
 """
 
 from __future__ import annotations
