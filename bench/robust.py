@@ -89,25 +89,27 @@ def speed(data, rounds):
         fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
         print(f"| {name} | {len(fo)} | {fmt(t_pub)} | {len(fo) / min(t_pub) / 1e6:.2f} | {fmt(t_rob)} | {fmt(t_cl)} |")
     print()
-    print("Peak RSS of a fresh process (MiB): after import and compiling on a small mesh / after the 100k call")
+    print("Peak RSS of a fresh process (MiB): imports and mesh built / after the exact path on the closed mesh / "
+          "after the robust call on the open one")
     for name, *_ in speed_cases(data):
         print(f"  {name}: {_rss(name, data)}")
 
 
 def _rss(name, data):
+    """Peak RSS (MiB) of a fresh process: after importing and building the mesh, after the
+    exact path on the closed mesh, after the robust call on the open one."""
     code = f"""
 import resource, sys, warnings
-import numpy as np
 sys.path.insert(0, {str(REPO / 'bench')!r})
 import robust as b, inertia
-cases = {{c[0]: c for c in b.speed_cases({str(data)!r})}}
-_, v, fo, fc = cases[{name!r}]
+rss = lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
+_, v, fo, fc = {{c[0]: c for c in b.speed_cases({str(data)!r})}}[{name!r}]
 warnings.simplefilter("ignore")
-inertia.mesh_properties(*b.hull(2000, 1), density=1.0, robust=True)
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+r0 = rss()
+inertia.mesh_properties(v, fc, density=1.0)
+r1 = rss()
 inertia.mesh_properties(v, fo, density=1.0, robust=True)
-after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-print(f"{{before:.0f}} / {{after:.0f}}")
+print(f"{{r0}} / {{r1}} / {{rss()}}")
 """
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "src"), os.environ.get("PYTHONPATH", "")]))
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
