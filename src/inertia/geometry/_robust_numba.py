@@ -10,11 +10,13 @@ functions call each other (a helper one file imports from another is rebuilt ove
 namespace, so it calls the compiled kernels too).  Both backends therefore make the same
 decisions.  A kernel
 that loops with ``prange`` (its iterations are independent: each writes its own slots) is
-also compiled with ``parallel=True``; that version runs when the loop is long.
+also compiled with ``parallel=True``; that version runs when the loop is long and a core
+is idle.
 """
 
 from __future__ import annotations
 
+import os
 import types
 
 import numba as nb
@@ -48,14 +50,23 @@ def _compiled_namespace():
 
 
 def _by_size(parallel, serial):
-    """Run ``parallel`` when the first array argument has at least PARALLEL_FROM rows, else
-    ``serial`` (starting the threads costs more than a small loop)."""
+    """Run ``parallel`` when the first array argument has at least PARALLEL_FROM rows and a
+    core is idle, else ``serial`` (starting the threads costs more than a short loop, and
+    threads that wait for a busy core cost more than they save)."""
     def run(*args):
         first = next((a for a in args if isinstance(a, np.ndarray)), None)
         big = first is not None and first.ndim > 0 and len(first) >= PARALLEL_FROM
-        return (parallel if big else serial)(*args)
+        return (parallel if big and _idle_core() else serial)(*args)
     run.__name__ = parallel.__name__
     return run
+
+
+def _idle_core() -> bool:
+    """At least one core is idle by the 1-minute load average (always True where it is unknown)."""
+    try:
+        return os.getloadavg()[0] <= (os.cpu_count() or 1) - 1
+    except (AttributeError, OSError):
+        return True
 
 
 #: Loops over fewer items than this run on one thread.
