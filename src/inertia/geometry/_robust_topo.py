@@ -202,7 +202,7 @@ def vertex_pass(V, F, M, ptr, idx, verts, ok, nbr, n_boundary, kinds):
                 continue
             kind = _fan_kind(L, k, flag)
             if kind != 0:
-                ok[v] = _fan_flat(V, v, A, B, k, kind, C)
+                ok[v] = _fan_flat(V, v, A, B, L, k, kind, C)
 
 
 def _link(A, B, k, L):
@@ -388,9 +388,10 @@ def _fan_kind(L, k, flag):
     return 1 if L[last, 0] == -1 else 0
 
 
-def _fan_flat(V, v, A, B, k, kind, C):
+def _fan_flat(V, v, A, B, L, k, kind, C):
     """The fan around v projects along its mean normal into disjoint sectors (see :func:`vertex_pass`).
-    ``C`` (k, 9) receives each face's cross product and corner vectors, read once."""
+    ``C`` (k, 9) receives each face's cross product and corner vectors; a link vertex's
+    coordinates are read once (B[t] is the A of the next edge, :func:`_link`)."""
     px = V[v, 0]
     py = V[v, 1]
     pz = V[v, 2]
@@ -398,18 +399,25 @@ def _fan_flat(V, v, A, B, k, kind, C):
     ny = 0.0
     nz = 0.0
     for t in range(k):
-        ax = V[A[t], 0] - px
-        ay = V[A[t], 1] - py
-        az = V[A[t], 2] - pz
-        bx = V[B[t], 0] - px
-        by = V[B[t], 1] - py
-        bz = V[B[t], 2] - pz
+        C[t, 3] = V[A[t], 0] - px
+        C[t, 4] = V[A[t], 1] - py
+        C[t, 5] = V[A[t], 2] - pz
+    for t in range(k):
+        ax = C[t, 3]
+        ay = C[t, 4]
+        az = C[t, 5]
+        u = L[t, 0]          # the edge starting at B[t]: its corner vector is B[t]'s, already read
+        if u >= 0:
+            bx = C[u, 3]
+            by = C[u, 4]
+            bz = C[u, 5]
+        else:
+            bx = V[B[t], 0] - px
+            by = V[B[t], 1] - py
+            bz = V[B[t], 2] - pz
         C[t, 0] = ay * bz - az * by
         C[t, 1] = az * bx - ax * bz
         C[t, 2] = ax * by - ay * bx
-        C[t, 3] = ax
-        C[t, 4] = ay
-        C[t, 5] = az
         C[t, 6] = bx
         C[t, 7] = by
         C[t, 8] = bz
@@ -423,8 +431,9 @@ def _fan_flat(V, v, A, B, k, kind, C):
     ny /= ln
     nz /= ln
     for t in range(k):
+        # cn > 1e-9 |c|, squared (no square root in the loop)
         cn = C[t, 0] * nx + C[t, 1] * ny + C[t, 2] * nz
-        if not cn > 1e-9 * math.sqrt(C[t, 0] * C[t, 0] + C[t, 1] * C[t, 1] + C[t, 2] * C[t, 2]):
+        if not (cn > 0.0 and cn * cn > 1e-18 * (C[t, 0] * C[t, 0] + C[t, 1] * C[t, 1] + C[t, 2] * C[t, 2])):
             return False
     if kind == 1:
         total = 0.0
@@ -467,9 +476,10 @@ def _fan_flat(V, v, A, B, k, kind, C):
         bz = C[t, 8]
         aw = ax * wx + ay * wy + az * wz
         bw = bx * wx + by * wy + bz * wz
-        ma = 1e-9 * lw * math.sqrt(ax * ax + ay * ay + az * az)
-        mb = 1e-9 * lw * math.sqrt(bx * bx + by * by + bz * bz)
-        if aw >= -ma and bw <= mb:
+        # a . w >= -1e-9 |w| |a| and b . w <= 1e-9 |w| |b|, squared
+        m2 = 1e-18 * lw * lw
+        if ((aw >= 0.0 or aw * aw <= m2 * (ax * ax + ay * ay + az * az))
+                and (bw <= 0.0 or bw * bw <= m2 * (bx * bx + by * by + bz * bz))):
             return False          # u in (or within the margin of) another sector
     return True
 
