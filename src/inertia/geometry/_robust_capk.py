@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["cap_cells", "flat_cap_volume", "flat_cap_heights"]
+__all__ = ["cap_cells", "flat_cap_volume", "flat_cap_heights", "solid_angle"]
 
 FOUR_PI = 4.0 * math.pi
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
@@ -66,7 +66,7 @@ def flat_cap_volume(delta, area, perimeter, diameter, flat_tol, shadow):
             + 2.0 * min(perimeter * r_max + math.pi * r_max * r_max, shadow) * (h_max + flat_tol))
 
 
-def _solid_angle(V, F, f, px, py, pz):
+def solid_angle(V, F, f, px, py, pz):
     """Van Oosterom-Strackee solid angle of face f seen from p (positive from behind)."""
     ax = V[F[f, 0], 0] - px
     ay = V[F[f, 0], 1] - py
@@ -151,7 +151,7 @@ def cap_cells(centers, half, thr, CV, CF, CM, face_ptr, face_lo, face_hi, E0, E1
             for f in range(face_ptr[j], face_ptr[j + 1]):
                 if _box_distance(px, py, pz, face_lo, face_hi, f) <= rho:
                     cross = True
-                w += CM[f] * _solid_angle(CV, CF, f, px, py, pz)
+                w += CM[f] * solid_angle(CV, CF, f, px, py, pz)
             w /= FOUR_PI
             g = _loop_gradient(px, py, pz, rho, E0, E1, EM, edge_ptr[j], edge_ptr[j + 1])
             w_all += w

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from ._robust_capk import _solid_angle
+from ._robust_capk import solid_angle
 from ._robust_topo import tetra_add
 
 __all__ = ["classify_traces", "reference_points", "walk_pairs", "resolve_pieces", "winding_excluding"]
@@ -414,10 +414,10 @@ def winding_excluding(pts, owner, V, F, M, cut_ptr, cut_idx, tr_type, out):
         s = 0.0
         for f in range(F.shape[0]):
             if f != o:
-                s += M[f] * _solid_angle(V, F, f, px, py, pz)
+                s += M[f] * solid_angle(V, F, f, px, py, pz)
         for k in range(cut_ptr[o], cut_ptr[o + 1]):
             if tr_type[k] == 2:
-                s -= M[cut_idx[k]] * _solid_angle(V, F, cut_idx[k], px, py, pz)
+                s -= M[cut_idx[k]] * solid_angle(V, F, cut_idx[k], px, py, pz)
         out[i] = s / FOUR_PI
 
 

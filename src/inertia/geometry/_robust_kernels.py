@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ._robust_capk import _solid_angle
+from ._robust_capk import solid_angle
 
 __all__ = ["winding_rest", "grid_pairs", "crossing_windings", "pieces_clean"]
 
@@ -49,7 +49,7 @@ def winding_rest(pts, owner, V, F, mult, out):
         s = 0.0
         for f in range(nf):
             if f != o:
-                s += mult[f] * _solid_angle(V, F, f, px, py, pz)
+                s += mult[f] * solid_angle(V, F, f, px, py, pz)
         out[i] = s / FOUR_PI
 
 

@@ -248,7 +248,7 @@ class Pieces:
                 self.w_min = min(self.w_min, float(w_seen[done, 0].min()))
                 self.w_max = max(self.w_max, float(w_seen[done, 1].max()))
             P, owner, rows = P[~done], owner[~done], rows[~done]
-            val = _unpacked(acc)
+            val = unpacked_sums(acc)
             half = np.full(len(P) + len(P_left), 0.5)
             allP = np.concatenate([P, P_left])
             bnd = _plus_sliver(tetra_abs(allP, p, half), sliver)
@@ -262,7 +262,7 @@ class Pieces:
         allP = np.concatenate([P, P_left])
         half = np.full(len(allP), 0.5)
         bnd = _plus_sliver(tetra_abs(allP, p, half), sliver)
-        val = [a + b for a, b in zip(_unpacked(acc), tetra_sums(allP, p, half))]
+        val = [a + b for a, b in zip(unpacked_sums(acc), tetra_sums(allP, p, half))]
         stats.update({"depth": depth, "pieces": used, "pieces_unresolved": len(allP)})
         return val[0], val[1], val[2], bnd[0], bnd[1], bnd[2], stats
 
@@ -272,7 +272,7 @@ def _plus_sliver(bnd, sliver):
     return bnd[0] + sliver[0], bnd[1] + sliver[1:4], bnd[2] + sliver[4:13].reshape(3, 3)
 
 
-def _unpacked(out):
+def unpacked_sums(out):
     """(volume, first (3,), second (3, 3)) from 10 sums (see :func:`._robust_topo.weighted_sums`)."""
     xx, yy, zz, xy, xz, yz = out[4:10] / 120.0
     return (float(out[0]) / 6.0, out[1:4] / 24.0, np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 __all__ = ["ear_clip", "face_boxes", "vertex_faces", "dedupe_faces", "boundary_edges", "vertex_pass",
-           "patch_labels", "patch_reps", "weighted_sums"]
+           "patch_labels", "patch_reps", "tetra_add", "weighted_sums"]
 
 TWO_PI = 2.0 * math.pi
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.

@@ -60,7 +60,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from ._robust_caps import CapGeometry, Caps, cap_region_bound
-from ._robust_pieces import Pieces, _unpacked
+from ._robust_pieces import Pieces, unpacked_sums
 from .integrals import reference_point
 from .mesh_arrays import validate_inputs, weld_map
 
@@ -207,7 +207,7 @@ def _uncut_sums(pieces, p, stats):
     out = np.zeros(10)
     pieces.kern.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), float(p[0]), float(p[1]),
                               float(p[2]), out)
-    return _unpacked(out) + (n_uncertain,)
+    return unpacked_sums(out) + (n_uncertain,)
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
