@@ -426,11 +426,14 @@ def walk_pairs(V, F, pairs, ref, face_slot, cut_ptr, tr_type, tr_P, tr_J, cut_id
     (a, b, u, v) = ``pairs[i]``: a's point -> edge midpoint on a, midpoint -> b's point on b.
 
     ``face_slot[f]`` indexes ``ref`` (-1: no point; then the centroid, for an uncut face).
-    Not ok when a walk is borderline or the midpoint is near a trace or a coplanar stack of
-    either face (then the front sides of a and b need not meet there).
+    Not ok when a walk is borderline or the midpoint is near a trace of either face (then
+    another sheet passes there and the front sides of a and b need not meet), or a coplanar
+    stack covers the midpoint, unless a and b lie in one plane (the same orientation) with
+    stacks of equal net multiplicity there (the stack then runs on across the edge).
     """
     for i in prange(pairs.shape[0]):
         nf = np.empty(3)
+        na = np.empty(3)
         a = pairs[i, 0]
         b = pairs[i, 1]
         u = pairs[i, 2]
@@ -440,6 +443,7 @@ def walk_pairs(V, F, pairs, ref, face_slot, cut_ptr, tr_type, tr_P, tr_J, cut_id
         mz = 0.5 * (V[u, 2] + V[v, 2])
         total = 0.0
         good = True
+        extra_a = 0.0
         for leg in range(2):
             f = a if leg == 0 else b
             _unit_normal(V, F, f, nf)
@@ -463,9 +467,18 @@ def walk_pairs(V, F, pairs, ref, face_slot, cut_ptr, tr_type, tr_P, tr_J, cut_id
                 good = False
                 break
             n, _, g2 = _stack_at(cut_ptr, cut_idx, tr_type, tr_P, tr_J, f, mx, my, mz, nf, tol, M)
-            if not g2 or n != M[f]:
+            if not g2:
                 good = False
                 break
+            if leg == 0:
+                extra_a = n - M[f]
+                for c in range(3):
+                    na[c] = nf[c]
+            elif extra_a != 0.0 or n != M[f]:
+                flat = nf[0] * na[0] + nf[1] * na[1] + nf[2] * na[2] > 1.0 - 1e-12
+                if not (flat and n - M[f] == extra_a):
+                    good = False
+                    break
             if leg == 0:
                 w_ok, j = _walk(V, F, cut_ptr, tr_type, tr_P, tr_J, f, x, y, z, mx, my, mz, nf, tol)
             else:

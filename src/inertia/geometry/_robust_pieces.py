@@ -9,6 +9,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 #: A winding W_rest - m/2 this far from an integer is not trusted (the point is too close
 #: to another sheet, or the kernel lost accuracy); the face or piece is refined instead.
@@ -164,39 +166,68 @@ class Pieces:
         # known front windings: uncut faces (at their centroids), then resolved faces
         known_face = ~np.isnan(self.wf)
         a, b, u, v = self._adjacency()
+        rounds, full, tried = 0, 0, np.zeros(n, bool)
+        while True:
+            rounds += self._walk_rounds(a, b, u, v, slot, known_face, ref, w, ok)
+            # the walks stalled: one full sum per group of faces still unknown (then walk on)
+            left = np.flatnonzero(ok & np.isnan(w) & ~tried)
+            if len(left) == 0:
+                break
+            seeds = self._seeds(left, slot, a, b)
+            tried[seeds] = True
+            full += len(seeds)
+            W = np.empty(len(seeds))
+            k.winding_excluding(np.ascontiguousarray(ref[seeds]), faces[seeds], self.V, self.F, self.M, cut_ptr,
+                                cut_idx, tr_type, W)
+            wf = W - 0.5 * net[seeds]
+            kk = np.round(wf)
+            good = np.abs(wf - kk) <= INTEGER_TOL
+            w[seeds[good]] = kk[good]
+        stats["reference_walk_rounds"] = rounds
+        stats["reference_full_sums"] = full
+        ok &= ~np.isnan(w)
+        return ref, np.nan_to_num(w), ok
+
+    def _walk_rounds(self, a, b, u, v, slot, known_face, ref, w, ok):
+        """Walks across manifold edges from faces of known front winding to unknown ones, until
+        none is left to try; returns the number of rounds."""
+        cut_ptr, cut_idx, tr_type, tr_P, tr_J = self.trace_args
         rounds = 0
         while True:
             sa, sb = slot[a], slot[b]
             ka = np.where(sa >= 0, ~np.isnan(w[np.maximum(sa, 0)]), known_face[a])
-            want = (sb >= 0) & ka & (sb >= 0) & np.isnan(w[np.maximum(sb, 0)]) & ok[np.maximum(sb, 0)]
+            want = (sb >= 0) & ka & np.isnan(w[np.maximum(sb, 0)]) & ok[np.maximum(sb, 0)]
             want &= (sa < 0) | ok[np.maximum(sa, 0)]
             idx = np.flatnonzero(want)
             if len(idx) == 0:
-                break
+                return rounds
             rounds += 1
             pairs = np.ascontiguousarray(np.stack([a[idx], b[idx], u[idx], v[idx]], 1))
             jump, good = np.zeros(len(idx)), np.zeros(len(idx), np.bool_)
-            k.walk_pairs(self.V, self.F, pairs, ref, slot, cut_ptr, tr_type, tr_P, tr_J, cut_idx, self.M, REL_TOL,
-                         jump, good)
+            self.kern.walk_pairs(self.V, self.F, pairs, ref, slot, cut_ptr, tr_type, tr_P, tr_J, cut_idx, self.M,
+                                 REL_TOL, jump, good)
             src = np.where(sa[idx] >= 0, w[np.maximum(sa[idx], 0)], self.wf[a[idx]])
             hit = np.flatnonzero(good)
             if len(hit) == 0:
-                break
-            tgt = sb[idx[hit]]
-            w[tgt] = (src + jump)[hit]          # several neighbours: the last write wins
-        left = np.flatnonzero(ok & np.isnan(w))
-        stats["reference_walk_rounds"] = rounds
-        stats["reference_full_sums"] = len(left)
-        if len(left):
-            W = np.empty(len(left))
-            k.winding_excluding(np.ascontiguousarray(ref[left]), faces[left], self.V, self.F, self.M, cut_ptr,
-                                cut_idx, tr_type, W)
-            wf = W - 0.5 * net[left]
-            kk = np.round(wf)
-            good = np.abs(wf - kk) <= INTEGER_TOL
-            w[left[good]] = kk[good]
-        ok &= ~np.isnan(w)
-        return ref, np.nan_to_num(w), ok
+                return rounds
+            w[sb[idx[hit]]] = (src + jump)[hit]          # several neighbours: the last write wins
+
+    @staticmethod
+    def _seeds(left, slot, a, b):
+        """One face (its row) per connected group of the faces ``left`` (rows) by manifold edges."""
+        rows = np.full(len(slot), -1, np.int64)
+        sa, sb = slot[a], slot[b]
+        inside = np.zeros(int(slot.max()) + 1, bool)
+        inside[left] = True
+        e = (sa >= 0) & (sb >= 0)
+        e &= inside[np.maximum(sa, 0)] & inside[np.maximum(sb, 0)]
+        del rows
+        n = int(slot.max()) + 1
+        g = coo_matrix((np.ones(int(e.sum())), (sa[e], sb[e])), shape=(n, n))
+        _, lab = connected_components(g, directed=False)
+        lab_left = lab[left]
+        _, first = np.unique(lab_left, return_index=True)
+        return left[first]
 
     def _adjacency(self):
         """Both directions of the manifold edges joining faces: ``(a, b, u, v)`` (edge u-v)."""
