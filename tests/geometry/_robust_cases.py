@@ -221,15 +221,21 @@ def case_flat_holes(rng):
 
 
 def case_curved_holes(rng):
-    """A convex hull with a hole of 2-4 neighbouring faces: its loop is not flat, and the
-    generalised winding number spans it with a curved surface (not the faces removed);
-    the truth given is the closed hull (the difference is the model's, not the error's)."""
-    v, f = hull(int(rng.integers(60, 200)), int(rng.integers(1 << 30)))
-    picked = [int(rng.integers(len(f)))]
-    while len(picked) < int(rng.integers(2, 5)):
-        nb = [i for i in range(len(f)) if i not in picked and any(len(set(f[i]) & set(f[j])) == 2 for j in picked)]
-        picked.append(int(rng.choice(nb)))
-    return (v, np.delete(f, picked, axis=0)), moments((v, f))
+    """A convex hull with a hole of 2-4 neighbouring faces whose loop is not flat: the
+    generalised winding number spans it with a curved surface (not the faces removed); the
+    truth given is the closed hull (the difference is the model's, not the error's)."""
+    while True:
+        v, f = hull(int(rng.integers(60, 200)), int(rng.integers(1 << 30)))
+        picked = [int(rng.integers(len(f)))]
+        while len(picked) < int(rng.integers(2, 5)):
+            nb = [i for i in range(len(f)) if i not in picked
+                  and any(len(set(f[i]) & set(f[j])) == 2 for j in picked)]
+            picked.append(int(rng.choice(nb)))
+        loop = np.setdiff1d(np.unique(f[picked]), [x for x in np.unique(f[picked])
+                                                    if np.sum(np.isin(f, x).any(1)) == np.sum(np.isin(f[picked], x).any(1))])
+        p = v[loop] - v[loop].mean(0)
+        if len(loop) > 3 and np.linalg.svd(p, compute_uv=False)[-1] > 1e-6:
+            return (v, np.delete(f, picked, axis=0)), moments((v, f))
 
 
 CASES = {"box union": case_box_union, "convex union": case_convex_union, "cavity": case_cavity,
