@@ -23,7 +23,7 @@ import numpy as np
 
 from ._robust_capk import solid_angle
 
-__all__ = ["winding_rest", "grid_pairs", "crossing_windings", "pieces_clean"]
+__all__ = ["winding_rest", "grid_pairs"]
 
 #: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
 prange = range
@@ -388,22 +388,6 @@ def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
     return c1 > ANGLE_TOL * ln * ld * l1 and c2 > ANGLE_TOL * ln * ld * l2
 
 
-def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
-    """``clean[i]``: piece P[i] (3, 3) of face ``owner[i]`` meets none of that face's cutters.
-
-    The cutters of face f are ``cut_idx[cut_ptr[f]:cut_ptr[f + 1]]`` (CSR).
-    """
-    for i in range(P.shape[0]):
-        f = owner[i]
-        ok = True
-        for k in range(cut_ptr[f], cut_ptr[f + 1]):
-            _load(V, F, cut_idx[k], B)
-            if tris_cut(P[i], B, eps, scratch):
-                ok = False
-                break
-        clean[i] = ok
-
-
 def grid_pairs(V, F, lo, hi, small, cert, mode, origin, cell, eps, out):
     """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other (:func:`faces_cut`).
 
@@ -595,74 +579,3 @@ def _boxes_apart(lo, hi, f, g, eps):
         if lo[g, c] > hi[f, c] + eps or lo[f, c] > hi[g, c] + eps:
             return True
     return False
-
-
-def crossing_windings(pts, owner, ref_pt, ref_w, cut_ptr, cut_idx, V, F, mult, rel_tol, out_w, out_ok):
-    """Front winding at points on their owner face from a reference point on the same face.
-
-    Walking from ``ref_pt[f]`` to the point inside face f, the front winding changes only
-    where a cutter g of f is crossed: by ``+m_g`` when moving against g's normal (front to
-    back), ``-m_g`` along it.  Crossings closer than ``rel_tol`` (relative) to an end of the
-    walk or to an edge of g, and cutters (nearly) parallel to the walk, make the answer
-    uncertain: ``out_ok[i] = False`` and the caller evaluates the full winding number.
-    """
-    for i in range(pts.shape[0]):
-        f = owner[i]
-        rx = ref_pt[f, 0]
-        ry = ref_pt[f, 1]
-        rz = ref_pt[f, 2]
-        dx = pts[i, 0] - rx
-        dy = pts[i, 1] - ry
-        dz = pts[i, 2] - rz
-        w = ref_w[f]
-        ok = True
-        for kk in range(cut_ptr[f], cut_ptr[f + 1]):
-            g = cut_idx[kk]
-            a0 = V[F[g, 0], 0]
-            a1 = V[F[g, 0], 1]
-            a2 = V[F[g, 0], 2]
-            ux = V[F[g, 1], 0] - a0
-            uy = V[F[g, 1], 1] - a1
-            uz = V[F[g, 1], 2] - a2
-            vx = V[F[g, 2], 0] - a0
-            vy = V[F[g, 2], 1] - a1
-            vz = V[F[g, 2], 2] - a2
-            nx = uy * vz - uz * vy
-            ny = uz * vx - ux * vz
-            nz = ux * vy - uy * vx
-            dn = dx * nx + dy * ny + dz * nz
-            s0 = (a0 - rx) * nx + (a1 - ry) * ny + (a2 - rz) * nz      # n . (a - r)
-            ln = math.sqrt(nx * nx + ny * ny + nz * nz)
-            ld = math.sqrt(dx * dx + dy * dy + dz * dz)
-            if abs(dn) <= rel_tol * ln * ld:
-                # walk parallel to g's plane: harmless unless it lies in that plane
-                if abs(s0) <= rel_tol * ln * ld:
-                    ok = False
-                    break
-                continue
-            t = s0 / dn
-            if t < -rel_tol or t > 1.0 + rel_tol:
-                continue
-            if t < rel_tol or t > 1.0 - rel_tol:
-                ok = False
-                break
-            # barycentric coordinates of the crossing point q in g
-            qx = rx + t * dx - a0
-            qy = ry + t * dy - a1
-            qz = rz + t * dz - a2
-            # l1 = n . (q x v) / |n|^2, l2 = n . (u x q) / |n|^2
-            l1 = (nx * (qy * vz - qz * vy) + ny * (qz * vx - qx * vz) + nz * (qx * vy - qy * vx)) / (ln * ln)
-            l2 = (nx * (uy * qz - uz * qy) + ny * (uz * qx - ux * qz) + nz * (ux * qy - uy * qx)) / (ln * ln)
-            l0 = 1.0 - l1 - l2
-            tol = 1e3 * rel_tol
-            if l0 < -tol or l1 < -tol or l2 < -tol:
-                continue
-            if l0 < tol or l1 < tol or l2 < tol:
-                ok = False
-                break
-            if dn < 0.0:
-                w += mult[g]
-            else:
-                w -= mult[g]
-        out_w[i] = w
-        out_ok[i] = ok
