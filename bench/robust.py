@@ -1,25 +1,46 @@
-"""Benchmark of inertia.geometry.robust.robust_integrals on generated meshes.
+"""Benchmarks of the robust path (inertia.geometry.robust): speed and memory, the accuracy /
+bound table on generated cases, the real imperfect meshes beside trimesh and MuJoCo.
 
-Run from the repository root:  ``PYTHONPATH=$PWD/src python bench/robust.py [--faces 100000]``.
-Prints, per case: faces, seconds (median of --repeat runs, numba compiled beforehand),
-faces/s, peak traced memory (tracemalloc: NumPy buffers included), the relative bounds,
-the true relative error where a closed form is known, and the refinement statistics.
-Optional: ``--manifold /path`` adds that directory to sys.path and, when manifold3d
-imports from it, times its boolean union on the overlapping-shells case for comparison.
+Run from the repository root, e.g.::
+
+    PYTHONPATH=$PWD/src python bench/robust.py --speed --rounds 7
+    PYTHONPATH=$PWD/src python bench/robust.py --table --cases 100
+    PYTHONPATH=$PWD/src python bench/robust.py --real [--data ../shared/data]
+    PYTHONPATH=$PWD/src python bench/robust.py --manifold /path/to/site-packages   (manifold3d)
+
+--speed: 100k-face open meshes through the whole public call
+``inertia.mesh_properties(..., robust=True)``, interleaved rounds, best and median wall
+time, beside two anchors measured in the same rounds (the exact path on the closed mesh,
+and ``robust_integrals`` alone); the peak RSS of a fresh process running one call (after
+importing and compiling, and after the call).
+--table: hundreds of generated cases (tests/geometry/_robust_cases.py) per kind: the worst
+ratio true error / bound (honest when <= 1), the largest true error, bounds, convergence.
+--real: teapot_open, soup, cycloidal (../shared/data): our answer and bounds, trimesh's mass
+properties, MuJoCo's legacy mesh inertia (compiled from a tiny MJCF).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import subprocess
 import sys
+import tempfile
 import time
-import tracemalloc
+import warnings
+import zlib
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial import ConvexHull
 
+import inertia
 from inertia.geometry.integrals import solid_integrals
 from inertia.geometry.robust import robust_integrals
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+from tests.geometry._robust_cases import CASES, ORIGIN, OTHER_CASES, error_ratio, random_case  # noqa: E402
 
 
 def hull(n_faces, seed, r=1.0, c=(0.0, 0.0, 0.0)):
@@ -27,89 +48,246 @@ def hull(n_faces, seed, r=1.0, c=(0.0, 0.0, 0.0)):
     rng = np.random.default_rng(seed)
     p = rng.normal(size=(n_faces // 2 + 2, 3))
     p /= np.linalg.norm(p, axis=1)[:, None]
-    f = ConvexHull(p).simplices.copy()
+    f = ConvexHull(p).simplices.astype(np.int64)
     nrm = np.cross(p[f[:, 1]] - p[f[:, 0]], p[f[:, 2]] - p[f[:, 0]])
     flip = (nrm * p[f].mean(1)).sum(1) < 0
     f[flip] = f[flip][:, ::-1]
     return p * r + np.asarray(c), f
 
 
-def measure(v, f, repeat, **kw):
-    robust_integrals(v, f, **kw)                      # compile / warm up
-    times = []
-    for _ in range(repeat):
+def speed_cases(data):
+    """(name, vertices, faces of the open mesh, faces of the closed one) of about 100k faces."""
+    v, f = hull(100_000, 0)
+    out = [("sphere, 10 one-face holes", v, np.delete(f, np.arange(0, len(f), len(f) // 10)[:10], axis=0), f)]
+    koala = Path(data) / "meshes" / "koala_large.obj"
+    if koala.is_file():
+        from inertia.geometry.mesh_io import load_mesh
+        kv, kf = (np.asarray(a) for a in load_mesh(str(koala))[:2])
+        drop = np.random.default_rng(0).choice(len(kf), 10, replace=False)
+        out.append(("koala (real), 10 one-face holes", kv, np.delete(kf, drop, axis=0), kf))
+    return out
+
+
+def speed(data, rounds):
+    print("## Speed: whole public call, 100k-face open meshes (wall s; best / median of interleaved rounds)")
+    print("| case | faces | public call robust=True | Mfaces/s (best) | robust_integrals alone "
+          "| fast clean check + robust_integrals (proposed hook) | exact path, closed mesh |")
+    print("|---|---|---|---|---|---|---|")
+    for name, v, fo, fc in speed_cases(data):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            inertia.mesh_properties(v, fo, density=1.0, robust=True)
+            t_pub, t_rob, t_cl, t_hook = [], [], [], []
+            for _ in range(rounds):
+                t = time.perf_counter()
+                _hook(v, fo)
+                t_hook.append(time.perf_counter() - t)
+                t = time.perf_counter()
+                inertia.mesh_properties(v, fo, density=1.0, robust=True)
+                t_pub.append(time.perf_counter() - t)
+                t = time.perf_counter()
+                robust_integrals(v, fo)
+                t_rob.append(time.perf_counter() - t)
+                t = time.perf_counter()
+                inertia.mesh_properties(v, fc, density=1.0)
+                t_cl.append(time.perf_counter() - t)
+        fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
+        print(f"| {name} | {len(fo)} | {fmt(t_pub)} | {len(fo) / min(t_pub) / 1e6:.2f} | {fmt(t_rob)} "
+              f"| {fmt(t_hook)} | {fmt(t_cl)} |")
+    print()
+    print("Peak RSS of a fresh process (MiB): imports and mesh built / after the exact path on the closed mesh / "
+          "after the robust call on the open one")
+    for name, *_ in speed_cases(data):
+        print(f"  {name}: {_rss(name, data)}")
+
+
+def _hook(v, f):
+    """What the public call would cost if it skipped check_mesh's full analysis when
+    robust=True: validation, the compiled clean-mesh check (which fails), the robust pass."""
+    from inertia.geometry.checks import _analyse_clean
+    from inertia.geometry.mesh_arrays import validate_inputs
+
+    vv, ff = validate_inputs(v, f)
+    assert _analyse_clean(vv, ff, False) is None
+    return robust_integrals(vv, ff)
+
+
+def _rss(name, data):
+    """Peak RSS (MiB) of a fresh process: after importing and building the mesh, after the
+    exact path on the closed mesh, after the robust call on the open one."""
+    code = f"""
+import resource, sys, warnings
+sys.path.insert(0, {str(REPO / 'bench')!r})
+import robust as b, inertia
+rss = lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
+_, v, fo, fc = {{c[0]: c for c in b.speed_cases({str(data)!r})}}[{name!r}]
+warnings.simplefilter("ignore")
+r0 = rss()
+inertia.mesh_properties(v, fc, density=1.0)
+r1 = rss()
+inertia.mesh_properties(v, fo, density=1.0, robust=True)
+print(f"{{r0}} / {{r1}} / {{rss()}}")
+"""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "src"), os.environ.get("PYTHONPATH", "")]))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    return out.stdout.strip() or out.stderr.strip().splitlines()[-1]
+
+
+def table(n_cases, tol):
+    print(f"## Accuracy and bound on generated cases (tol={tol:g}, {n_cases} cases per kind)")
+    print("| kind | cases | worst error / bound | largest error (vol, rel.) | bound vol (median / max) "
+          "| bound inertia (median / max) | converged | s per case (max) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for kind in list(CASES) + list(OTHER_CASES):
+        rng = np.random.default_rng(zlib.crc32(kind.encode()))
+        rows = []
+        for _ in range(n_cases):
+            _, v, f, truth = random_case(rng, kind)
+            t = time.perf_counter()
+            res = robust_integrals(v, f, reference=ORIGIN, tol=tol)
+            dt = time.perf_counter() - t
+            rel = res.relative_bounds
+            rows.append((error_ratio(res, truth), abs(res.volume - truth[0]) / abs(truth[0]), rel["volume"],
+                         rel["inertia"], res.converged, dt))
+        a = np.array(rows, float)
+        honest = f"{a[:, 0].max():.2g}" + ("" if kind in CASES else " (not the GWN truth)")
+        print(f"| {kind} | {len(a)} | {honest} | {a[:, 1].max():.1e} | {np.median(a[:, 2]):.1e} / {a[:, 2].max():.1e} "
+              f"| {np.median(a[:, 3]):.1e} / {a[:, 3].max():.1e} | {int(a[:, 4].sum())}/{len(a)} "
+              f"| {np.mean(a[:, 5]):.3f} ({a[:, 5].max():.2f}) |")
+
+
+def real(data):
+    import trimesh
+
+    print("## Real imperfect meshes (density 1000; mass in the file's units^3 x 1000)")
+    print("| file | faces | defects | inertia robust: mass (bounds vol / COM / inertia) | s "
+          "| trimesh mass | MuJoCo legacy mass |")
+    print("|---|---|---|---|---|---|---|")
+    for name in ("teapot_open.stl", "soup.stl", "cycloidal.ply"):
+        path = Path(data) / "meshes" / name
+        if not path.is_file():
+            print(f"| {name} | missing | | | | | |")
+            continue
         t = time.perf_counter()
-        res = robust_integrals(v, f, **kw)
-        times.append(time.perf_counter() - t)
-    tracemalloc.start()
-    robust_integrals(v, f, **kw)
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
-    return res, float(np.median(times)), peak
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                p = inertia.mesh_file_properties(str(path), density=1000.0, robust=True)
+            text = [w for w in p.warnings if "relative error bounds" in w][0]
+            bounds = text.split("relative error bounds: ")[1].split(";")[0]
+            ours = f"{p.mass:.6g} ({bounds})"
+        except inertia.errors.MeshError as exc:
+            ours = f"refused: {exc.code} ({str(exc).split(':')[1].split('(')[0].strip()[:60]})"
+        dt = time.perf_counter() - t
+        tm = trimesh.load(str(path), force="mesh", process=False)
+        tm.density = 1000.0
+        from inertia.geometry.mesh_io import load_mesh
+        v, f = (np.asarray(a) for a in load_mesh(str(path))[:2])
+        codes = ", ".join(robust_integrals(v, f, max_pieces=1000).codes)
+        print(f"| {name} | {len(f)} | {codes} | {ours} | {dt:.2f} | {tm.mass:.6g} | {_mujoco_legacy(v, f)} |")
 
 
-def report(name, res, dt, peak, n_faces, truth=None):
-    rel = res.relative_bounds
-    err = "" if truth is None else f" true vol err {abs(res.volume - truth) / abs(truth):.2e}"
-    st = res.stats
-    print(f"{name:34s} F={n_faces:7d} {dt:7.3f} s {n_faces / dt / 1e6:6.2f} Mfaces/s peak {peak / 2**20:6.1f} MiB "
-          f"bound vol {rel['volume']:.1e} com {rel['com']:.1e} I {rel['inertia']:.1e}{err} "
-          f"conv={res.converged} cut={st.get('cut_faces')} pieces={st.get('pieces')} "
-          f"amb={res.ambiguous_fraction:.1e}", flush=True)
+def _mujoco_legacy(v, f, density=1000.0):
+    """MuJoCo's legacy mesh inertia: compile a one-body MJCF around the mesh (written as a
+    binary STL, float32, which MuJoCo reads itself)."""
+    try:
+        import mujoco
+    except ImportError:
+        return "mujoco missing"
+    with tempfile.TemporaryDirectory() as d:
+        stl = Path(d) / "m.stl"
+        rec = np.zeros(len(f), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+        rec["v"] = v[f]
+        stl.write_bytes(b"bench".ljust(80, b" ") + np.uint32(len(f)).tobytes() + rec.tobytes())
+        xml = (f'<mujoco><asset><mesh name="m" file="{stl}" inertia="legacy"/></asset><worldbody>'
+               f'<body><freejoint/><geom type="mesh" mesh="m" density="{density}"/></body></worldbody></mujoco>')
+        try:
+            m = mujoco.MjModel.from_xml_string(xml)
+        except Exception as exc:  # noqa: BLE001 (reported in the table)
+            return f"error: {str(exc).splitlines()[0][:60]}"
+    return f"{m.body_mass[1]:.6g}"
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--faces", type=int, default=100_000)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--tol", type=float, default=1e-3)
-    ap.add_argument("--manifold", default=None)
-    a = ap.parse_args()
-    n = a.faces
-    v, f = hull(n, 0)
-    exact = solid_integrals(v, f)[0]
-    res, dt, peak = measure(v, f, a.repeat, tol=a.tol)
-    report("closed", res, dt, peak, len(f), exact)
-    fo = np.delete(f, [len(f) // 2], axis=0)
-    res, dt, peak = measure(v, fo, a.repeat, tol=a.tol)
-    report("open, 1 hole", res, dt, peak, len(fo), exact)
-    fo = np.delete(f, np.arange(0, len(f), len(f) // 10)[:10], axis=0)
-    res, dt, peak = measure(v, fo, a.repeat, tol=a.tol)
-    report("open, 10 holes", res, dt, peak, len(fo), exact)
-    vv = np.concatenate([v, v])
-    ff = np.concatenate([f, f[:, ::-1] + len(v)])
-    res, dt, peak = measure(np.concatenate([v, v * 0.5]), ff, a.repeat, tol=a.tol)
-    report("inside-out inner shell (cavity)", res, dt, peak, len(ff), exact * (1 - 0.125))
-    ff = np.concatenate([f, f + len(v)])
-    res, dt, peak = measure(vv, ff, a.repeat, tol=a.tol)
-    report("same shell listed twice", res, dt, peak, len(ff), exact)
-    for m in (2000, 20000):
-        v1, f1 = hull(m, 1)
-        v2, f2 = hull(m, 2, c=(0.8, 0.0, 0.0))
-        V = np.concatenate([v1, v2])
-        F = np.concatenate([f1, f2 + len(v1)])
-        res, dt, peak = measure(V, F, 1, tol=a.tol, time_budget=120)
-        report(f"two overlapping spheres ({m} each)", res, dt, peak, len(F))
-        if a.manifold:
-            _manifold(a.manifold, v1, f1, v2, f2, res)
-
-
-def _manifold(path, v1, f1, v2, f2, res):
+def manifold(path):
+    """manifold3d's boolean union of overlapping closed shells beside the robust path."""
     sys.path.insert(0, path)
     try:
         import manifold3d as m3
     except ImportError as exc:
         print("manifold3d not importable:", exc)
         return
-    t = time.perf_counter()
-    a = m3.Manifold(m3.Mesh(vert_properties=v1.astype(np.float32), tri_verts=f1.astype(np.uint32)))
-    b = m3.Manifold(m3.Mesh(vert_properties=v2.astype(np.float32), tri_verts=f2.astype(np.uint32)))
-    u = a + b
-    mesh = u.to_mesh()
-    dt = time.perf_counter() - t
-    vol = solid_integrals(np.asarray(mesh.vert_properties, float), np.asarray(mesh.tri_verts))[0]
-    print(f"    manifold3d union: {dt:.3f} s, volume {vol:.9f} (float32 vertices), robust {res.volume:.9f} "
-          f"+- {res.bound_volume:.1e}, manifold volume() {u.volume():.9f}")
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    def union(v, f):
+        n = len(v)
+        e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+        _, lab = connected_components(coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n)), directed=False)
+        parts = []
+        for c in np.unique(lab[f[:, 0]]):
+            used, inv = np.unique(f[lab[f[:, 0]] == c], return_inverse=True)
+            parts.append(m3.Manifold(m3.Mesh64(vert_properties=np.ascontiguousarray(v[used]),
+                                               tri_verts=inv.reshape(-1, 3).astype(np.uint64))))
+        mesh = m3.Manifold.batch_boolean(parts, m3.OpType.Add).to_mesh64()
+        return solid_integrals(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts).astype(np.int64),
+                               reference=ORIGIN)[0]
+
+    print("## manifold3d (boolean union, Mesh64) beside the robust path: overlapping closed shells")
+    print("| case | faces | robust s | robust vol error (bound) | manifold3d s | manifold3d vol error |")
+    print("|---|---|---|---|---|---|")
+    from tests.geometry._robust_cases import combine, concat, intersection_moments, moments
+    for n in (4000, 40000, 200000):
+        a, b = hull(n // 2, 1), hull(n // 2, 2, c=(0.8, 0.0, 0.0))
+        v, f = concat(a, b)
+        truth = combine((1, moments(a)), (1, moments(b)), (-1, intersection_moments(a, b)))[0]
+        robust_integrals(v, f)
+        union(v, f)
+        t = time.perf_counter()
+        r = robust_integrals(v, f, reference=ORIGIN)
+        tr = time.perf_counter() - t
+        t = time.perf_counter()
+        mv = union(v, f)
+        tm = time.perf_counter() - t
+        print(f"| two spheres | {len(f)} | {tr:.3f} | {abs(r.volume - truth) / truth:.1e} ({r.bound_volume / truth:.0e}) "
+              f"| {tm:.3f} | {abs(mv - truth) / truth:.1e} |")
+    rng = np.random.default_rng(7)
+    cases = [random_case(rng, ("box union", "convex union")[i % 2]) for i in range(100)]
+    for _, v, f, _ in cases:
+        robust_integrals(v, f)
+        union(v, f)
+    er, em, tr, tm = 0.0, 0.0, 0.0, 0.0
+    for _, v, f, truth in cases:
+        t = time.perf_counter()
+        r = robust_integrals(v, f, reference=ORIGIN)
+        tr += time.perf_counter() - t
+        t = time.perf_counter()
+        mv = union(v, f)
+        tm += time.perf_counter() - t
+        er, em = max(er, abs(r.volume - truth[0]) / truth[0]), max(em, abs(mv - truth[0]) / truth[0])
+    print(f"| 100 generated unions (12-80 faces) | | {tr / 100:.4f} | {er:.1e} | {tm / 100:.4f} | {em:.1e} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--speed", action="store_true")
+    ap.add_argument("--table", action="store_true")
+    ap.add_argument("--real", action="store_true")
+    ap.add_argument("--manifold", default=None, metavar="PATH", help="directory holding manifold3d")
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--cases", type=int, default=100)
+    ap.add_argument("--tol", type=float, default=1e-3)
+    ap.add_argument("--data", default=str(REPO.parent / "shared" / "data"))
+    a = ap.parse_args()
+    if not (a.speed or a.table or a.real or a.manifold):
+        a.speed = a.table = a.real = True
+    if a.speed:
+        speed(a.data, a.rounds)
+    if a.table:
+        table(a.cases, a.tol)
+    if a.real:
+        real(a.data)
+    if a.manifold:
+        manifold(a.manifold)
 
 
 if __name__ == "__main__":

@@ -96,11 +96,11 @@ def is_cached(dispatcher, *, unknown: bool = True) -> bool:
     """A numba kernel is ready without compiling: compiled in this process already, or its
     machine code is in numba's on-disk cache for the current source (read through numba's
     private cache index; ``unknown`` is the answer when that API is not there)."""
-    if dispatcher.signatures:
-        return True
     try:
+        if dispatcher.signatures:
+            return True
         return bool(dispatcher._cache._cache_file._load_index())
-    except Exception:  # noqa: BLE001 - a numba without these internals
+    except Exception:  # noqa: BLE001 - a numba without these internals, or not a dispatcher
         return unknown
 
 

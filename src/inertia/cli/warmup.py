@@ -25,6 +25,19 @@ def _meshes():
     return tet_v, tet_f, soup_v, soup_f
 
 
+def _torus(nu: int = 12, nv: int = 8):
+    """A closed torus grid (not star-shaped: the self-crossing search runs on it)."""
+    import numpy as np
+
+    u, w = np.meshgrid(np.linspace(0, 2 * np.pi, nu, endpoint=False), np.linspace(0, 2 * np.pi, nv, endpoint=False),
+                       indexing="ij")
+    v = np.stack([(3 + np.cos(w)) * np.cos(u), (3 + np.cos(w)) * np.sin(u), np.sin(w)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    a, b = i * nv + j, ((i + 1) % nu) * nv + j
+    c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+    return v, np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
 def _files(folder: Path, tet_v, tet_f):
     """A tiny binary STL, ASCII STL and OBJ of the tetrahedron."""
     import numpy as np
@@ -52,6 +65,8 @@ def _steps():
     yield lambda: check_mesh(np.vstack([tet_v, tet_v * 0.3 + 0.1]),          # nesting: winding numbers
                              np.vstack([tet_f, tet_f[:, ::-1] + 4]))
     yield lambda: mesh_properties(tet_v, tet_f, density=1.0, shell=True)
+    yield lambda: mesh_properties(*_torus(), density=1.0)                     # the self-crossing search
+    yield lambda: mesh_properties(tet_v, tet_f[:3], density=1.0, robust=True)  # the robust path
     with tempfile.TemporaryDirectory() as tmp:
         for path in _files(Path(tmp), tet_v, tet_f):
             yield lambda path=path: mesh_file_properties(path, density=1.0)

@@ -21,6 +21,13 @@ import math
 
 import numpy as np
 
+from ._robust_capk import solid_angle
+
+__all__ = ["winding_rest", "grid_pairs"]
+
+#: The compiled twin replaces this with ``numba.prange`` (parallel loops); plain Python runs them in order.
+prange = range
+
 FOUR_PI = 4.0 * math.pi
 #: Contacts at angles below this (radians) from a triangle's edge count as along the edge.
 ANGLE_TOL = 1e-12
@@ -41,27 +48,8 @@ def winding_rest(pts, owner, V, F, mult, out):
         o = owner[i]
         s = 0.0
         for f in range(nf):
-            if f == o:
-                continue
-            ia = F[f, 0]
-            ib = F[f, 1]
-            ic = F[f, 2]
-            ax = V[ia, 0] - px
-            ay = V[ia, 1] - py
-            az = V[ia, 2] - pz
-            bx = V[ib, 0] - px
-            by = V[ib, 1] - py
-            bz = V[ib, 2] - pz
-            cx = V[ic, 0] - px
-            cy = V[ic, 1] - py
-            cz = V[ic, 2] - pz
-            la = math.sqrt(ax * ax + ay * ay + az * az)
-            lb = math.sqrt(bx * bx + by * by + bz * bz)
-            lc = math.sqrt(cx * cx + cy * cy + cz * cz)
-            det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
-            den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc
-                   + (bx * cx + by * cy + bz * cz) * la + (cx * ax + cy * ay + cz * az) * lb)
-            s += mult[f] * 2.0 * math.atan2(det, den)
+            if f != o:
+                s += mult[f] * solid_angle(V, F, f, px, py, pz)
         out[i] = s / FOUR_PI
 
 
@@ -400,100 +388,185 @@ def _strictly_inside(T, s, dx, dy, dz, nx, ny, nz):
     return c1 > ANGLE_TOL * ln * ld * l1 and c2 > ANGLE_TOL * ln * ld * l2
 
 
-def pieces_clean(P, owner, cut_ptr, cut_idx, V, F, eps, B, scratch, clean):
-    """``clean[i]``: piece P[i] (3, 3) of face ``owner[i]`` meets none of that face's cutters.
-
-    The cutters of face f are ``cut_idx[cut_ptr[f]:cut_ptr[f + 1]]`` (CSR).
-    """
-    for i in range(P.shape[0]):
-        f = owner[i]
-        ok = True
-        for k in range(cut_ptr[f], cut_ptr[f + 1]):
-            _load(V, F, cut_idx[k], B)
-            if tris_cut(P[i], B, eps, scratch):
-                ok = False
-                break
-        clean[i] = ok
-
-
-def grid_pairs(V, F, lo, hi, origin, cell, max_span, eps, A, B, scratch, out):
+def grid_pairs(V, F, lo, hi, small, cert, mode, origin, cell, eps, out):
     """Pairs (f, g), f < g, of faces whose boxes overlap and that may cut each other (:func:`faces_cut`).
 
-    Broad phase: a uniform grid of cubes of side ``cell``.  Writes up to ``len(out)`` pairs into
-    ``out`` (K, 2) and returns how many there are in all (call again with more room if larger).
+    Broad phase: a uniform grid of cubes of side ``cell``, bucketed by a counting sort of
+    hashed cell keys (cells may share a bucket).  ``mode`` 0 registers the faces with
+    ``small[f]`` and reports pairs among them; mode 1 registers every face and reports the
+    pairs with at least one face not ``small`` (call it with a coarser cell).  Faces sharing
+    a vertex v with ``cert[v]`` are skipped: they cannot cut each other
+    (:func:`._robust_topo.vertex_pass`).  A pair is examined in the bucket of the cell
+    holding the low corner of the intersection of the two boxes only (both faces are
+    registered in that cell); a pair may still come twice when cells share a bucket.
+    The buckets are scanned in 64 chunks (in parallel when compiled).
 
-    Each face is registered in every cell its (eps-grown) box overlaps, unless that is more
-    than ``max_span`` cells: such big faces are tested against every face by boxes.  A
-    pair sharing several cells is examined only in the cell holding the low corner of the
-    intersection of their boxes, so each pair is reported once.
+    Writes up to ``len(out)`` pairs into ``out`` (K, 2) and returns how many there are in
+    all (call again with more room if larger).
+    """
+    start, who, corner, box, ilo = _grid_build(F, lo, hi, small, mode, origin, cell, eps)
+    T = start.shape[0] - 1
+    kmax = 1
+    for b in range(T):
+        kmax = max(kmax, start[b + 1] - start[b])
+    n_chunks = 64
+    counts = np.zeros(n_chunks, np.int64)
+    buf = _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, 64,
+                       counts)
+    need = 0
+    for ch in range(n_chunks):
+        need = max(need, counts[ch])
+    if need > 64:
+        buf = _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, need,
+                           counts)
+    cnt = 0
+    for ch in range(n_chunks):
+        for i in range(counts[ch]):
+            if cnt < out.shape[0]:
+                out[cnt, 0] = buf[ch, i, 0]
+                out[cnt, 1] = buf[ch, i, 1]
+            cnt += 1
+    return cnt
 
-    One kernel that reads better whole (compiled by numba: its phases share scalar state).
+
+def _scan_chunks(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, kmax, n_chunks, cap, counts):
+    """Run :func:`_grid_chunk` on ``n_chunks`` ranges of buckets (in parallel when compiled);
+    returns their pairs (n_chunks, cap, 2), ``counts`` how many each found."""
+    T = start.shape[0] - 1
+    buf = np.empty((n_chunks, cap, 2), np.int64)
+    for ch in prange(n_chunks):
+        counts[ch] = _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode,
+                                 T * ch // n_chunks, T * (ch + 1) // n_chunks, kmax, buf[ch])
+    return buf
+
+
+def _grid_build(F, lo, hi, small, mode, origin, cell, eps):
+    """The grid's buckets: ``start`` (T + 1,) and per entry its face, corners and box.
+
+    The entries keep copies of their faces' boxes (float32, relative to ``origin``, widened
+    so that they hold the boxes) and corners, so that a bucket is read in sequence.
     """
     nf = F.shape[0]
-    cnt_e = 0
-    big = np.zeros(nf, np.bool_)
     ilo = np.empty((nf, 3), np.int64)
     ihi = np.empty((nf, 3), np.int64)
+    n_entries = 0
     for f in range(nf):
+        if mode == 0 and not small[f]:
+            continue
         span = 1
         for c in range(3):
-            ilo[f, c] = math.floor((lo[f, c] - eps - origin[c]) / cell)
-            ihi[f, c] = math.floor((hi[f, c] + eps - origin[c]) / cell)
+            ilo[f, c] = int(math.floor((lo[f, c] - eps - origin[c]) / cell))
+            ihi[f, c] = int(math.floor((hi[f, c] + eps - origin[c]) / cell))
             span *= ihi[f, c] - ilo[f, c] + 1
-        if span > max_span:
-            big[f] = True
-        else:
-            cnt_e += span
-    key = np.empty(cnt_e, np.int64)
-    who = np.empty(cnt_e, np.int64)
-    cx = np.empty((cnt_e, 3), np.int64)
-    e = 0
+        n_entries += span
+    T = 16
+    while T < n_entries:
+        T *= 2
+    mask = T - 1
+    start = np.zeros(T + 1, np.int32)
     for f in range(nf):
-        if big[f]:
+        if mode == 0 and not small[f]:
             continue
         for i in range(ilo[f, 0], ihi[f, 0] + 1):
             for j in range(ilo[f, 1], ihi[f, 1] + 1):
                 for k in range(ilo[f, 2], ihi[f, 2] + 1):
-                    key[e] = ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & 0x3FFFFFFFFFFF
-                    who[e] = f
-                    cx[e, 0] = i
-                    cx[e, 1] = j
-                    cx[e, 2] = k
-                    e += 1
-    order = np.argsort(key)
-    cnt = 0
-    s = 0
-    while s < cnt_e:
-        t = s + 1
-        while t < cnt_e and key[order[t]] == key[order[s]]:
-            t += 1
-        for a in range(s, t):
-            ea = order[a]
-            f = who[ea]
-            for b in range(a + 1, t):
-                eb = order[b]
-                g = who[eb]
-                if g == f or cx[ea, 0] != cx[eb, 0] or cx[ea, 1] != cx[eb, 1] or cx[ea, 2] != cx[eb, 2]:
-                    continue
-                # report in the cell of the low corner of the boxes' intersection only
-                if (max(ilo[f, 0], ilo[g, 0]) != cx[ea, 0] or max(ilo[f, 1], ilo[g, 1]) != cx[ea, 1]
-                        or max(ilo[f, 2], ilo[g, 2]) != cx[ea, 2]):
-                    continue
-                if _boxes_apart(lo, hi, f, g, eps):
-                    continue
-                if faces_cut(V, F, f, g, eps, A, B, scratch):
-                    if cnt < out.shape[0]:
-                        out[cnt, 0] = min(f, g)
-                        out[cnt, 1] = max(f, g)
-                    cnt += 1
-        s = t
+                    start[(((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask) + 1] += 1
+    for b in range(T):
+        start[b + 1] += start[b]
+    fill = start[:T].copy()
+    who = np.empty(n_entries, np.int32)
+    corner = np.empty((n_entries, 3), np.int32)
+    box = np.empty((n_entries, 6), np.float32)
+    grow = np.float32(2.4e-7)      # float32 rounds to nearest: widen so the copy holds the box
     for f in range(nf):
-        if not big[f]:
+        if mode == 0 and not small[f]:
             continue
-        for g in range(nf):
-            if g == f or (big[g] and g < f) or _boxes_apart(lo, hi, f, g, eps):
-                continue
-            if faces_cut(V, F, f, g, eps, A, B, scratch):
+        b0 = np.float32(lo[f, 0] - eps - origin[0])
+        b1 = np.float32(lo[f, 1] - eps - origin[1])
+        b2 = np.float32(lo[f, 2] - eps - origin[2])
+        b3 = np.float32(hi[f, 0] + eps - origin[0])
+        b4 = np.float32(hi[f, 1] + eps - origin[1])
+        b5 = np.float32(hi[f, 2] + eps - origin[2])
+        b0 -= abs(b0) * grow
+        b1 -= abs(b1) * grow
+        b2 -= abs(b2) * grow
+        b3 += abs(b3) * grow
+        b4 += abs(b4) * grow
+        b5 += abs(b5) * grow
+        for i in range(ilo[f, 0], ihi[f, 0] + 1):
+            for j in range(ilo[f, 1], ihi[f, 1] + 1):
+                for k in range(ilo[f, 2], ihi[f, 2] + 1):
+                    b = ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask
+                    e = fill[b]
+                    who[e] = f
+                    corner[e, 0] = F[f, 0]
+                    corner[e, 1] = F[f, 1]
+                    corner[e, 2] = F[f, 2]
+                    box[e, 0] = b0
+                    box[e, 1] = b1
+                    box[e, 2] = b2
+                    box[e, 3] = b3
+                    box[e, 4] = b4
+                    box[e, 5] = b5
+                    fill[b] += 1
+    return start, who, corner, box, ilo
+
+
+def _grid_chunk(V, F, lo, hi, eps, start, who, corner, box, ilo, cert, small, mode, b_start, b_end, kmax, out):
+    """Cutting pairs found in buckets ``b_start..b_end-1`` into ``out``; returns how many
+    (more than ``len(out)``: call again with more room).
+
+    The box test and the certified-corner test are branch-free; their survivors are
+    collected before the rarer tests: the low-corner bucket, then :func:`faces_cut`.  In
+    mode 1 each big face scans its whole bucket.
+    """
+    mask = start.shape[0] - 2
+    hits = np.empty(kmax, np.int64)
+    A = np.empty((3, 3))
+    B = np.empty((3, 3))
+    scratch = np.empty(8)
+    cnt = 0
+    for b in range(b_start, b_end):
+        e1 = start[b + 1]
+        for ea in range(start[b], e1):
+            f = who[ea]
+            if mode == 1 and small[f]:
+                continue            # mode 1: pairs with a big face, scanned from that face
+            x0 = box[ea, 0]
+            y0 = box[ea, 1]
+            z0 = box[ea, 2]
+            x1 = box[ea, 3]
+            y1 = box[ea, 4]
+            z1 = box[ea, 5]
+            c0 = corner[ea, 0]
+            c1 = corner[ea, 1]
+            c2 = corner[ea, 2]
+            k0 = cert[c0]
+            k1 = cert[c1]
+            k2 = cert[c2]
+            nh = 0
+            for eb in range(start[b] if mode == 1 else ea + 1, e1):
+                g0 = corner[eb, 0]
+                g1 = corner[eb, 1]
+                g2 = corner[eb, 2]
+                hits[nh] = eb
+                # boxes overlap and no certified common corner (branch-free)
+                nh += ((box[eb, 0] <= x1) & (box[eb, 3] >= x0) & (box[eb, 1] <= y1) & (box[eb, 4] >= y0)
+                       & (box[eb, 2] <= z1) & (box[eb, 5] >= z0)
+                       & ~((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) | (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2)))
+                           | (k2 & ((c2 == g0) | (c2 == g1) | (c2 == g2)))))
+            for h in range(nh):
+                eb = hits[h]
+                g = who[eb]
+                if g == f or (mode == 1 and not small[g] and g < f):
+                    continue
+                i = max(ilo[f, 0], ilo[g, 0])
+                j = max(ilo[f, 1], ilo[g, 1])
+                k = max(ilo[f, 2], ilo[g, 2])
+                if (((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) & mask) != b:
+                    continue
+                if _boxes_apart(lo, hi, f, g, eps) or not faces_cut(V, F, f, g, eps, A, B, scratch):
+                    continue
                 if cnt < out.shape[0]:
                     out[cnt, 0] = min(f, g)
                     out[cnt, 1] = max(f, g)
@@ -506,74 +579,3 @@ def _boxes_apart(lo, hi, f, g, eps):
         if lo[g, c] > hi[f, c] + eps or lo[f, c] > hi[g, c] + eps:
             return True
     return False
-
-
-def crossing_windings(pts, owner, ref_pt, ref_w, cut_ptr, cut_idx, V, F, mult, rel_tol, out_w, out_ok):
-    """Front winding at points on their owner face from a reference point on the same face.
-
-    Walking from ``ref_pt[f]`` to the point inside face f, the front winding changes only
-    where a cutter g of f is crossed: by ``+m_g`` when moving against g's normal (front to
-    back), ``-m_g`` along it.  Crossings closer than ``rel_tol`` (relative) to an end of the
-    walk or to an edge of g, and cutters (nearly) parallel to the walk, make the answer
-    uncertain: ``out_ok[i] = False`` and the caller evaluates the full winding number.
-    """
-    for i in range(pts.shape[0]):
-        f = owner[i]
-        rx = ref_pt[f, 0]
-        ry = ref_pt[f, 1]
-        rz = ref_pt[f, 2]
-        dx = pts[i, 0] - rx
-        dy = pts[i, 1] - ry
-        dz = pts[i, 2] - rz
-        w = ref_w[f]
-        ok = True
-        for kk in range(cut_ptr[f], cut_ptr[f + 1]):
-            g = cut_idx[kk]
-            a0 = V[F[g, 0], 0]
-            a1 = V[F[g, 0], 1]
-            a2 = V[F[g, 0], 2]
-            ux = V[F[g, 1], 0] - a0
-            uy = V[F[g, 1], 1] - a1
-            uz = V[F[g, 1], 2] - a2
-            vx = V[F[g, 2], 0] - a0
-            vy = V[F[g, 2], 1] - a1
-            vz = V[F[g, 2], 2] - a2
-            nx = uy * vz - uz * vy
-            ny = uz * vx - ux * vz
-            nz = ux * vy - uy * vx
-            dn = dx * nx + dy * ny + dz * nz
-            s0 = (a0 - rx) * nx + (a1 - ry) * ny + (a2 - rz) * nz      # n . (a - r)
-            ln = math.sqrt(nx * nx + ny * ny + nz * nz)
-            ld = math.sqrt(dx * dx + dy * dy + dz * dz)
-            if abs(dn) <= rel_tol * ln * ld:
-                # walk parallel to g's plane: harmless unless it lies in that plane
-                if abs(s0) <= rel_tol * ln * ld:
-                    ok = False
-                    break
-                continue
-            t = s0 / dn
-            if t < -rel_tol or t > 1.0 + rel_tol:
-                continue
-            if t < rel_tol or t > 1.0 - rel_tol:
-                ok = False
-                break
-            # barycentric coordinates of the crossing point q in g
-            qx = rx + t * dx - a0
-            qy = ry + t * dy - a1
-            qz = rz + t * dz - a2
-            # l1 = n . (q x v) / |n|^2, l2 = n . (u x q) / |n|^2
-            l1 = (nx * (qy * vz - qz * vy) + ny * (qz * vx - qx * vz) + nz * (qx * vy - qy * vx)) / (ln * ln)
-            l2 = (nx * (uy * qz - uz * qy) + ny * (uz * qx - ux * qz) + nz * (ux * qy - uy * qx)) / (ln * ln)
-            l0 = 1.0 - l1 - l2
-            tol = 1e3 * rel_tol
-            if l0 < -tol or l1 < -tol or l2 < -tol:
-                continue
-            if l0 < tol or l1 < tol or l2 < tol:
-                ok = False
-                break
-            if dn < 0.0:
-                w += mult[g]
-            else:
-                w -= mult[g]
-        out_w[i] = w
-        out_ok[i] = ok

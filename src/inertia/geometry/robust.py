@@ -53,15 +53,16 @@ from __future__ import annotations
 
 import math
 import time
+import types
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError
-from ._robust_caps import Caps, cap_region_bound, dedupe_faces
-from ._robust_pieces import Pieces, tetra_sums
+from ._robust_caps import CapGeometry, Caps, cap_region_bound
+from ._robust_pieces import Pieces, unpacked_sums
 from .integrals import reference_point
-from .mesh_arrays import validate_inputs
+from .mesh_arrays import validate_inputs, weld_map
 
 __all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", "robust_integrals"]
 
@@ -69,6 +70,8 @@ __all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", 
 AMBIGUOUS_LOW, AMBIGUOUS_HIGH = 0.1, 0.9
 #: Relative geometric tolerance of the intersection tests (times the box diagonal).
 EPS_REL = 1e-10
+#: Cut pieces are refined until their bound is this fraction of tol (or a budget ends).
+REFINE_BELOW = 1e-3
 
 
 @dataclass(frozen=True)
@@ -90,6 +93,10 @@ class RobustResult:
     converged : bool, the bounds meet ``tol`` (see :attr:`relative_bounds`).
     defects : tuple of str, what was found (holes, overlaps, cut faces, inside-out shells).
     stats : dict, counts and timings.
+    codes : tuple of str, the same in :func:`inertia.geometry.checks.check_mesh`'s codes
+        (``duplicate_faces``, ``open_edges``, ``non_manifold_edges``, ``inconsistent_winding``,
+        ``inverted``, ``overlapping_shells`` for faces that cross), so that a caller need not
+        run the full check as well.
     """
 
     volume: float
@@ -105,6 +112,7 @@ class RobustResult:
     defects: tuple = ()
     stats: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict, repr=False)
+    codes: tuple = ()
 
     @property
     def ambiguous_fraction(self) -> float:
@@ -174,10 +182,19 @@ def derived_bounds(vol, first, second, bv, bf, bs) -> dict:
     return out
 
 
-def _winding_backend(backend):
+def _winding_backend(backend, work: int = 0):
+    """The kernels: compiled (:mod:`._robust_numba`) or plain Python (same source, same
+    decisions); ``auto`` asks :func:`inertia.geometry.mesh_arrays.compiled_kernels` (``work``:
+    the faces, weighed by the plain-Python cost)."""
     if backend not in ("auto", "numpy", "numba"):
         raise InputError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
-    if backend != "numpy":
+    if backend == "auto":
+        from .mesh_arrays import compiled_kernels
+
+        k = compiled_kernels("inertia.geometry._robust_numba", 50 * work)
+        if k is not None:
+            return k
+    elif backend == "numba":
         try:
             from . import _robust_numba as k
             return k
@@ -185,8 +202,9 @@ def _winding_backend(backend):
             if backend == "numba":
                 from .._core.errors import MissingDependencyError
                 raise MissingDependencyError("backend='numba' needs numba, which cannot be imported") from None
-    from . import _robust_kernels as k
-    return k
+    from . import _robust_capk, _robust_clip, _robust_kernels, _robust_topo
+    mods = (_robust_topo, _robust_kernels, _robust_capk, _robust_clip)
+    return types.SimpleNamespace(**{n: getattr(m, n) for m in mods for n in m.__all__})
 
 
 def _uncut_sums(pieces, p, stats):
@@ -194,13 +212,10 @@ def _uncut_sums(pieces, p, stats):
     winding evaluation; returns ``(volume, first, second, number of undecided faces)``."""
     weights, _, n_uncertain = pieces.patch_weights()
     stats["patches"] = pieces.n_patches
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    for sgn in (1, -1):
-        sel = np.flatnonzero(weights == sgn)
-        if len(sel):
-            dv, df, ds = _face_sums(pieces.V, pieces.F[sel], p)
-            vol, first, second = vol + sgn * dv, first + sgn * df, second + sgn * ds
-    return vol, first, second, n_uncertain
+    out = np.zeros(10)
+    pieces.kern.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), float(p[0]), float(p[1]),
+                              float(p[2]), out)
+    return unpacked_sums(out) + (n_uncertain,)
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
@@ -224,26 +239,27 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     RobustResult
     """
     t0 = time.perf_counter()
-    kern = _winding_backend(backend)
+    kern = _winding_backend(backend, len(faces) if hasattr(faces, "__len__") else 0)
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
-    v, f, mult, r = _prepared(vertices, faces, reference)
+    v, f, mult, r, used, n_valid = _prepared(vertices, faces, reference, kern)
     defects = []
     if (mult > 1).any():
         defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
                        "(counted with multiplicity)")
     # every integral is taken about the box center p (one apex for all the pieces: the
     # weighted chain is closed only as a whole), then moved to the reference exactly
-    p = reference_point(v)
-    eps = EPS_REL * max(float(np.linalg.norm(v.max(0) - v.min(0))), 1e-300)
-    caps = Caps(v, f, mult, eps)
-    stats = {"faces": len(faces), "boundary_edges": len(caps.edges), "caps": len(caps.apex)}
-    if len(caps.edges):
-        defects.append(f"open or inconsistently wound boundary: {len(caps.edges)} edges in {len(caps.apex)} "
+    vu = v[used]
+    p = reference_point(vu)
+    eps = EPS_REL * max(float(np.linalg.norm(vu.max(0) - vu.min(0))), 1e-300)
+    caps, chain, cert, nbr = _closed_chain(v, f, mult, kern, eps)
+    ne = len(caps.edges)
+    stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
+    if ne:
+        defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
-    pieces = Pieces(np.concatenate([v, caps.apex]), np.concatenate([f, caps.faces]),
-                    np.concatenate([mult, caps.mult]), p, kern, eps)
-    stats.update(pieces.find_cuts(len(f)))
+    pieces = Pieces(*chain, p, kern, eps, cert, nbr)
+    stats.update(pieces.find_cuts())
     if pieces.n_cut_faces:
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
                        f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping shells")
@@ -252,13 +268,15 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
-    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, 0.25 * tol * abs(vol), stats)
+    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps,
+                                   stats)
     # 3. cut faces and uncertain patches: refine
     deadline = None if time_budget is None else t0 + time_budget
 
     def good_enough(val, extra):
+        # the unresolved pieces shrink fourfold per level: go well below tol while cheap
         return _relative_ok(vol + val[0], first + val[1], second + val[2],
-                            bv + extra[0], bf + extra[1], bs + extra[2], tol)
+                            bv + extra[0], bf + extra[1], bs + extra[2], REFINE_BELOW * tol)
 
     rv, rf, rs, ev, ef, es, info = pieces.refine(good_enough, max_pieces, max_depth, deadline)
     vol, first, second = vol + rv, first + rf, second + rs
@@ -277,18 +295,63 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
         p = r
     stats["seconds"] = time.perf_counter() - t0
+    codes = _codes(caps.edge_kinds, n_valid > len(f), pieces, len(f))
     return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
-                        tuple(defects), stats, der)
+                        tuple(defects), stats, der, codes)
 
 
-def _prepared(vertices, faces, reference):
-    """Validated ``(vertices, faces, multiplicities, reference or None)``, exact duplicates merged."""
+def _codes(edge_kinds, duplicates, pieces, n_mesh):
+    """check_mesh's codes for what the robust pass found (see :class:`RobustResult`)."""
+    crossing = bool(np.any((np.repeat(np.arange(len(pieces.F)), np.diff(pieces.cut_ptr)) < n_mesh)
+                           & (pieces.cut_idx < n_mesh)))
+    found = {"duplicate_faces": duplicates, "open_edges": edge_kinds[0] > 0,
+             "non_manifold_edges": edge_kinds[2] > 0, "inconsistent_winding": edge_kinds[1] > 0,
+             "inverted": pieces.w_min <= -1, "overlapping_shells": crossing}
+    return tuple(code for code, hit in found.items() if hit)
+
+
+def _closed_chain(v, f, mult, kern, eps):
+    """The caps and the closed chain ``(V, F, M)`` (mesh and caps), its certified vertices and
+    the face across each manifold edge (:func:`._robust_topo.vertex_pass`): one pass over the
+    mesh, then again over the vertices the caps touch."""
+    nv, nf = len(v), len(f)
+    ptr, idx = np.empty(nv + 1, np.int64), np.empty(3 * nf, np.int64)
+    kern.vertex_faces(f, nv, False, ptr, idx)
+    cert, nbr, nb = np.zeros(nv, np.bool_), np.full((nf, 3), -1, np.int64), np.zeros(nv, np.int64)
+    kinds = np.zeros((nv, 3), np.int64)
+    kern.vertex_pass(v, f, mult, ptr, idx, np.arange(nv), cert, nbr, nb, kinds)
+    edge_kinds = kinds.sum(0)
+    ne = int(nb.sum())
+    edges, emult = np.empty((ne, 2), np.int64), np.empty(ne)
+    kern.boundary_edges(f, mult, ptr, idx, nb, edges, emult)
+    caps = Caps(v, edges, emult, eps, kern)
+    caps.edge_kinds = edge_kinds
+    if not ne:
+        return caps, (v, f, mult), cert, nbr
+    V = np.ascontiguousarray(np.concatenate([v, caps.apex]))
+    F = np.ascontiguousarray(np.concatenate([f, caps.faces]))
+    M = np.ascontiguousarray(np.concatenate([mult, caps.mult]))
+    ptr, idx = np.empty(len(V) + 1, np.int64), np.empty(3 * len(F), np.int64)
+    kern.vertex_faces(F, len(V), False, ptr, idx)
+    cert = np.concatenate([cert, np.zeros(len(caps.apex), np.bool_)])
+    nbr = np.concatenate([nbr, np.full((len(caps.faces), 3), -1, np.int64)])
+    touched = np.union1d(np.unique(edges), np.arange(nv, len(V)))
+    kern.vertex_pass(V, F, M, ptr, idx, touched, cert, nbr, np.zeros(len(V), np.int64), np.zeros((0, 3), np.int64))
+    return caps, (V, F, M), cert, nbr
+
+
+def _prepared(vertices, faces, reference, kern):
+    """Validated ``(vertices, faces, multiplicities, reference or None, used-vertex mask, number of
+    faces with three distinct corners)``;
+    exactly coincident vertices merged (no tolerance: the geometry is unchanged), so that
+    repeated copies of faces are recognised as one face with a multiplicity."""
     v, f = validate_inputs(vertices, faces)
     if len(f) == 0:
         raise InputError("faces is empty: a mesh needs at least one triangle")
     if f.min() < 0 or f.max() >= len(v):
         raise InputError(f"a face holds a vertex index outside [0, {len(v)})")
-    used = np.unique(f)
+    used = np.zeros(len(v), bool)
+    used[f.ravel()] = True
     if not np.isfinite(v[used]).all():
         raise InputError("a vertex used by a face is not finite")
     r = None
@@ -296,48 +359,32 @@ def _prepared(vertices, faces, reference):
         r = np.asarray(reference, dtype=np.float64)
         if r.shape != (3,) or not np.isfinite(r).all():
             raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
-    # merge exactly coincident vertices (no tolerance: the geometry is unchanged), so that
-    # repeated copies of faces are recognised as one face with a multiplicity
-    v, inv = _weld_exact(v[used])
-    f, mult = dedupe_faces(inv[np.searchsorted(used, f)])
-    if len(f) == 0:
+    fw = np.ascontiguousarray(weld_map(v)[f])
+    ptr = np.empty(len(v) + 1, np.int64)
+    idx = np.empty(len(fw), np.int64)
+    kern.vertex_faces(fw, len(v), True, ptr, idx)
+    out = np.empty_like(fw)
+    mult = np.empty(len(fw))
+    n = kern.dedupe_faces(fw, ptr, idx, out, mult)
+    if n == 0:
         raise InputError("every face is degenerate or cancelled by an opposite copy: nothing to integrate")
-    return v, f, mult, r
+    n_valid = int(np.count_nonzero((fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 2] != fw[:, 0])))
+    return np.ascontiguousarray(v), out[:n], mult[:n], r, used, n_valid
 
 
-def _cap_terms(caps, v, kern, p, enough, stats):
+def _cap_terms(caps, v, kern, p, enough, eps, stats):
     """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region."""
     zero = (0.0, np.zeros(3), np.zeros((3, 3)))
     if not len(caps.apex):
         return 0.0, zero
+    geo = CapGeometry(caps, v, eps)
     # an indicator, not an error: a coarse octree is enough
-    amb = cap_region_bound(caps, v, AMBIGUOUS_LOW, _all_winding(kern), p, max_level=4, max_cells=20_000)[0]
+    amb = cap_region_bound(geo, AMBIGUOUS_LOW, kern, p, max_level=4, max_cells=20_000)[0]
     if len(caps.apex) == 1 and caps.planar_simple[0]:
         return amb, zero
-    cv, cf1, cs2, left = cap_region_bound(caps, v, 0.5, _all_winding(kern), p, enough=enough)
+    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, kern, p, enough=enough)
     stats["cap_cells_left"] = left
     return amb, (cv, cf1, cs2)
-
-
-def _weld_exact(v):
-    """``np.unique(v, axis=0, return_inverse=True)`` for float rows, by one lexsort (faster)."""
-    o = np.lexsort((v[:, 2], v[:, 1], v[:, 0]))
-    s = v[o]
-    new = np.r_[True, np.any(s[1:] != s[:-1], axis=1)]
-    inv = np.empty(len(v), np.int64)
-    inv[o] = np.cumsum(new) - 1
-    return s[new], inv
-
-
-def _face_sums(V, F, p, chunk=65536):
-    """Signed-tetrahedron integrals (apex p) summed over faces, in chunks (bounded memory)."""
-    vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-    ones = np.ones(min(chunk, len(F)))
-    for s in range(0, len(F), chunk):
-        fc = F[s:s + chunk]
-        dv, df, ds = tetra_sums(V[fc], p, ones[:len(fc)])
-        vol, first, second = vol + dv, first + df, second + ds
-    return vol, first, second
 
 
 def _moved(vol, first, second, bv, bf, bs, d):
@@ -349,11 +396,14 @@ def _moved(vol, first, second, bv, bf, bs, d):
             bv, bf + bv * ad, bs + bFd + bFd.T + bv * np.multiply.outer(ad, ad))
 
 
-def _all_winding(kern):
-    """``winding(points, V, F, mult, out)``: the full winding number (no face left out)."""
-    def winding(points, V, F, mult, out):
-        kern.winding_rest(np.ascontiguousarray(points), np.full(len(points), -1, np.int64), V, F, mult, out)
-    return winding
+def _volume_budget(vol, first, second, vertices, p, target):
+    """The volume bound, placed as far from p as the mesh reaches, whose derived relative
+    bounds (volume, COM, inertia) stay within ``target``: the octree's stopping point."""
+    m = np.maximum(np.abs(vertices.min(0) - p), np.abs(vertices.max(0) - p))
+    unit = 1e-6 * abs(vol)
+    rel = derived_bounds(vol, first, second, unit, unit * m, unit * np.outer(m, m))["relative"]
+    worst = max(rel.values())
+    return target * unit / worst if worst > 0 and np.isfinite(worst) else 0.25 * target * abs(vol)
 
 
 def _relative_ok(vol, first, second, bv, bf, bs, tol):
