@@ -57,7 +57,7 @@ from .self_crossing import NEGLIGIBLE_RTOL, SEARCH_MAX_FACES, Crossing, crossing
 
 _MAX_CONTAIN_POINTS = 6  # extreme vertices of a component tested for nesting in another
 
-__all__ = ["check_mesh", "analyse_mesh", "MeshAnalysis"]
+__all__ = ["check_mesh", "analyse_mesh", "clean_analysis", "MeshAnalysis"]
 
 
 
@@ -170,6 +170,13 @@ def _negligible_note(crossing, effect: dict) -> Defect:
                   f"faces {a} and {b} cross near {fmt_point(crossing.point)}, but the crossings change the mass "
                   f"properties by at most {figures} (relative; under {NEGLIGIBLE_RTOL:g}): the solid is taken as "
                   "given", {"faces": (a, b), "effect": dict(effect)}, "note")
+
+
+def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False,
+                   weld_first: bool = False) -> MeshAnalysis | None:
+    """The analysis of a mesh without any defect (compiled check and sums in one pass), or
+    None when it has one or cannot be checked that way: then :func:`analyse_mesh` names it."""
+    return _analyse_clean(vertices, faces, welded, weld_first)
 
 
 def _unchecked_note(n_faces: int) -> Defect:

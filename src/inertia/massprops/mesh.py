@@ -22,6 +22,7 @@ import warnings
 import numpy as np
 
 from .._core.errors import InputError, MeshDefectWarning, MeshError
+from .._core.tolerances import COORDINATE_LIMIT
 from .._core.validation import resolve_mass
 from ..geometry.checks import analyse_mesh
 from ..geometry.integrals import (
@@ -32,7 +33,7 @@ from ..geometry.integrals import (
     solid_integrals,
     solid_sums_moments,
 )
-from ..geometry.mesh_arrays import compact_vertices, validate_inputs
+from ..geometry.mesh_arrays import compact_vertices, faces_in_range, validate_inputs
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
 from ..geometry.orient import orient_analysed
 
@@ -127,6 +128,11 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     _check_mass_args(density, mass, what)
     v, f = validate_inputs(vertices, faces)
 
+    if robust and not shell and not with_report and not fix_orientation:
+        props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, tol=robust_tol,
+                               stacklevel=stacklevel + 1)
+        if props is not None:
+            return props
     analysis = analyse_mesh(v, f, welded=welded, weld_first=False)
     report = analysis.report
     if analysis.solid_sums is not None and not shell:   # a clean solid: its sums came with the check
@@ -216,6 +222,26 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=())
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
 
 
+def _robust_direct(v, f, welded, *, density, mass, frame, what, tol, stacklevel):
+    """``robust=True`` without the full analysis (it costs as much as the robust solid): a
+    clean solid takes the exact path; a mesh with nothing fatal (indices in range, finite
+    coordinates within the limit) goes to the robust solid, whose own pass names the defects;
+    None otherwise (the full analysis then names the fatal ones)."""
+    from ..geometry.checks import clean_analysis
+
+    clean = clean_analysis(v, f, welded=welded)
+    if clean is not None:
+        return _clean_solid_properties(clean.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
+                                       notes=_note_texts(clean.report, what, False))
+    if not len(f) or not faces_in_range(f, len(v)):
+        return None
+    with np.errstate(invalid="ignore"):
+        if not np.all(np.abs(v) <= COORDINATE_LIMIT):
+            return None
+    return _robust_properties(v, f, None, density=density, mass=mass, frame=frame, what=what, tol=tol, notes=[],
+                              stacklevel=stacklevel + 1)
+
+
 def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, stacklevel):
     """The solid {w >= 1/2} of an imperfect mesh (:func:`inertia.geometry.robust.robust_integrals`),
     with its error bound and its defects recorded in the warnings."""
@@ -235,7 +261,7 @@ def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, 
                                    np.asarray(res.reference, float), rho)
     rel = {k: float(x) for k, x in res.relative_bounds.items()}
     bounds = ", ".join(f"{k} {x:.2g}" for k, x in rel.items())
-    codes = ", ".join(sorted({d.code for d in errors}))
+    codes = ", ".join(sorted({d.code for d in errors} if errors is not None else set(res.codes)))
     text = (f"{what}: robust solid for a mesh with {codes} (the points of generalised winding number >= 1/2"
             f"{'; ' + '; '.join(res.defects) if res.defects else ''}); relative error bounds: {bounds}")
     if not res.converged:
