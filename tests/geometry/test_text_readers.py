@@ -362,3 +362,29 @@ def test_a_small_file_alone_is_read_without_loading_the_compiled_reader(tmp_path
             "print(before, after, (a[0] == b[0]).all() and (a[1] == b[1]).all())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", str(text_kernels() is not None), "True"]
+
+
+@pytest.mark.parametrize("compiled", COMPILED)
+def test_quads_split_along_the_shorter_diagonal_as_mujoco_does(tmp_path, compiled):
+    """A box whose top quad is twisted (one corner raised): fanned from its first vertex the
+    volume depends on where the quad starts; split along its shorter diagonal it does not, and
+    equals MuJoCo's compiled mass of the same OBJ (its float32 vertices aside)."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1.6], [0, 1, 1]], float)
+    sides = [[0, 3, 2, 1], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    volumes = {}
+    for name, top in (("a", [4, 5, 6, 7]), ("b", [5, 6, 7, 4])):
+        text = "".join(f"v {x} {y} {z}\n" for x, y, z in V) + "".join(
+            "f " + " ".join(str(i + 1) for i in q) + "\n" for q in [top] + sides)
+        path = tmp_path / f"{name}.obj"
+        path.write_text(text)
+        for quads in ("fan", "shorter"):
+            v, f = read_obj(np.frombuffer(text.encode(), dtype=np.uint8), path, compiled=compiled, quads=quads)
+            t = v[f]
+            volumes[name, quads] = float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6)
+    assert volumes["a", "shorter"] == pytest.approx(1.1, abs=1e-14) == volumes["b", "shorter"]
+    assert {round(volumes["a", "fan"], 12), round(volumes["b", "fan"], 12)} == {1.2, 1.1}
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_string(
+        f'<mujoco><compiler meshdir="{tmp_path}"/><asset><mesh name="m" file="a.obj" inertia="exact"/></asset>'
+        '<worldbody><body><freejoint/><geom type="mesh" mesh="m" density="1"/></body></worldbody></mujoco>')
+    assert model.body_mass[1] == pytest.approx(volumes["a", "shorter"], rel=1e-7)

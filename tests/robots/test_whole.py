@@ -181,12 +181,9 @@ def _shared_mjcf_files() -> list:
     return [str(p.relative_to(root)) for p in found] or ["(no shared robots)"]
 
 
-#: files where we knowingly differ from MuJoCo, and why
-_OBJ_QUAD = pytest.mark.xfail(strict=True, reason="link_finger_base_v.obj has one quad: MuJoCo splits it along the "
-                                                  "shorter diagonal, our OBJ reading from its first vertex (6.7e-4 in "
-                                                  "the finger bodies' mass)")
-KNOWN = {"menagerie/google_robot/robot.xml": ("mass", _OBJ_QUAD),
-         "menagerie/google_robot/scene.xml": ("mass", _OBJ_QUAD)}
+#: files where we knowingly differ from MuJoCo, and why (none: google_robot's finger OBJ holds a
+#: non-planar quad, which robot files now split along its shorter diagonal, as MuJoCo does)
+KNOWN: dict = {}
 SHARED_MJCF = _shared_mjcf_files()
 
 

@@ -548,7 +548,8 @@ def _obj_sizes(raw):
 # One kernel kept whole (84 lines), for the reason given above read_ascii_stl.
 @nb.njit(**_JIT)
 def read_obj(raw, limit):
-    """Vertices and triangles of an OBJ: ``(vertices, faces, slow, largest, status, line_offset, detail)``.
+    """Vertices and triangles of an OBJ: ``(vertices, faces, slow, largest, status, line_offset,
+    detail, quads)`` (``quads``: the first of the two triangles of each quadrilateral).
 
     Grammar: :mod:`._text_reference`.  ``largest``: the largest vertex index + 1 of the faces
     (a face may name a vertex defined further down); ``limit >= 0`` refuses positive indices
@@ -560,7 +561,8 @@ def read_obj(raw, limit):
     verts = np.empty((cap_v, 3))
     faces = np.empty((cap_t, 3), dtype=np.int64)
     slow = np.empty((16, 3), dtype=np.int64)
-    nv = nf = ns = 0
+    quads = np.empty(cap_t, dtype=np.int64)
+    nv = nf = ns = nq = 0
     largest = 0
     i = 0
     while i < n:
@@ -573,7 +575,7 @@ def read_obj(raw, limit):
                 value, start, i, status = _coordinate(data, i, n, True)
                 if status > 0:
                     return verts[:nv], faces[:nf], slow[:ns], largest, status, line, \
-                        (k if status == FEW_COORDS else start)
+                        (k if status == FEW_COORDS else start), quads[:nq]
                 if status < 0:
                     if ns == slow.shape[0]:
                         slow = _grow_rows(slow, ns + 1)
@@ -586,6 +588,7 @@ def read_obj(raw, limit):
         elif kw == 102:
             first = second = -1
             count = 0
+            start_face = nf
             i += 1
             while True:
                 i = _skip_blanks(data, i, n, True)
@@ -593,7 +596,7 @@ def read_obj(raw, limit):
                     break
                 idx, end, status = _face_ref(data, i, n, nv, limit)
                 if status != OK:
-                    return verts[:nv], faces[:nf], slow[:ns], largest, status, line, i
+                    return verts[:nv], faces[:nf], slow[:ns], largest, status, line, i, quads[:nq]
                 i = end
                 largest = max(largest, idx + 1)
                 if count == 0:
@@ -606,9 +609,12 @@ def read_obj(raw, limit):
                 second = idx
                 count += 1
             if count < 3:
-                return verts[:nv], faces[:nf], slow[:ns], largest, FEW_REFS, line, count
+                return verts[:nv], faces[:nf], slow[:ns], largest, FEW_REFS, line, count, quads[:nq]
+            if count == 4:
+                quads[nq] = start_face
+                nq += 1
         i = _end_of_line(data, i, n, True) + 1
-    return verts[:nv], faces[:nf], slow[:ns], largest, OK, 0, 0
+    return verts[:nv], faces[:nf], slow[:ns], largest, OK, 0, 0, quads[:nq]
 
 
 @nb.njit(**_JIT)

@@ -167,28 +167,46 @@ def _parallel_stl(data: np.ndarray, kernels):
     return v, big_f[:done_f], None
 
 
-def read_obj(data: np.ndarray, path, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of an OBJ (see :func:`read_ascii_stl`)."""
+def read_obj(data: np.ndarray, path, compiled: bool | None = None, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of an OBJ (see :func:`read_ascii_stl`).
+
+    Polygons are fanned from their first vertex (as trimesh does); with ``quads="shorter"`` a
+    quadrilateral is split along its shorter diagonal instead (as MuJoCo's OBJ reader does: the
+    two differ on a quad that is not planar)."""
     kernels = _kernels_for(len(data), compiled, "obj")
     raw = bytes(data) if kernels is None else None
 
     def parse(limit):
         if kernels is None:
             return ref.read_obj(raw, limit)
-        v, f, slow, largest, status, where, detail = kernels.read_obj(data, limit)
+        v, f, slow, largest, status, where, detail, q = kernels.read_obj(data, limit)
         _fill_slow(v, data, slow, kernels)
         err = None if status == ref.OK else _kernel_error(data, status, where, detail, obj=True)
         if err is not None and err.kind == ref.INDEX_RANGE:   # as the reference counts
             err = ref.TextError(err.kind, err.line, err.text, err.token,
                                 len(v) if err.token.startswith(b"-") else limit)
-        return v, f, largest, err
+        return v, f, largest, err, q
 
-    v, f, largest, err = parse(-1)
+    v, f, largest, err, q = parse(-1)
     if err is None and largest > len(v):   # a positive index beyond the last vertex: find its line
         err = parse(len(v))[3]
     if err is not None:
         raise MeshFileError(error_message(path, err, "OBJ"), code="malformed")
+    if quads == "shorter" and len(q):
+        _split_quads_shorter(v, f, q)
     return v, f
+
+
+def _split_quads_shorter(v: np.ndarray, f: np.ndarray, q: np.ndarray) -> None:
+    """Re-split in place each quadrilateral a b c d fanned as (a b c), (a c d) along its shorter
+    diagonal: (a b d), (b c d) when |b - d| <= |a - c| (MuJoCo's rule: ties take b-d)."""
+    a, b, c, d = f[q, 0], f[q, 1], f[q, 2], f[q + 1, 2]
+    d_ac = np.einsum("ij,ij->i", v[a] - v[c], v[a] - v[c])
+    d_bd = np.einsum("ij,ij->i", v[b] - v[d], v[b] - v[d])
+    flip = ~(d_ac < d_bd)
+    t0, t1 = q[flip], q[flip] + 1
+    f[t0] = np.stack([a[flip], b[flip], d[flip]], axis=1)
+    f[t1] = np.stack([b[flip], c[flip], d[flip]], axis=1)
 
 
 def _fill_slow(v: np.ndarray, data: np.ndarray, slow: np.ndarray, kernels) -> None:

@@ -150,8 +150,9 @@ def _rows(values) -> np.ndarray:
     return np.array(values, dtype=np.float64).reshape(-1, 3)
 
 
-def _face(tokens, n_vertices: int, limit: int, number, first, out):
-    """Fan the references ``tokens`` into ``out`` (flat triples); a TextError, or None."""
+def _face(tokens, n_vertices: int, limit: int, number, first, out, quads=None):
+    """Fan the references ``tokens`` into ``out`` (flat triples; the first triangle of each
+    quadrilateral listed in ``quads``); a TextError, or None."""
     refs = []
     for tok in tokens:
         if tok.isdigit():   # the common case, a plain positive index
@@ -176,16 +177,20 @@ def _face(tokens, n_vertices: int, limit: int, number, first, out):
         refs.append(v)
     if len(refs) < 3:
         return TextError(FEW_REFS, number, first, count=len(refs))
+    if len(refs) == 4 and quads is not None:
+        quads.append(len(out) // 3)
     for k in range(1, len(refs) - 1):
         out += (refs[0], refs[k], refs[k + 1])
     return None
 
 
 def read_obj(data, limit: int = -1):
-    """``(vertices, faces, largest positive index, TextError or None)``: the grammar in the
-    module docstring; ``limit >= 0`` refuses positive indices above it."""
+    """``(vertices, faces, largest positive index, TextError or None, quads)``: the grammar in
+    the module docstring; ``limit >= 0`` refuses positive indices above it; ``quads`` the index
+    of the first of the two triangles of each quadrilateral."""
     coords: list[float] = []
     faces: list[int] = []
+    quads: list[int] = []
     err = None
     for number, first, line in logical_lines(data, joins=True):
         tokens = line.split()
@@ -197,8 +202,8 @@ def read_obj(data, limit: int = -1):
                 del coords[len(coords) - len(coords) % 3:]
         else:
             head = line.split(b"#", 1)[0].split()
-            err = _face(head[1:], len(coords) // 3, limit, number, first, faces)
+            err = _face(head[1:], len(coords) // 3, limit, number, first, faces, quads)
         if err is not None:
             break
     f = np.array(faces, dtype=np.int64).reshape(-1, 3)
-    return _rows(coords), f, (int(f.max()) + 1 if len(f) else 0), err
+    return _rows(coords), f, (int(f.max()) + 1 if len(f) else 0), err, np.array(quads, dtype=np.int64)

@@ -266,7 +266,8 @@ def _collada_unit(p: Path) -> float:
     return meter
 
 
-def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tuple[np.ndarray, np.ndarray]:
+def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
+              quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
     Parameters
@@ -278,6 +279,9 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
         ("m", "cm", "mm", "um", "in", "ft").
     merge_rtol : float, vertices closer than ``merge_rtol`` x the mesh size are merged
         (0: merge exactly equal vertices only).
+    quads : {"fan", "shorter"}, how an OBJ quadrilateral becomes two triangles: fanned from its
+        first vertex (as trimesh does, the default) or split along its shorter diagonal (as
+        MuJoCo does); the two differ only on a quad that is not planar.
 
     Returns
     -------
@@ -296,7 +300,7 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL) -> tupl
     factor = _unit_factor(units)
     p = Path(path)
     try:
-        return _load_mesh(p, factor, merge_rtol)
+        return _load_mesh(p, factor, merge_rtol, quads)
     except MemoryError:
         size = _file_size(p)
         raise MeshFileError(f"{p}: too large to read in the memory available ({size / 2**30:.2g} GiB file; "
@@ -337,7 +341,7 @@ def prepare_text_readers(formats) -> None:
     prepare(formats)
 
 
-def _load_mesh(p: Path, factor: float, merge_rtol: float):
+def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
@@ -369,7 +373,7 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float):
     elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: native text readers
         from ._text_readers import read_ascii_stl, read_obj
 
-        vertices, faces = (read_obj if ext == ".obj" else read_ascii_stl)(data, p)
+        vertices, faces = read_obj(data, p, quads=quads) if ext == ".obj" else read_ascii_stl(data, p)
     else:
         trimesh = _import_trimesh()
         if ext == ".dae":  # trimesh reads COLLADA through pycollada

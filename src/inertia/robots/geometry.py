@@ -61,17 +61,19 @@ _MESH_CACHE_SIZE = 64
 
 
 def _load_cached(path, mesh_units: str):
+    """The mesh file's arrays, cached; OBJ quadrilaterals split along their shorter diagonal, as
+    MuJoCo's OBJ reader splits them (a robot file's numbers are the simulator's)."""
     from ..geometry.mesh_io import load_mesh
 
     try:
         st = path.stat()
         key = (str(path), st.st_size, st.st_mtime_ns, mesh_units)
     except OSError:
-        return load_mesh(path, units=mesh_units)
+        return load_mesh(path, units=mesh_units, quads="shorter")
     if key not in _MESH_CACHE:
         if len(_MESH_CACHE) >= _MESH_CACHE_SIZE:
             _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
-        v, f = load_mesh(path, units=mesh_units)
+        v, f = load_mesh(path, units=mesh_units, quads="shorter")
         v.setflags(write=False)
         f.setflags(write=False)
         _MESH_CACHE[key] = (v, f)
