@@ -461,7 +461,11 @@ class _Kernel:
 def test_auto_backend_rents_numpy_until_compiling_pays(monkeypatch):
     from inertia.dynamics import compiled
 
+    import sys
+    import types
+
     monkeypatch.setenv("INERTIA_COMPILED", "auto")      # the suite runs with "always"
+    monkeypatch.setitem(sys.modules, "numba", sys.modules.get("numba") or types.ModuleType("numba"))
     monkeypatch.setitem(compiled._rent, "seconds", 0.0)
     monkeypatch.setattr(compiled, "numba_available", lambda: True)
     choose = lambda steps, loaded=False: compiled.use_compiled(  # noqa: E731

@@ -20,8 +20,8 @@ from inertia.geometry._text_readers import read_ascii_stl, read_obj, text_kernel
 from inertia.geometry.mesh_io import load_mesh
 from tests.fuzzing import mutate_any, seed_obj, seed_stl_ascii
 
-COMPILED = [pytest.param(True, id="compiled"), pytest.param(False, id="reference")]
 needs_numba = pytest.mark.skipif(text_kernels() is None, reason="numba (inertia[fast]) is not installed")
+COMPILED = [pytest.param(True, id="compiled", marks=needs_numba), pytest.param(False, id="reference")]
 
 
 def _read(reader, text: bytes, compiled: bool):
