@@ -459,10 +459,10 @@ class _Kernel:
 
 
 def test_auto_backend_rents_numpy_until_compiling_pays(monkeypatch):
-    from inertia.dynamics import compiled
-
     import sys
     import types
+
+    from inertia.dynamics import compiled
 
     monkeypatch.setenv("INERTIA_COMPILED", "auto")      # the suite runs with "always"
     monkeypatch.setitem(sys.modules, "numba", sys.modules.get("numba") or types.ModuleType("numba"))
