@@ -71,17 +71,14 @@ def speed_cases(data):
 def speed(data, rounds):
     print("## Speed: whole public call, 100k-face open meshes (wall s; best / median of interleaved rounds)")
     print("| case | faces | public call robust=True | Mfaces/s (best) | robust_integrals alone "
-          "| fast clean check + robust_integrals (proposed hook) | exact path, closed mesh |")
-    print("|---|---|---|---|---|---|---|")
+          "| exact path, closed mesh |")
+    print("|---|---|---|---|---|---|")
     for name, v, fo, fc in speed_cases(data):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             inertia.mesh_properties(v, fo, density=1.0, robust=True)
-            t_pub, t_rob, t_cl, t_hook = [], [], [], []
+            t_pub, t_rob, t_cl = [], [], []
             for _ in range(rounds):
-                t = time.perf_counter()
-                _hook(v, fo)
-                t_hook.append(time.perf_counter() - t)
                 t = time.perf_counter()
                 inertia.mesh_properties(v, fo, density=1.0, robust=True)
                 t_pub.append(time.perf_counter() - t)
@@ -93,23 +90,12 @@ def speed(data, rounds):
                 t_cl.append(time.perf_counter() - t)
         fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
         print(f"| {name} | {len(fo)} | {fmt(t_pub)} | {len(fo) / min(t_pub) / 1e6:.2f} | {fmt(t_rob)} "
-              f"| {fmt(t_hook)} | {fmt(t_cl)} |")
+              f"| {fmt(t_cl)} |")
     print()
     print("Peak RSS of a fresh process (MiB): imports and mesh built / after the exact path on the closed mesh / "
           "after the robust call on the open one")
     for name, *_ in speed_cases(data):
         print(f"  {name}: {_rss(name, data)}")
-
-
-def _hook(v, f):
-    """What the public call would cost if it skipped check_mesh's full analysis when
-    robust=True: validation, the compiled clean-mesh check (which fails), the robust pass."""
-    from inertia.geometry.checks import _analyse_clean
-    from inertia.geometry.mesh_arrays import validate_inputs
-
-    vv, ff = validate_inputs(v, f)
-    assert _analyse_clean(vv, ff, False) is None
-    return robust_integrals(vv, ff)
 
 
 def _rss(name, data):
