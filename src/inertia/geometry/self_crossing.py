@@ -96,13 +96,13 @@ def _ray_hits(v, f, c, u, rtol: float = 1e-9) -> int:
     p = np.cross(u, e2)
     det = np.einsum("ij,ij->i", e1, p)
     ok = det != 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):       # faces parallel to the ray (det 0) are masked by ok
         s = np.einsum("ij,ij->i", -a, p) / det
         q = np.cross(-a, e1)
         w = (q @ u) / det
         dist = np.einsum("ij,ij->i", e2, q) / det
-    inside = ok & (s >= -rtol) & (w >= -rtol) & (s + w <= 1.0 + rtol)
-    near = inside & ((s < rtol) | (w < rtol) | (s + w > 1.0 - rtol))
+        inside = ok & (s >= -rtol) & (w >= -rtol) & (s + w <= 1.0 + rtol)
+        near = inside & ((s < rtol) | (w < rtol) | (s + w > 1.0 - rtol))
     if near.any():
         return -1
     return int(np.count_nonzero(inside & (dist > 0.0)))
