@@ -148,8 +148,7 @@ def test_large_unproven_shells_carry_a_note(monkeypatch):
     monkeypatch.setattr(sc, "SEARCH_MAX_FACES", 100)
     import inertia.geometry.checks as checks
 
-    monkeypatch.setattr(checks, "self_crossing",
-                        lambda v, f, c: sc.self_crossing(v, f, c, max_faces=100))
+    monkeypatch.setattr(checks, "SEARCH_MAX_FACES", 100)
     torus = trimesh.creation.torus(1.0, 0.3, major_sections=40, minor_sections=16)
     p = inertia.mesh_properties(np.array(torus.vertices), np.array(torus.faces), density=1.0)
     assert len(p.warnings) == 1 and "self_crossing_unchecked" in p.warnings[0]

@@ -116,7 +116,8 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
     return depth
 
 
-def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_first: bool) -> MeshAnalysis | None:
+def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_first: bool,
+                   search: bool = True) -> MeshAnalysis | None:
     """The analysis of a mesh without any defect, from the compiled kernel; None otherwise.
 
     The kernel (:func:`._solid_numba.clean_solid`) also returns the volume sums, kept in
@@ -147,7 +148,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         if kernels.clean_solid(v, np.ascontiguousarray(fw), DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out):
             volume = out[0] / 6.0
             com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = None if out[14] == 1.0 else self_crossing(v, fw, com)
+            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:
@@ -172,11 +173,18 @@ def _negligible_note(crossing, effect: dict) -> Defect:
                   "given", {"faces": (a, b), "effect": dict(effect)}, "note")
 
 
+def _crossing_of(vertices, faces, center, search: bool):
+    """:func:`.self_crossing.self_crossing` with the search up to SEARCH_MAX_FACES, or none
+    (``self_crossing="certificate"``: a shell the certificate does not prove gets the note
+    self_crossing_unchecked)."""
+    return self_crossing(vertices, faces, center, max_faces=SEARCH_MAX_FACES if search else 0)
+
+
 def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False,
-                   weld_first: bool = False) -> MeshAnalysis | None:
+                   weld_first: bool = False, search: bool = True) -> MeshAnalysis | None:
     """The analysis of a mesh without any defect (compiled check and sums in one pass), or
     None when it has one or cannot be checked that way: then :func:`analyse_mesh` names it."""
-    return _analyse_clean(vertices, faces, welded, weld_first)
+    return _analyse_clean(vertices, faces, welded, weld_first, search)
 
 
 def _unchecked_note(n_faces: int) -> Defect:
@@ -195,7 +203,7 @@ class _Defects(list):
 
 
 def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False,
-                 weld_first: bool = True) -> MeshAnalysis:
+                 weld_first: bool = True, self_crossing: str = "search") -> MeshAnalysis:
     """Run every check on validated arrays; see :func:`check_mesh`.
 
     ``welded=True`` promises that no two vertices have equal coordinates (as
@@ -207,7 +215,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
     degenerate faces, then (on the valid faces) duplicates, edges, components, inversion.
     """
     if not full:
-        clean = _analyse_clean(vertices, faces, welded, weld_first)
+        clean = _analyse_clean(vertices, faces, welded, weld_first, self_crossing == "search")
         if clean is not None:
             return clean
     V, F = len(vertices), len(faces)
@@ -243,7 +251,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
             if not len(incons):
                 _inverted_pass(vertices, ft, tidx, analysis, defects)
                 _overlap_pass(vertices, ft, tidx, analysis, defects)
-                _self_crossing_pass(vertices, ft, tidx, analysis, defects)
+                _self_crossing_pass(vertices, ft, tidx, analysis, defects, self_crossing == "search")
     order_codes = list(SEVERITY)
     defects.sort(key=lambda d: order_codes.index(d.code))
     analysis.report = MeshReport(tuple(defects), V, F, n_welded, int(analysis.n_components), signed_volume,
@@ -469,7 +477,7 @@ def _overlap_pass(vertices, ft, tidx, analysis, defects) -> None:
                     {"components": (a, b), "point": tuple(float(x) for x in point)})
 
 
-def _self_crossing_pass(vertices, ft, tidx, analysis, defects) -> None:
+def _self_crossing_pass(vertices, ft, tidx, analysis, defects, search: bool = True) -> None:
     """Closed components that pass through themselves (see :mod:`.self_crossing`): an error,
     unless the crossings change the mass properties negligibly (a note)."""
     if len(analysis.inverted_components):
@@ -481,7 +489,7 @@ def _self_crossing_pass(vertices, ft, tidx, analysis, defects) -> None:
     for k in range(K):
         rows = order[starts[k]:starts[k + 1]]
         fk = ft[rows]
-        crossing = self_crossing(vertices, fk, _volume_centroid(vertices, fk))
+        crossing = _crossing_of(vertices, fk, _volume_centroid(vertices, fk), search)
         if crossing is None:
             continue
         if crossing == "unchecked":

@@ -60,10 +60,10 @@ _DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
 
 
 def _kernels(work: int):
+    """The compiled kernels for a job of ``work`` (faces, weighed by the NumPy path's cost)."""
     from .mesh_arrays import compiled_kernels
 
-    # the NumPy search costs ~30x the mass properties a face: weigh the job so
-    return compiled_kernels("inertia.geometry._selfcross_numba", 30 * work)
+    return compiled_kernels("inertia.geometry._selfcross_numba", work)
 
 
 def star_certificate(vertices, faces, center) -> bool:
@@ -72,7 +72,7 @@ def star_certificate(vertices, faces, center) -> bool:
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     f = np.ascontiguousarray(faces, dtype=np.int64)
     c = np.asarray(center, dtype=np.float64)
-    k = _kernels(len(f))
+    k = _kernels(len(f))                  # one NumPy pass: about the integrals' cost
     if k is not None:
         return bool(k.star_certificate(v, f, c, STAR_RTOL))
     a = v[f[:, 0]] - c
@@ -132,7 +132,7 @@ def first_crossing(vertices, faces) -> Crossing | None:
     if len(f) < 2:
         return None
     cell = _cell(v, f)
-    k = _kernels(len(f))
+    k = _kernels(30 * len(f))             # the NumPy search costs ~30x the integrals a face
     if k is not None:
         out = np.zeros(2, dtype=np.int64)
         origin = v[np.unique(f)].min(axis=0)

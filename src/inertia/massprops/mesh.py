@@ -41,6 +41,8 @@ __all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT
 
 #: Accepted values of ``on_defect``.
 ON_DEFECT = ("raise", "warn")
+#: Accepted values of ``self_crossing`` (see :func:`mesh_properties`).
+SELF_CROSSING = ("search", "certificate")
 
 # Nothing can be computed with these, whatever the options.
 _FATAL = ("empty", "non_finite", "out_of_range", "bad_index")
@@ -111,7 +113,7 @@ def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: b
 
 def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
                      stacklevel, with_report: bool = False, welded: bool = False, robust: bool = False,
-                     robust_tol: float = 1e-3):
+                     robust_tol: float = 1e-3, self_crossing: str = "search"):
     """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
 
     ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
@@ -125,6 +127,8 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
     kind = "a thin shell" if shell else "a solid"
     if on_defect not in ON_DEFECT:
         raise InputError(f"on_defect must be one of {ON_DEFECT}, got {on_defect!r}")
+    if self_crossing not in SELF_CROSSING:
+        raise InputError(f"self_crossing must be one of {SELF_CROSSING}, got {self_crossing!r}")
     _check_mass_args(density, mass, what)
     v, f = validate_inputs(vertices, faces)
 
@@ -133,7 +137,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
                                stacklevel=stacklevel + 1)
         if props is not None:
             return props
-    analysis = analyse_mesh(v, f, welded=welded, weld_first=False)
+    analysis = analyse_mesh(v, f, welded=welded, weld_first=False, self_crossing=self_crossing)
     report = analysis.report
     if analysis.solid_sums is not None and not shell:   # a clean solid: its sums came with the check
         props = _clean_solid_properties(analysis.solid_sums, v, f, density=density, mass=mass, frame=frame,
@@ -275,7 +279,7 @@ def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, 
 
 def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fix_orientation=False,
                     on_defect="raise", frame: str = "body", name: str | None = None, robust: bool = False,
-                    robust_tol: float = 1e-3):
+                    robust_tol: float = 1e-3, self_crossing: str = "search"):
     """Mass properties of a triangle mesh, checked for defects first.
 
     Parameters
@@ -308,6 +312,12 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
         the COM and the inertia).  A warning names the defects and the bounds, which are also
         in ``warnings``.  A closed, consistently wound mesh takes the exact path either way.
     robust_tol : float, the relative bound to reach (default 1e-3).
+    self_crossing : {"search", "certificate"}
+        How a closed shell is shown not to pass through itself: ``"search"`` (default) proves
+        it in the integrals' pass when it is star-shaped from its center of mass, and
+        otherwise tests face pairs (up to 200,000 faces; 10-50x the cost of the integrals);
+        ``"certificate"`` only tries the proof, and a shell it does not prove gets the note
+        ``self_crossing_unchecked`` in ``warnings`` (for bulk work where that cost matters).
 
     Returns
     -------
@@ -340,7 +350,7 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
     """
     return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
-                            stacklevel=3, robust=robust, robust_tol=robust_tol)
+                            stacklevel=3, robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
 
 
 def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,

@@ -134,8 +134,10 @@ def _solid_mesh(p: dict, rho: float, mesh_units: str):
     vertices = vertices * np.asarray(p.get("scale", (1, 1, 1)), float)
     if np.prod(np.sign(p.get("scale", (1, 1, 1)))) < 0:  # a mirroring scale turns the winding inside out
         faces = faces[:, ::-1]
+    # the certificate alone: a shell it cannot prove is still summed as the simulator sums it
+    # (the comparisons are plausibility checks; MuJoCo integrates whatever the mesh holds)
     try:
-        return mesh_properties(vertices, faces, density=rho, name=str(path))
+        return mesh_properties(vertices, faces, density=rho, name=str(path), self_crossing="certificate")
     except MeshError as exc:
         errors = {d.code for d in exc.report.errors} if exc.report is not None else set()
         if not errors or not errors <= {"overlapping_shells", "self_intersecting"}:
@@ -145,7 +147,8 @@ def _solid_mesh(p: dict, rho: float, mesh_units: str):
         # it (SUMMED_OVERLAP)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn")
+            return mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn",
+                                   self_crossing="certificate")
 
 
 def _mujoco_mesh(p: dict, rho: float, mesh_units: str):
