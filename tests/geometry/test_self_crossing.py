@@ -153,3 +153,40 @@ def test_large_unproven_shells_carry_a_note(monkeypatch):
     p = inertia.mesh_properties(np.array(torus.vertices), np.array(torus.faces), density=1.0)
     assert len(p.warnings) == 1 and "self_crossing_unchecked" in p.warnings[0]
     assert p.mass == pytest.approx(torus.volume, rel=1e-12)           # the number is unchanged
+
+
+def test_certificate_mode_notes_what_it_does_not_prove():
+    """self_crossing='certificate' (bulk work): a shell the one-pass proof does not cover is not
+    searched; the result carries the note self_crossing_unchecked (never silence), a proved
+    shell carries nothing, and an unknown mode is refused by name."""
+    torus = trimesh.creation.torus(1.0, 0.3, major_sections=40, minor_sections=16)
+    p = inertia.mesh_properties(np.array(torus.vertices), np.array(torus.faces), density=1.0,
+                                self_crossing="certificate")
+    assert len(p.warnings) == 1 and "self_crossing_unchecked" in p.warnings[0]
+    assert p.mass == pytest.approx(torus.volume, rel=1e-12)
+    v, f = _pushed_box()                   # unproven and unsearched: here its tensor gives it away
+    with pytest.raises(inertia.InvalidInertiaError):
+        inertia.mesh_properties(v, f, density=1.0, self_crossing="certificate")
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    q = inertia.mesh_properties(np.array(sphere.vertices), np.array(sphere.faces), density=1.0,
+                                self_crossing="certificate")
+    assert q.warnings == () and q.mass == pytest.approx(sphere.volume, rel=1e-12)
+    with pytest.raises(inertia.InputError, match="self_crossing must be one of"):
+        inertia.mesh_properties(v, f, density=1.0, self_crossing="skip")
+
+
+def test_batch_rows_name_the_mode_in_their_options(tmp_path):
+    pytest.importorskip("pyarrow")
+    from inertia.batch.run import run_batch
+
+    v, f = _pushed_box()
+    trimesh.Trimesh(v, f, process=False).export(tmp_path / "pushed.stl")
+    trimesh.creation.torus(1.0, 0.3, major_sections=40, minor_sections=16).export(tmp_path / "torus.stl")
+    out = tmp_path / "rows.csv"
+    run_batch([tmp_path / "torus.stl"], out, scheduler="synchronous", progress=False, self_crossing="certificate")
+    text = out.read_text()
+    assert "self_crossing=certificate" in text and "self_crossing_unchecked" in text
+    out2 = tmp_path / "rows2.csv"
+    run_batch([tmp_path / "pushed.stl", tmp_path / "torus.stl"], out2, scheduler="synchronous", progress=False)
+    text = out2.read_text()
+    assert "self_intersecting" in text and "self_crossing_unchecked" not in text   # the default searches

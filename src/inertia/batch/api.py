@@ -18,7 +18,7 @@ def _jobs_from(sources, density, mass, units):
 
 def mass_properties_table(sources, *, density=None, mass=None, units: str = "m", shell: bool = False,
                           fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3,
+                          robust_tol: float = 1e-3, self_crossing: str = "search",
                           scheduler="synchronous", n_workers: int | None = None, chunk_files: int | None = None):
     """One row per mesh file (columns: :data:`inertia.batch.record.COLUMNS`) as a pandas DataFrame.
 
@@ -32,14 +32,14 @@ def mass_properties_table(sources, *, density=None, mass=None, units: str = "m",
     require("pandas", "a mass-properties table")
     jobs = _jobs_from(sources, density, mass, units)
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol}
+               "robust_tol": robust_tol, "self_crossing": self_crossing}
     rows = execute(jobs, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files)
     return to_frame(rows)
 
 
 def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", shell: bool = False,
                          fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3,
+                          robust_tol: float = 1e-3, self_crossing: str = "search",
                          files_per_partition: int = 16):
     """The same table as a lazy ``dask.dataframe.DataFrame`` (for results larger than memory).
 
@@ -51,7 +51,7 @@ def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", 
     dd = require("dask.dataframe", "a lazy Dask table")
 
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol}
+               "robust_tol": robust_tol, "self_crossing": self_crossing}
     default = Job("", density, mass, units)
     if isinstance(sources, dd.DataFrame):
         bag = sources.to_bag(format="dict").map(lambda rec: _job_from_record(rec, default))

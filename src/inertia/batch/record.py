@@ -47,12 +47,12 @@ COLUMN_DOCS = {
     "winding_consistent": "shared edges traversed in opposite directions",
     "elapsed_s": "seconds to read and process the file",
     "options": "every option that shapes the row (units, density or mass as given, shell, fix_orientation, "
-               "on_defect, robust, inertia version); with path, size_bytes and mtime_ns: the resume key",
+               "on_defect, robust, self_crossing, inertia version); with path, size_bytes and mtime_ns: the resume key",
 }
 
 
 def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
-                robust: bool = False, robust_tol: float = 1e-3) -> str:
+                robust: bool = False, robust_tol: float = 1e-3, self_crossing: str = "search") -> str:
     """The ``options`` column: ``name=value`` pairs of everything that changes a row.
 
     A resumed run keeps an earlier row only when this key is the same (a run in other
@@ -66,7 +66,7 @@ def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False,
     return (f"units={job.units} density={num(job.density)} mass={num(job.mass)} shell={int(bool(shell))} "
             f"fix_orientation={int(bool(fix_orientation))} on_defect={on_defect} robust={int(bool(robust))} "
             + (f"robust_tol={float(robust_tol)!r} " if robust else "") +
-            f"version={__version__}")
+            f"self_crossing={self_crossing} version={__version__}")
 
 
 def _empty_row(job: Job) -> dict:
@@ -103,7 +103,7 @@ def _reraise_interrupt(exc: BaseException) -> None:
 
 
 def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
-                 robust: bool = False, robust_tol: float = 1e-3) -> dict:
+                 robust: bool = False, robust_tol: float = 1e-3, self_crossing: str = "search") -> dict:
     """The row for one job.  Never raises for a bad file: the row says what went wrong."""
     from .._core.errors import InertiaError
     from ..geometry.mesh_io import load_mesh
@@ -112,7 +112,7 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
     t0 = time.perf_counter()
     row = _empty_row(job)
     row["options"] = options_key(job, shell=shell, fix_orientation=fix_orientation, on_defect=on_defect,
-                                 robust=robust, robust_tol=robust_tol)
+                                 robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
     density, mass = job.density, job.mass
     if density is None and mass is None:
         density = DEFAULT_DENSITY
@@ -123,7 +123,7 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
             warnings.simplefilter("ignore")  # accepted defects are recorded in props.warnings
             props, report = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                                              fix_orientation=fix_orientation, on_defect=on_defect, robust=robust,
-                                             robust_tol=robust_tol,
+                                             robust_tol=robust_tol, self_crossing=self_crossing,
                                              frame="body", name=job.path, stacklevel=2, with_report=True,
                                              welded=True)
         moments, axes = props.principal()

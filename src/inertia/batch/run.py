@@ -425,7 +425,7 @@ def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None
 
 def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=None, units: str = "m",
               shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3,
+                          robust_tol: float = 1e-3, self_crossing: str = "search",
               scheduler=None,
               n_workers: int | None = None, chunk_files: int | None = None, resume: bool = False,
               overwrite: bool = False, progress: bool = True, on_part=None) -> BatchSummary:
@@ -456,7 +456,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
             tmp.unlink(missing_ok=True)
     options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol}
+               "robust_tol": robust_tol, "self_crossing": self_crossing}
     previous = _previous_tables(output, fmt, parts_dir) if resume else []
     todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
     try:

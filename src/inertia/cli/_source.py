@@ -107,6 +107,11 @@ def add_mesh_options(group, *, batch: bool = False) -> None:
                             + ("; a warning row" if batch else ""))
     group.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
                        help="with --robust: the relative error bound to reach (default 1e-3)")
+    group.add_argument("--self-crossing", choices=("search", "certificate"), default="search",
+                       help="how a closed mesh is shown not to pass through itself: search (default) proves "
+                            "it in one pass when it is star-shaped from its center of mass and tests face pairs "
+                            "otherwise (10-50x the integrals); certificate only tries the proof and notes a mesh "
+                            "it does not prove (self_crossing_unchecked)")
 
 
 class SourceInfo:
@@ -283,6 +288,7 @@ def load_source(args, *, source: str | None = None):
     accept = bool(getattr(args, "accept_defects", False))
     robust = bool(getattr(args, "robust", False))
     robust_tol = float(getattr(args, "robust_tol", 1e-3) or 1e-3)
+    self_crossing = getattr(args, "self_crossing", "search") or "search"
     kind = classify_source(text)
     # a spherical_shell without inner radius is a thin shell: its density is per area
     thin_sphere = kind[0] == "primitive" and kind[1].name == "spherical_shell" and len(kind[2]) == 1
@@ -294,7 +300,7 @@ def load_source(args, *, source: str | None = None):
     if kind[0] == "mesh":
         props, stats = _load_mesh(kind[1], density=density, mass=mass, units=units, shell=shell,
                                   fix_orientation=fix, accept_defects=accept, command=command,
-                                  robust=robust, robust_tol=robust_tol)
+                                  robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
         info = SourceInfo(source=text, kind="mesh", units=units, density=0.0, density_source=dsrc, shell=shell)
         info.mesh = stats
     else:
@@ -348,7 +354,7 @@ def cli_text(message: str) -> str:
 
 
 def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_defects, command="inertia",
-               robust=False, robust_tol=1e-3):
+               robust=False, robust_tol=1e-3, self_crossing="search"):
     import sys
     import warnings
 
@@ -364,7 +370,7 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
                                             fix_orientation=fix_orientation,
                                             on_defect="warn" if accept_defects else "raise",
                                             frame="body", name=str(path), stacklevel=2, welded=True,
-                                            robust=robust, robust_tol=robust_tol)
+                                            robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
     except InertiaError as exc:
         msg = cli_text(str(exc).rstrip())
         if os.path.basename(path) not in msg:

@@ -92,7 +92,7 @@ def run(args) -> int:
     summary = run_batch(args.sources, args.output, fmt=args.format, density=args.density, mass=args.mass,
                         units=args.units, shell=args.shell, fix_orientation=args.fix_orientation,
                         on_defect="warn" if args.accept_defects else "raise", robust=args.robust,
-                        robust_tol=args.robust_tol, scheduler=scheduler,
+                        robust_tol=args.robust_tol, self_crossing=args.self_crossing, scheduler=scheduler,
                         n_workers=args.workers, chunk_files=args.chunk_files, resume=args.resume,
                         overwrite=args.force, progress=not args.no_progress)
     sys.stderr.write("\n".join(summary.lines()) + "\n")

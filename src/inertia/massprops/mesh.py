@@ -355,7 +355,8 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
 
 def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
                          fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
-                         merge_rtol: float = MERGE_RTOL, robust: bool = False, robust_tol: float = 1e-3):
+                         merge_rtol: float = MERGE_RTOL, robust: bool = False, robust_tol: float = 1e-3,
+                         self_crossing: str = "search"):
     """Mass properties of the triangle mesh in a file (see :func:`inertia.geometry.mesh_io.load_mesh` and
     :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
 
@@ -374,4 +375,4 @@ def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", she
     return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
                             fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
                             name=str(path), stacklevel=3, welded=merge_rtol > 0, robust=robust,
-                            robust_tol=robust_tol)
+                            robust_tol=robust_tol, self_crossing=self_crossing)
