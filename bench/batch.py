@@ -227,7 +227,8 @@ def main() -> None:
     args = ap.parse_args()
     if args.whole is not None:
         folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
-        variants = {"inertia batch (auto)": [], "--scheduler synchronous": ["--scheduler", "synchronous"],
+        variants = {"inertia batch (auto)": [], "--self-crossing certificate": ["--self-crossing", "certificate"],
+                    "--scheduler synchronous": ["--scheduler", "synchronous"],
                     "--scheduler cluster": ["--scheduler", "cluster"]}
         try:
             for n in args.whole or [500, 2000]:

@@ -43,6 +43,7 @@ IMPORT_SECONDS = 1.0
 
 _MODES = ("auto", "always", "never")
 _numpy_since = None        # process CPU time at the first NumPy-path job (numba not imported)
+_expect_much = False       # the caller has announced more work than the import costs (prefer_compiled)
 _checked: dict = {}        # module name -> (time of the last cache check, module or None)
 _RECHECK_S = 5.0           # a cold cache is looked at again after this long (the warm-up may be done)
 _warmup_started = False
@@ -52,6 +53,14 @@ def mode() -> str:
     """``INERTIA_COMPILED`` (auto, always or never); anything else is read as auto."""
     m = os.environ.get("INERTIA_COMPILED", "auto").strip().lower()
     return m if m in _MODES else "auto"
+
+
+def prefer_compiled() -> None:
+    """Announce that this process has much work ahead (a batch of thousands of meshes): the
+    rule then imports numba at the first job instead of waiting for the NumPy paths to pay
+    for it (with ``auto``; ``never`` still means never)."""
+    global _expect_much
+    _expect_much = True
 
 
 def numba_available() -> bool:
@@ -74,7 +83,7 @@ def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
     m = mode()
     if m == "never":
         return None
-    if m == "auto" and "numba" not in sys.modules:
+    if m == "auto" and "numba" not in sys.modules and not _expect_much:
         now = time.process_time()
         if _numpy_since is None:
             _numpy_since = now

@@ -310,6 +310,10 @@ class _Executor:
             why = ("one per core" if n == cpu_count() else
                    f"{'more' if n < cpu_count() else 'fewer'} would not pay for their start")
         if method == "fork":   # loaded once here, inherited by every worker
+            if seconds > 0.05:  # the NumPy paths would take 10-20x that: compiled from the first file
+                from .._core.compiled import prefer_compiled
+
+                prefer_compiled()
             warm_up(formats_of(self.jobs))
         self.pool = ProcessPool(n, method=method).__enter__()
         self.n_workers = n
