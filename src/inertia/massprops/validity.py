@@ -51,11 +51,11 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     out: list[Violation] = []
     if mass is not None:
         m = float(mass)
-        if not (np.isfinite(m) and m > 0):
+        if not (math.isfinite(m) and m > 0):
             out.append(Violation("mass_not_positive", f"mass must be positive and finite, got {m:.6g} kg", {"mass": m}))
     if com is not None:
         c = np.asarray(com, float)
-        if c.shape != (3,) or not np.all(np.isfinite(c)):
+        if c.shape != (3,) or not all(map(math.isfinite, c.tolist())):
             out.append(Violation("not_finite", f"center of mass must be 3 finite numbers, got {c.tolist()}",
                                  {"com": c.tolist()}))
     I = np.asarray(inertia, float)
@@ -109,7 +109,8 @@ def _clearly_physical(rows, s: float, rtol: float) -> bool:
     moment exceeds the tolerance and the margin is positive, so :func:`check_inertia` would
     find nothing.  Otherwise (a thin or rotated body) the eigenvalues decide.
     """
-    (a, b, c), (d, e, f), (g, h, k) = [[x / s for x in row] for row in rows]
+    (a, b, c), (d, e, f), (g, h, k) = rows
+    a, b, c, d, e, f, g, h, k = a / s, b / s, c / s, d / s, e / s, f / s, g / s, h / s, k / s
     half = 0.5 * (a + e + k)
     xy, xz, yz = 0.5 * (b + d), 0.5 * (c + g), 0.5 * (f + h)
     low = min(half - a - abs(xy) - abs(xz), half - e - abs(xy) - abs(yz), half - k - abs(xz) - abs(yz))
