@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 import sys
 
+from ..geometry.report import plural  # noqa: F401 - "1 link", "2 links" (the mesh report's own; no NumPy)
+
 #: significant digits of numbers in tables
 DIGITS = 6
 
@@ -165,9 +167,6 @@ def emit(lines_or_text, file=None) -> None:
     (file or sys.stdout).write(text.rstrip("\n") + "\n")
 
 
-def plural(n: int, noun: str, plural_form: str | None = None) -> str:
-    """``"1 link"``, ``"2 links"``, ``"0 links"``."""
-    return f"{n} {noun if n == 1 else (plural_form or noun + 's')}"
 
 
 def add_command(sub, name: str, help: str, description: str, epilog: str):
