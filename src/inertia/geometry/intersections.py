@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .mesh_arrays import pairs_within_groups
+
 #: orientation tests closer to zero than this times L^3 count as touching (L: the larger
 #: bounding-box diagonal of the two triangles), i.e. distances below about 1e-9 L
 CROSS_RTOL = 1e-9
@@ -93,12 +95,7 @@ def candidate_pairs(vertices, faces, cell: float, max_cells_per_face: int = 64):
     key, face = key[order], face[order]
     starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
     counts = np.diff(np.r_[starts, len(key)])
-    firsts, seconds = [], []
-    for c in np.unique(counts[counts > 1]):
-        s = starts[counts == c]
-        ii, jj = np.triu_indices(c, 1)
-        firsts.append(face[s[:, None] + ii].ravel())
-        seconds.append(face[s[:, None] + jj].ravel())
+    firsts, seconds = pairs_within_groups(face, starts, counts)
     if not firsts:
         return np.zeros((0, 2), dtype=np.int64)
     a, b = np.concatenate(firsts), np.concatenate(seconds)

@@ -191,6 +191,18 @@ def connected_components(n: int, a, b) -> tuple[int, np.ndarray]:
     return len(roots), labels.reshape(-1)
 
 
+def pairs_within_groups(items: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> tuple[list, list]:
+    """Every pair ``(items[s + i], items[s + j])``, ``i < j``, inside each run ``s, counts``
+    of ``items`` (grouped by a sort): two lists of arrays (one pair of arrays per run length)."""
+    first, second = [], []
+    for c in np.unique(counts[counts > 1]):
+        s = starts[counts == c]
+        ii, jj = np.triu_indices(c, 1)
+        first.append(items[s[:, None] + ii].ravel())
+        second.append(items[s[:, None] + jj].ravel())
+    return first, second
+
+
 #: the 13 neighbour offsets of a grid cell with (dz, dy, dx) > 0 lexicographically (with the
 #: cell itself, every unordered pair of neighbouring cells once)
 _HALF_OFFSETS = np.array([(dx, dy, dz) for dz in (-1, 0, 1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)
@@ -222,13 +234,7 @@ def near_pairs(vertices: np.ndarray, tol: float) -> np.ndarray | None:
     starts = np.flatnonzero(np.r_[True, skey[1:] != skey[:-1]])
     counts = np.diff(np.r_[starts, n])
     ukey = skey[starts]
-    first, second = [], []
-    # within a cell: every pair of its points
-    for c in np.unique(counts[counts > 1]):
-        s = starts[counts == c]
-        ii, jj = np.triu_indices(c, 1)
-        first.append(order[s[:, None] + ii].ravel())
-        second.append(order[s[:, None] + jj].ravel())
+    first, second = pairs_within_groups(order, starts, counts)   # within a cell: every pair of its points
     # between a cell and each of 13 neighbours: every point of one with every point of the other
     ucell = np.stack([ukey & (2**21 - 1), (ukey >> 21) & (2**21 - 1), ukey >> 42], axis=1)
     for off in _HALF_OFFSETS:
