@@ -118,7 +118,8 @@ def _nesting_depth(vertices, faces_t, labels_t, K, comp_lo, comp_hi) -> np.ndarr
 
 def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_first: bool,
                    search: bool = True) -> MeshAnalysis | None:
-    """The analysis of a mesh without any defect, from the compiled kernel; None otherwise.
+    """The analysis of a mesh without any defect, from the compiled kernel (or of one clean
+    shell but for a self-crossing: its report names it, ``solid_sums`` None); None otherwise.
 
     The kernel (:func:`._solid_numba.clean_solid`) also returns the volume sums, kept in
     ``MeshAnalysis.solid_sums``.  With ``weld_first=False`` the faces are tried as given
@@ -132,11 +133,8 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         return None
     v = np.ascontiguousarray(vertices)
     out = np.empty(15)
-    tries = [] if weld_first or welded else [faces]
-    if welded:
-        tries.append(faces)
-    else:
-        tries.append(None)     # the welded faces, made only if needed
+    # None: the welded faces, made only if the faces as given do not pass
+    tries = [faces] if welded else [None] if weld_first else [faces, None]
     n_welded = 0
     for fw in tries:
         if fw is None:
@@ -156,12 +154,29 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
             else:
                 effect = crossing_effect(v, fw, (volume, *solid_sums_moments(out)[1:], out[11:14]))
                 if max(effect.values()) > NEGLIGIBLE_RTOL:
-                    return None    # the full analysis names the crossing
+                    # one clean shell but for its crossings: named here, not searched and weighed again
+                    report = MeshReport((_intersecting_defect(crossing, effect, "the closed surface passes"),),
+                                        V, len(faces), n_welded, 1, volume, 0.5 * out[10])
+                    return MeshAnalysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]),
+                                        closed=True)
                 defects = (_negligible_note(crossing, effect),)
             report = MeshReport(defects, V, len(faces), n_welded, 1, volume, 0.5 * out[10])
             return MeshAnalysis(report, faces_welded=fw, n_components=1, comp_volume=np.array([volume]),
                                 closed=True, solid_sums=out)
     return None
+
+
+def _intersecting_defect(crossing, effect: dict, whole: str) -> Defect:
+    """The defect ``self_intersecting`` for ``crossing`` (the first found), weighed by ``effect``;
+    ``whole`` says what passes through itself."""
+    a, b = crossing.faces
+    figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
+    return Defect("self_intersecting", 1,
+                  f"{whole} through itself (the integrals count the region it encloses twice, or negative), e.g. "
+                  f"faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds once the "
+                  f"integrals are off by up to {figures} (relative)",
+                  {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect},
+                  SEVERITY["self_intersecting"])
 
 
 def _negligible_note(crossing, effect: dict) -> Defect:
@@ -182,8 +197,10 @@ def _crossing_of(vertices, faces, center, search: bool):
 
 def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False,
                    weld_first: bool = False, search: bool = True) -> MeshAnalysis | None:
-    """The analysis of a mesh without any defect (compiled check and sums in one pass), or
-    None when it has one or cannot be checked that way: then :func:`analyse_mesh` names it."""
+    """The analysis of a mesh without any defect (compiled check and sums in one pass, in
+    ``solid_sums``); of one clean shell but for a self-crossing (its report names it;
+    ``solid_sums`` None); or None when it cannot be checked that way: then
+    :func:`analyse_mesh` names the defects."""
     return _analyse_clean(vertices, faces, welded, weld_first, search)
 
 
@@ -500,16 +517,10 @@ def _self_crossing_pass(vertices, ft, tidx, analysis, defects, search: bool = Tr
         effect = crossing_effect(vertices, fk, solid_integrals(vertices, fk))
         (negligible if max(effect.values()) <= NEGLIGIBLE_RTOL else found).append((shown, effect))
     if found:
-        crossing, effect = found[0]
-        a, b = crossing.faces
         whole = "the closed surface passes" if K == 1 else \
             f"{plural(len(found), 'closed component')} of {K} {'passes' if len(found) == 1 else 'pass'}"
-        figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
-        defects.add("self_intersecting", len(found),
-                    f"{whole} through itself (the integrals count the region it encloses twice, or negative), e.g. "
-                    f"faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds once the "
-                    f"integrals are off by up to {figures} (relative)",
-                    {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect})
+        defect = _intersecting_defect(*found[0], whole)
+        defects.add(defect.code, len(found), defect.message, defect.example)
     elif negligible:
         note = _negligible_note(*negligible[0])
         defects.add(note.code, len(negligible), note.message, note.example)

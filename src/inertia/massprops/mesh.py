@@ -237,7 +237,7 @@ def _robust_direct(v, f, welded, *, density, mass, frame, what, tol, stacklevel)
     if topology_kernels(len(f)) is None:
         return None        # without the compiled check a clean mesh cannot be told apart cheaply
     clean = clean_analysis(v, f, welded=welded)
-    if clean is not None:
+    if clean is not None and clean.solid_sums is not None:
         return _clean_solid_properties(clean.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
                                        notes=_note_texts(clean.report, what, False))
     if not len(f) or not faces_in_range(f, len(v)):
