@@ -19,6 +19,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from ._solid_numba import _star_face
+
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
@@ -65,17 +67,14 @@ def _ray_hits(vertices, faces, c, ux, uy, uz, rtol):
 
 
 @nb.njit(**_JIT)
-def star_certificate(vertices, faces, c, rtol):
+def star_certificate(vertices, faces, c):
     """True when the closed, consistently outward shell is star-shaped from ``c`` with a
     one-to-one radial projection (see the module docstring): it then cannot cross itself.
 
-    One pass: each face's distance from ``c`` (strictly inside its plane, compared squared, so
-    no square root) and the ray test along the first direction (divisions only for the faces
-    the ray can hit); the other directions only when the first grazes an edge."""
-    ux, uy, uz = 0.2672612419124244, 0.5345224838248488, 0.8017837257372732
-    r2 = rtol * rtol
-    hits = 0
-    grazed = False
+    One pass with the clean kernel's own per-face test (:func:`._solid_numba._star_face`: ``c``
+    strictly inside each face's plane, and the faces the first ray leaves through); the other
+    directions only when that ray grazes an edge."""
+    star = np.zeros(2, dtype=np.int64)
     for t in range(faces.shape[0]):
         ia = faces[t, 0]
         ib = faces[t, 1]
@@ -92,33 +91,11 @@ def star_certificate(vertices, faces, c, rtol):
         nx = e1y * e2z - e1z * e2y
         ny = e1z * e2x - e1x * e2z
         nz = e1x * e2y - e1y * e2x
-        d = ax * nx + ay * ny + az * nz
-        if not (d > 0.0 and d * d > r2 * (ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz)):
-            return False
-        # the ray leaves through faces whose normal points along it: u . n > 0 (Moller-Trumbore
-        # determinant e1 . (u x e2) = -(u . n))
-        un = ux * nx + uy * ny + uz * nz
-        if grazed or un <= 0.0:
-            continue
-        px = uy * e2z - uz * e2y
-        py = uz * e2x - ux * e2z
-        pz = ux * e2y - uy * e2x
-        det = -un
-        sv = (-ax * px - ay * py - az * pz) / det
-        if sv < -1e-9 or sv > 1.0 + 1e-9:
-            continue
-        qx = -ay * e1z + az * e1y
-        qy = -az * e1x + ax * e1z
-        qz = -ax * e1y + ay * e1x
-        wv = (ux * qx + uy * qy + uz * qz) / det
-        if wv < -1e-9 or sv + wv > 1.0 + 1e-9:
-            continue
-        if sv < 1e-9 or wv < 1e-9 or sv + wv > 1.0 - 1e-9:
-            grazed = True                 # through an edge or a vertex, to rounding: count again
-            continue
-        hits += 1                         # u . n > 0 and c inside: the hit is in front of c
-    if not grazed:
-        return hits == 1
+        _star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, ax * nx + ay * ny + az * nz, star)
+        if star[1] == 1:
+            return False                  # a face does not see c strictly inside
+    if star[1] == 0:
+        return star[0] == 1
     directions = ((-0.6396021490668313, 0.42640143271122083, 0.6396021490668313),
                   (0.5163977794943222, -0.7745966692414834, 0.3651483716701107))
     for k in range(2):

@@ -39,7 +39,8 @@ import numpy as np
 from .intersections import CROSS_RTOL, candidate_pairs, crossing
 
 #: the center must be farther than this times |a| from every face's plane (a the face's first
-#: corner seen from the center): a face nearly edge-on to the center does not certify
+#: corner seen from the center): a face nearly edge-on to the center does not certify (the
+#: compiled certificate uses ``_solid_numba.STAR_RTOL``, the same number, in the kernels)
 STAR_RTOL = 1e-9
 #: a face spanning more grid cells than this makes the grid twice as coarse
 MAX_CELLS_PER_FACE = 64
@@ -74,7 +75,7 @@ def star_certificate(vertices, faces, center) -> bool:
     c = np.asarray(center, dtype=np.float64)
     k = _kernels(len(f))                  # one NumPy pass: about the integrals' cost
     if k is not None:
-        return bool(k.star_certificate(v, f, c, STAR_RTOL))
+        return bool(k.star_certificate(v, f, c))
     a = v[f[:, 0]] - c
     n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
     d = np.einsum("ij,ij->i", a, n)
