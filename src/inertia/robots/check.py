@@ -304,11 +304,16 @@ def _tree_checks(model, report: CheckReport, mesh_units: str) -> None:
             report.errors.append(Finding("joints_unreadable", f"{exc} (the checks of moving bodies did not run)"))
             return
 
+    known: dict = {}
+
     def props_of(link):
-        try:
-            return link_mass_properties(model, link, mesh_units=mesh_units)[0]
-        except InertiaError:
-            return None
+        """The link's mass properties (declared, or from its geoms), computed once per link."""
+        if id(link) not in known:
+            try:
+                known[id(link)] = link_mass_properties(model, link, mesh_units=mesh_units)[0]
+            except InertiaError:
+                known[id(link)] = None
+        return known[id(link)]
 
     moving = floors.moving_links(model)
     for g, members in floors.welded_groups(model, moving).items():
