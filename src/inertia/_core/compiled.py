@@ -72,12 +72,11 @@ def numba_available() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
-def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
+def kernels(module_name: str, *, work: int = 0):
     """The compiled kernel module ``module_name``, or None when the NumPy path should run.
 
-    ``work`` is the size of the job (faces, body-steps); ``probe`` names the kernel whose
-    cached machine code shows that the module is warm (default: every kernel the module's
-    ``WARM_PROBE`` names).  See the module docstring for the rule.
+    ``work`` is the size of the job (faces, body-steps); the kernels the module's
+    ``WARM_PROBE`` names show whether it is warm.  See the module docstring for the rule.
     """
     global _numpy_since
     m = mode()
@@ -101,7 +100,7 @@ def kernels(module_name: str, *, work: int = 0, probe: str | None = None):
     now = time.monotonic()
     if seen is not None and now - seen[0] < _RECHECK_S:
         return seen[1]
-    warm = _is_cached(module, probe)
+    warm = _is_cached(module)
     _checked[module_name] = (now, module if warm else None)
     if not warm:
         start_warmup()
@@ -120,11 +119,10 @@ def is_cached(dispatcher, *, unknown: bool = True) -> bool:
         return unknown
 
 
-def _is_cached(module, probe: str | None) -> bool:
-    """Every probe kernel of ``module`` is ready (see :func:`is_cached`); a numba without the
-    cache internals behaves as before: compile on first use."""
-    names = [probe] if probe else list(getattr(module, "WARM_PROBE", ()))
-    return all(is_cached(getattr(module, name)) for name in names)
+def _is_cached(module) -> bool:
+    """Every kernel ``module.WARM_PROBE`` names is ready (see :func:`is_cached`); a numba
+    without the cache internals behaves as before: compile on first use."""
+    return all(is_cached(getattr(module, name)) for name in getattr(module, "WARM_PROBE", ()))
 
 
 def start_warmup() -> bool:
