@@ -19,7 +19,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ._solid_numba import _star_face
+from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
@@ -71,7 +71,7 @@ def star_certificate(vertices, faces, c):
     """True when the closed, consistently outward shell is star-shaped from ``c`` with a
     one-to-one radial projection (see the module docstring): it then cannot cross itself.
 
-    One pass with the clean kernel's own per-face test (:func:`._solid_numba._star_face`: ``c``
+    One pass with the clean kernel's own per-face test (:func:`._solid_numba.star_face`: ``c``
     strictly inside each face's plane, and the faces the first ray leaves through); the other
     directions only when that ray grazes an edge."""
     star = np.zeros(2, dtype=np.int64)
@@ -91,7 +91,7 @@ def star_certificate(vertices, faces, c):
         nx = e1y * e2z - e1z * e2y
         ny = e1z * e2x - e1x * e2z
         nz = e1x * e2y - e1y * e2x
-        _star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, ax * nx + ay * ny + az * nz, star)
+        star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, ax * nx + ay * ny + az * nz, star)
         if star[1] == 1:
             return False                  # a face does not see c strictly inside
     if star[1] == 0:

@@ -81,7 +81,7 @@ STAR_RTOL = 1e-9
 
 
 @nb.njit(**_JIT)
-def _star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, d, star):
+def star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, d, star):
     """One face of the star certificate from p (a = corner - p, e1, e2 the edges, n = e1 x e2,
     d = a . n): p strictly inside its plane, and whether the ray leaves through it."""
     if not (d > 0.0 and d * d > STAR_RTOL * STAR_RTOL * (ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz)):
@@ -172,7 +172,7 @@ def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums, star):
                 area += a2
                 d = ax * nx + ay * ny + az * nz
                 if star[1] == 0:
-                    _star_face(ax, ay, az, ux, uy, uz, vx, vy, vz, nx, ny, nz, d, star)
+                    star_face(ax, ay, az, ux, uy, uz, vx, vy, vz, nx, ny, nz, d, star)
                 sx = ax + bx + cx
                 sy = ay + by + cy
                 sz = az + bz + cz
