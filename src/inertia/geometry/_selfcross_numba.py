@@ -199,16 +199,6 @@ def faces_cross(V, F, N, diag, i, j, rtol):
 
 
 @nb.njit(**_JIT)
-def _shared(F, i, j):
-    n = 0
-    for a in range(3):
-        for b in range(3):
-            if F[i, a] == F[j, b]:
-                n += 1
-    return n
-
-
-@nb.njit(**_JIT)
 def _bucket(x, y, z, mask):
     h = (x * 73856093) ^ (y * 19349663) ^ (z * 83492791)
     return h & mask
@@ -220,13 +210,14 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     face spans more than ``max_per_face`` cells (the caller retries with a coarser grid).
 
     The cells are hashed into buckets (no keys stored: a bucket may hold several cells); the
-    faces are filed per bucket by a counting sort, with their cell ranges beside them; a pair
-    of faces in a bucket is tested only when the lowest cell both cover hashes to it, so each
-    pair is tested once whatever the collisions.
+    faces are filed per bucket by a counting sort, each entry with a copy of its face's box
+    (float32, widened outward so that it holds the box) and corners, so that a bucket is read
+    in sequence.  A pair is tested only when the boxes overlap, the faces share no edge (such
+    neighbours cannot cross), and the bucket is that of the lowest cell both boxes cover (each
+    pair once whatever the collisions); then the exact test :func:`faces_cross`.
     """
     nf = F.shape[0]
     lo = np.empty((nf, 3), dtype=np.int64)
-    hi = np.empty((nf, 3), dtype=np.int64)
     n_reg = 0
     for t in range(nf):
         span = 1.0                    # in floats: a face 1e20 cells long must not overflow int64
@@ -237,7 +228,6 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
             if span > max_per_face or mx > 4.0e18:   # too many cells, or cell numbers beyond int64
                 return -1
             lo[t, a] = np.int64(mn)
-            hi[t, a] = np.int64(mx)
         n_reg += np.int64(span)
     N, diag = face_frames(V, F)
     cap = 16
@@ -245,44 +235,67 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
         cap *= 2
     mask = cap - 1
     counts = np.zeros(cap + 1, dtype=np.int64)
+    hi = np.empty(3, dtype=np.int64)
     for t in range(nf):
-        for x in range(lo[t, 0], hi[t, 0] + 1):
-            for y in range(lo[t, 1], hi[t, 1] + 1):
-                for z in range(lo[t, 2], hi[t, 2] + 1):
+        for a in range(3):
+            hi[a] = np.int64(np.floor((max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell))
+        for x in range(lo[t, 0], hi[0] + 1):
+            for y in range(lo[t, 1], hi[1] + 1):
+                for z in range(lo[t, 2], hi[2] + 1):
                     counts[_bucket(x, y, z, mask) + 1] += 1
     for b in range(cap):
         counts[b + 1] += counts[b]
     fill = counts[:-1].copy()
-    rf = np.empty(n_reg, dtype=np.int64)           # face, and its cell range, in bucket order
-    rlo = np.empty((n_reg, 3), dtype=np.int64)
-    rhi = np.empty((n_reg, 3), dtype=np.int64)
+    who = np.empty(n_reg, dtype=np.int32)           # per entry, in bucket order: the face,
+    box = np.empty((n_reg, 6), dtype=np.float32)    # its box (relative to origin, widened)
+    cor = np.empty((n_reg, 3), dtype=np.int32)      # and its corners
+    grow = np.float32(2.4e-7)                       # float32 rounds to nearest: widen to hold the box
+    bx = np.empty(6, dtype=np.float32)
     for t in range(nf):
-        for x in range(lo[t, 0], hi[t, 0] + 1):
-            for y in range(lo[t, 1], hi[t, 1] + 1):
-                for z in range(lo[t, 2], hi[t, 2] + 1):
+        for a in range(3):
+            bx[a] = np.float32(min(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a])
+            bx[a] -= abs(bx[a]) * grow + np.float32(1e-38)
+            bx[a + 3] = np.float32(max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a])
+            bx[a + 3] += abs(bx[a + 3]) * grow + np.float32(1e-38)
+            hi[a] = np.int64(np.floor((max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell))
+        for x in range(lo[t, 0], hi[0] + 1):
+            for y in range(lo[t, 1], hi[1] + 1):
+                for z in range(lo[t, 2], hi[2] + 1):
                     b = _bucket(x, y, z, mask)
                     r = fill[b]
                     fill[b] += 1
-                    rf[r] = t
+                    who[r] = t
+                    for a in range(6):
+                        box[r, a] = bx[a]
                     for a in range(3):
-                        rlo[r, a] = lo[t, a]
-                        rhi[r, a] = hi[t, a]
+                        cor[r, a] = F[t, a]
     for b in range(cap):
         c1 = counts[b + 1]
         for p in range(counts[b], c1):
+            x0 = box[p, 0]
+            y0 = box[p, 1]
+            z0 = box[p, 2]
+            x1 = box[p, 3]
+            y1 = box[p, 4]
+            z1 = box[p, 5]
+            a0 = cor[p, 0]
+            a1 = cor[p, 1]
+            a2 = cor[p, 2]
             for q in range(p + 1, c1):
+                if (box[q, 0] > x1 or box[q, 3] < x0 or box[q, 1] > y1 or box[q, 4] < y0
+                        or box[q, 2] > z1 or box[q, 5] < z0):
+                    continue                 # the boxes are apart
+                shared = 0
+                for k in range(3):
+                    c = cor[q, k]
+                    shared += (c == a0) + (c == a1) + (c == a2)
+                if shared >= 2:
+                    continue                 # the same face (in two cells of one bucket), or neighbours across an edge
+                i = who[p]
+                j = who[q]
                 # the lowest cell both boxes cover: the pair is tested in its bucket only
-                x = max(rlo[p, 0], rlo[q, 0])
-                y = max(rlo[p, 1], rlo[q, 1])
-                z = max(rlo[p, 2], rlo[q, 2])
-                if x > min(rhi[p, 0], rhi[q, 0]) or y > min(rhi[p, 1], rhi[q, 1]) or z > min(rhi[p, 2], rhi[q, 2]):
-                    continue                 # the boxes share no cell
-                if _bucket(x, y, z, mask) != b:
-                    continue                 # tested in another bucket
-                i = rf[p]
-                j = rf[q]
-                if i == j or _shared(F, i, j) >= 2:
-                    continue                 # neighbours across an edge cannot cross
+                if _bucket(max(lo[i, 0], lo[j, 0]), max(lo[i, 1], lo[j, 1]), max(lo[i, 2], lo[j, 2]), mask) != b:
+                    continue
                 if faces_cross(V, F, N, diag, i, j, rtol):
                     out[0] = min(i, j)
                     out[1] = max(i, j)
