@@ -190,3 +190,36 @@ def test_batch_rows_name_the_mode_in_their_options(tmp_path):
     run_batch([tmp_path / "pushed.stl", tmp_path / "torus.stl"], out2, scheduler="synchronous", progress=False)
     text = out2.read_text()
     assert "self_intersecting" in text and "self_crossing_unchecked" not in text   # the default searches
+
+
+def test_a_certified_fan_never_hides_a_crossing():
+    """The search skips pairs of faces around a vertex whose fan is certified flat
+    (``certified_fans``): on jittered meshes, where thousands of such pairs do cross, no crossing
+    pair (the exact NumPy test) has its common vertex certified, while a smooth mesh has every
+    vertex certified."""
+    pytest.importorskip("numba")
+    from inertia.geometry import _selfcross_numba as k
+    from inertia.geometry.intersections import crossing
+
+    smooth = trimesh.creation.torus(1.0, 0.3, major_sections=30, minor_sections=12)
+    v, f = np.array(smooth.vertices), np.array(smooth.faces, dtype=np.int64)
+    assert k.certified_fans(v, f, k.face_frames(v, f)[0]).all()
+    rng = np.random.default_rng(11)
+    n_crossing = 0
+    for it in range(60):
+        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=int(rng.integers(6, 20)),
+                                   minor_sections=int(rng.integers(4, 10))) if it % 2 else trimesh.creation.icosphere(2)
+        v = np.array(m.vertices, float)
+        f = np.ascontiguousarray(m.faces, dtype=np.int64)
+        v = np.ascontiguousarray(v + rng.normal(0, rng.choice([0.05, 0.1, 0.2]) * np.ptp(v), v.shape))
+        cert = k.certified_fans(v, f, k.face_frames(v, f)[0])
+        for x in range(len(v)):
+            around = np.flatnonzero((f == x).any(axis=1))
+            pairs = np.array([(a, b) for i, a in enumerate(around) for b in around[i + 1:]
+                              if len(set(f[a]) & set(f[b])) == 1])
+            if len(pairs) == 0:
+                continue
+            hit = crossing(v[f[pairs[:, 0]]], v[f[pairs[:, 1]]])
+            n_crossing += int(hit.sum())
+            assert not (hit.any() and cert[x]), (it, x)
+    assert n_crossing > 1000                     # the check had crossings to hide

@@ -6,8 +6,9 @@
   one-to-one, so no two faces can cross: a proof in one pass over the faces.
 * :func:`first_crossing`: the face-pair search for the shells the certificate cannot prove
   (a torus, a T-handle): a uniform grid (cells hashed, faces filed per cell by a counting
-  sort), each pair of faces sharing a cell tested once (in the lowest cell their boxes share),
-  pairs that share an edge skipped (they cannot cross), and the exact test of
+  sort, with copies of their boxes), each pair of faces whose boxes overlap tested once (in
+  the lowest cell their boxes share), pairs that share an edge skipped (they cannot cross), as
+  are pairs around a vertex :func:`certified_fans` proves, and the exact test of
   :func:`inertia.geometry.intersections.crossing`: an edge of one face strictly through the
   interior of the other.
 
@@ -205,6 +206,126 @@ def _bucket(x, y, z, mask):
 
 
 @nb.njit(**_JIT)
+def certified_fans(V, F, N):
+    """Per vertex: True when no two faces around it meet but at the vertex and along their
+    common edges, so no pair of them can cross.  Sufficient: the corners after the vertex
+    (a -> b in each face, turned so that the vertex comes first) close into cycles (each
+    corner met as often as an ``a`` as a ``b``), every face is positively oriented seen along
+    the sum of their normals (beyond a 1e-6 relative margin), and a direction inside the first
+    face's sector (its bisector) lies in no other face's sector (beyond a 1e-9 margin).  Then
+    the projected sectors wind around the vertex once, so they are disjoint, and faces whose
+    projections meet only at the vertex meet only there."""
+    nv = V.shape[0]
+    nf = F.shape[0]
+    start = np.zeros(nv + 1, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            start[F[t, k] + 1] += 1
+    for i in range(nv):
+        start[i + 1] += start[i]
+    fill = start[:-1].copy()
+    around = np.empty(3 * nf, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            around[fill[F[t, k]]] = t
+            fill[F[t, k]] += 1
+    cert = np.zeros(nv, dtype=np.bool_)
+    kmax = 0
+    for i in range(nv):
+        kmax = max(kmax, start[i + 1] - start[i])
+    A = np.empty(kmax, dtype=np.int64)
+    B = np.empty(kmax, dtype=np.int64)
+    for v in range(nv):
+        s0 = start[v]
+        k = start[v + 1] - s0
+        if k < 3:
+            continue
+        nx = 0.0
+        ny = 0.0
+        nz = 0.0
+        for u in range(k):
+            t = around[s0 + u]
+            if F[t, 0] == v:
+                A[u] = F[t, 1]
+                B[u] = F[t, 2]
+            elif F[t, 1] == v:
+                A[u] = F[t, 2]
+                B[u] = F[t, 0]
+            else:
+                A[u] = F[t, 0]
+                B[u] = F[t, 1]
+            nx += N[t, 0]
+            ny += N[t, 1]
+            nz += N[t, 2]
+        ok = True
+        for u in range(k):                  # the link closes: each corner as often an a as a b
+            ca = 0
+            cb = 0
+            for w in range(k):
+                ca += A[w] == A[u]
+                cb += B[w] == A[u]
+            if ca != cb:
+                ok = False
+                break
+        if not ok:
+            continue
+        nn = np.sqrt(nx * nx + ny * ny + nz * nz)
+        if not (nn > 0.0):
+            continue
+        for u in range(k):
+            t = around[s0 + u]
+            m = np.sqrt(N[t, 0] ** 2 + N[t, 1] ** 2 + N[t, 2] ** 2)
+            if not (N[t, 0] * nx + N[t, 1] * ny + N[t, 2] * nz > 1e-6 * m * nn):
+                ok = False
+                break
+        if not ok:
+            continue
+        nx /= nn
+        ny /= nn
+        nz /= nn
+        # the bisector of the first sector: the unit projections of its two edges, added
+        r = np.zeros(3)
+        for c in (A[0], B[0]):
+            ex = V[c, 0] - V[v, 0]
+            ey = V[c, 1] - V[v, 1]
+            ez = V[c, 2] - V[v, 2]
+            h = ex * nx + ey * ny + ez * nz
+            ex -= h * nx
+            ey -= h * ny
+            ez -= h * nz
+            le = np.sqrt(ex * ex + ey * ey + ez * ez)
+            if not (le > 0.0):
+                ok = False
+                break
+            r[0] += ex / le
+            r[1] += ey / le
+            r[2] += ez / le
+        lr = np.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+        if not ok or not (lr > 0.0):
+            continue
+        for u in range(1, k):
+            inside = True
+            for c, sgn in ((A[u], 1.0), (B[u], -1.0)):
+                ex = V[c, 0] - V[v, 0]
+                ey = V[c, 1] - V[v, 1]
+                ez = V[c, 2] - V[v, 2]
+                # n . (e x r) for the first edge, n . (r x e) for the second
+                o = sgn * (nx * (ey * r[2] - ez * r[1]) + ny * (ez * r[0] - ex * r[2]) + nz * (ex * r[1] - ey * r[0]))
+                eps = 1e-9 * np.sqrt(ex * ex + ey * ey + ez * ez) * lr
+                if o < -eps:
+                    inside = False
+                    break
+                if o <= eps:
+                    ok = False               # on the sector's edge, to rounding: no proof
+                    break
+            if not ok or inside:
+                ok = False
+                break
+        cert[v] = ok
+    return cert
+
+
+@nb.njit(**_JIT)
 def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     """A pair of crossing faces into ``out`` (2,): returns 1, 0 when there is none, -1 when a
     face spans more than ``max_per_face`` cells (the caller retries with a coarser grid).
@@ -213,7 +334,7 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     faces are filed per bucket by a counting sort, each entry with a copy of its face's box
     (float32, widened outward so that it holds the box) and corners, so that a bucket is read
     in sequence.  A pair is tested only when the boxes overlap, the faces share no edge (such
-    neighbours cannot cross), and the bucket is that of the lowest cell both boxes cover (each
+    neighbours cannot cross) and no vertex that :func:`certified_fans` proves, and the bucket is that of the lowest cell both boxes cover (each
     pair once whatever the collisions); then the exact test :func:`faces_cross`.
     """
     nf = F.shape[0]
@@ -230,6 +351,7 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
             lo[t, a] = np.int64(mn)
         n_reg += np.int64(span)
     N, diag = face_frames(V, F)
+    cert = certified_fans(V, F, N)
     cap = 16
     while cap < n_reg:
         cap *= 2
@@ -286,11 +408,16 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
                         or box[q, 2] > z1 or box[q, 5] < z0):
                     continue                 # the boxes are apart
                 shared = 0
+                common = -1
                 for k in range(3):
                     c = cor[q, k]
-                    shared += (c == a0) + (c == a1) + (c == a2)
+                    if c == a0 or c == a1 or c == a2:
+                        shared += 1
+                        common = c
                 if shared >= 2:
                     continue                 # the same face (in two cells of one bucket), or neighbours across an edge
+                if shared == 1 and cert[common]:
+                    continue                 # faces around a certified vertex cannot cross
                 i = who[p]
                 j = who[q]
                 # the lowest cell both boxes cover: the pair is tested in its bucket only

@@ -207,7 +207,7 @@ def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fa
 def _unchecked_note(n_faces: int) -> Defect:
     return Defect("self_crossing_unchecked", 1,
                   f"not proven free of self-crossings: the shell ({plural(n_faces, 'face')}) is not star-shaped from "
-                  f"its center of mass, and the face-pair search stops at {SEARCH_MAX_FACES} faces (about 1 us a "
+                  f"its center of mass, and the face-pair search stops at {SEARCH_MAX_FACES} faces (0.2-0.6 us a "
                   "face); inertia.geometry.self_crossing.first_crossing runs it, robust=True integrates any crossing",
                   {"n_faces": n_faces}, "note")
 
