@@ -334,8 +334,9 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     faces are filed per bucket by a counting sort, each entry with a copy of its face's box
     (float32, widened outward so that it holds the box) and corners, so that a bucket is read
     in sequence.  A pair is tested only when the boxes overlap, the faces share no edge (such
-    neighbours cannot cross) and no vertex that :func:`certified_fans` proves, and the bucket is that of the lowest cell both boxes cover (each
-    pair once whatever the collisions); then the exact test :func:`faces_cross`.
+    neighbours cannot cross) and no vertex that :func:`certified_fans` proves, and the bucket
+    is that of the lowest cell both boxes cover (each pair once whatever the collisions); then
+    the exact test :func:`faces_cross`.
     """
     nf = F.shape[0]
     lo = np.empty((nf, 3), dtype=np.int64)
