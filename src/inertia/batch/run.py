@@ -274,6 +274,7 @@ class _Executor:
     def __enter__(self):
         if self.scheduler == "synchronous":
             self.placement = "in this process (synchronous: a file that crashes compiled code ends the run)"
+            self._expect_work(sum(job_costs(self.jobs)) * SECONDS_PER_BYTE)
             return self
         if self.scheduler in ("auto", "processes"):
             return self._start_pool()
@@ -297,6 +298,15 @@ class _Executor:
                              "'tcp://HOST:PORT' address")
         return self
 
+    @staticmethod
+    def _expect_work(seconds: float) -> None:
+        """A run of ``seconds`` (estimated) in this process, or in workers forked from it:
+        above 0.05 s the NumPy paths would take 10-20x that, so compiled from the first file."""
+        if seconds > 0.05:
+            from .._core.compiled import prefer_compiled
+
+            prefer_compiled()
+
     def _start_pool(self):
         """Worker processes here: as many as the estimated work pays for (or as asked)."""
         method = start_method()
@@ -310,10 +320,7 @@ class _Executor:
             why = ("one per core" if n == cpu_count() else
                    f"{'more' if n < cpu_count() else 'fewer'} would not pay for their start")
         if method == "fork":   # loaded once here, inherited by every worker
-            if seconds > 0.05:  # the NumPy paths would take 10-20x that: compiled from the first file
-                from .._core.compiled import prefer_compiled
-
-                prefer_compiled()
+            self._expect_work(seconds)
             warm_up(formats_of(self.jobs))
         self.pool = ProcessPool(n, method=method).__enter__()
         self.n_workers = n

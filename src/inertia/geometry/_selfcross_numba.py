@@ -25,7 +25,7 @@ from ._solid_numba import star_face
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
-WARM_PROBE = ("star_certificate", "first_crossing")
+WARM_PROBE = ("star_certificate", "find_crossing")
 
 
 @nb.njit(**_JIT)
@@ -429,3 +429,34 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
                     out[1] = max(i, j)
                     return 1
     return 0
+
+
+@nb.njit(**_JIT)
+def find_crossing(V, F, max_per_face, rtol, out):
+    """:func:`first_crossing` with its grid chosen here: the origin at the low corner of the
+    used vertices, cells as long as the median of the faces' longest edges (the NumPy twin's
+    ``self_crossing._cell``), twice as long while a face spans more than ``max_per_face``.
+    Returns 1 (a pair in ``out``) or 0."""
+    nf = F.shape[0]
+    origin = np.full(3, np.inf)
+    longest = np.empty(nf)
+    for t in range(nf):
+        m = 0.0
+        for k in range(3):
+            a = F[t, k]
+            b = F[t, (k + 1) % 3]
+            for c in range(3):
+                origin[c] = min(origin[c], V[a, c])
+            dx = V[b, 0] - V[a, 0]
+            dy = V[b, 1] - V[a, 1]
+            dz = V[b, 2] - V[a, 2]
+            m = max(m, dx * dx + dy * dy + dz * dz)
+        longest[t] = np.sqrt(m)
+    cell = np.median(longest)
+    if not (cell > 0.0 and cell < np.inf):
+        cell = 1.0
+    while True:
+        found = first_crossing(V, F, origin, cell, max_per_face, rtol, out)
+        if found >= 0:
+            return found
+        cell *= 2.0

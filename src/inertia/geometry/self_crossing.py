@@ -134,20 +134,14 @@ def first_crossing(vertices, faces) -> Crossing | None:
     f = np.ascontiguousarray(faces, dtype=np.int64)
     if len(f) < 2:
         return None
-    cell = _cell(v, f)
     k = _kernels(30 * len(f))             # the NumPy search costs ~30x the integrals a face
     if k is not None:
         out = np.zeros(2, dtype=np.int64)
-        origin = v[np.unique(f)].min(axis=0)
-        while True:
-            found = k.first_crossing(v, f, origin, cell, MAX_CELLS_PER_FACE, CROSS_RTOL, out)
-            if found >= 0:
-                break
-            cell *= 2.0
-        if not found:
+        if not k.find_crossing(v, f, MAX_CELLS_PER_FACE, CROSS_RTOL, out):
             return None
         i, j = int(out[0]), int(out[1])
         return Crossing((i, j), v[f[i]].mean(axis=0))
+    cell = _cell(v, f)
     pairs = candidate_pairs(v, f, cell, MAX_CELLS_PER_FACE)
     shared = (f[pairs[:, 0], :, None] == f[pairs[:, 1], None, :]).sum(axis=(1, 2))
     pairs = pairs[shared < 2]
