@@ -326,9 +326,10 @@ def certified_fans(V, F, N):
 
 
 @nb.njit(**_JIT)
-def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
+def first_crossing(V, F, N, diag, cert, origin, cell, max_per_face, rtol, out):
     """A pair of crossing faces into ``out`` (2,): returns 1, 0 when there is none, -1 when a
     face spans more than ``max_per_face`` cells (the caller retries with a coarser grid).
+    ``N``, ``diag``: :func:`face_frames`; ``cert``: :func:`certified_fans`.
 
     The cells are hashed into buckets (no keys stored: a bucket may hold several cells); the
     faces are filed per bucket by a counting sort, each entry with a copy of its face's box
@@ -340,6 +341,7 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
     """
     nf = F.shape[0]
     lo = np.empty((nf, 3), dtype=np.int64)
+    hi = np.empty((nf, 3), dtype=np.int64)
     n_reg = 0
     for t in range(nf):
         span = 1.0                    # in floats: a face 1e20 cells long must not overflow int64
@@ -350,21 +352,17 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
             if span > max_per_face or mx > 4.0e18:   # too many cells, or cell numbers beyond int64
                 return -1
             lo[t, a] = np.int64(mn)
+            hi[t, a] = np.int64(mx)
         n_reg += np.int64(span)
-    N, diag = face_frames(V, F)
-    cert = certified_fans(V, F, N)
     cap = 16
     while cap < n_reg:
         cap *= 2
     mask = cap - 1
     counts = np.zeros(cap + 1, dtype=np.int64)
-    hi = np.empty(3, dtype=np.int64)
     for t in range(nf):
-        for a in range(3):
-            hi[a] = np.int64(np.floor((max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell))
-        for x in range(lo[t, 0], hi[0] + 1):
-            for y in range(lo[t, 1], hi[1] + 1):
-                for z in range(lo[t, 2], hi[2] + 1):
+        for x in range(lo[t, 0], hi[t, 0] + 1):
+            for y in range(lo[t, 1], hi[t, 1] + 1):
+                for z in range(lo[t, 2], hi[t, 2] + 1):
                     counts[_bucket(x, y, z, mask) + 1] += 1
     for b in range(cap):
         counts[b + 1] += counts[b]
@@ -380,10 +378,9 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
             bx[a] -= abs(bx[a]) * grow + np.float32(1e-38)
             bx[a + 3] = np.float32(max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a])
             bx[a + 3] += abs(bx[a + 3]) * grow + np.float32(1e-38)
-            hi[a] = np.int64(np.floor((max(V[F[t, 0], a], V[F[t, 1], a], V[F[t, 2], a]) - origin[a]) / cell))
-        for x in range(lo[t, 0], hi[0] + 1):
-            for y in range(lo[t, 1], hi[1] + 1):
-                for z in range(lo[t, 2], hi[2] + 1):
+        for x in range(lo[t, 0], hi[t, 0] + 1):
+            for y in range(lo[t, 1], hi[t, 1] + 1):
+                for z in range(lo[t, 2], hi[t, 2] + 1):
                     b = _bucket(x, y, z, mask)
                     r = fill[b]
                     fill[b] += 1
@@ -435,8 +432,9 @@ def first_crossing(V, F, origin, cell, max_per_face, rtol, out):
 def find_crossing(V, F, max_per_face, rtol, out):
     """:func:`first_crossing` with its grid chosen here: the origin at the low corner of the
     used vertices, cells as long as the median of the faces' longest edges (the NumPy twin's
-    ``self_crossing._cell``), twice as long while a face spans more than ``max_per_face``.
-    Returns 1 (a pair in ``out``) or 0."""
+    ``self_crossing._cell``), twice as long while a face spans more than ``max_per_face``;
+    the face frames and fan certificates computed once for every grid tried.  Returns 1 (a
+    pair in ``out``) or 0."""
     nf = F.shape[0]
     origin = np.full(3, np.inf)
     longest = np.empty(nf)
@@ -455,8 +453,10 @@ def find_crossing(V, F, max_per_face, rtol, out):
     cell = np.median(longest)
     if not (cell > 0.0 and cell < np.inf):
         cell = 1.0
+    N, diag = face_frames(V, F)                 # per mesh, not per grid tried
+    cert = certified_fans(V, F, N)
     while True:
-        found = first_crossing(V, F, origin, cell, max_per_face, rtol, out)
+        found = first_crossing(V, F, N, diag, cert, origin, cell, max_per_face, rtol, out)
         if found >= 0:
             return found
         cell *= 2.0
