@@ -79,14 +79,21 @@ def rows_to_table(rows):
     """Batch rows (dicts of plain values) as an Arrow table with the schema of the output.
 
     Column by column, without building a pandas frame: the part files are written on the
-    client while the workers compute, so this must stay cheap.
+    client while the workers compute, so this must stay cheap.  Plain values go through
+    :mod:`.arrow_columns` (NumPy buffers: pandas is never imported).
     """
     import pyarrow as pa
+
+    from .arrow_columns import column
 
     schema = arrow_schema()
     arrays = []
     for field in schema:
         values = [row.get(field.name) for row in rows]
+        built = column(values, field.type)
+        if built is not None:
+            arrays.append(built)
+            continue
         try:  # rows fresh from the workers: plain values, None (or a NaN scalar) for missing
             # (from_pandas turns NaN into null; not for lists, whose NaN elements are values)
             arrays.append(pa.array(values, type=field.type, from_pandas=not pa.types.is_list(field.type)))

@@ -530,6 +530,7 @@ def _available(module: str, needed_for: str) -> None:
 def _latest_rows(tables, jobs):
     """One Arrow table: the latest row per path (later tables win), in the order of ``jobs``,
     then the rows of earlier runs for paths no longer among the jobs."""
+    import numpy as np
     import pyarrow as pa
 
     combined = pa.concat_tables(tables) if tables else rows_to_table([])
@@ -538,7 +539,9 @@ def _latest_rows(tables, jobs):
         latest[p] = i  # later rows (newer parts, this run) win; a dict keeps first-seen order
     job_paths = dict.fromkeys(j.path for j in jobs)
     take = [latest[p] for p in job_paths if p in latest] + [i for p, i in latest.items() if p not in job_paths]
-    return combined.take(pa.array(take, type=pa.int64()))
+    # (indices from a NumPy buffer: pa.array would import pandas, 0.2 s, see .arrow_columns)
+    index = np.array(take, dtype=np.int64)
+    return combined.take(pa.Array.from_buffers(pa.int64(), len(index), [None, pa.py_buffer(index)]))
 
 
 def _jobs_to_do(jobs, previous, options: dict, output: Path, *, recompute_stale: bool) -> list:

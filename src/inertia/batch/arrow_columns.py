@@ -1,0 +1,154 @@
+"""Arrow columns from Python values, built from NumPy buffers: without pandas.
+
+``pyarrow.array`` imports pandas on its first call (to ask whether its argument is a pandas
+object): 0.15-0.2 s of the parent's CPU in every ``inertia batch`` run, on a machine whose
+cores the workers need.  These builders take the plain values of batch rows (``None`` for
+missing; a float NaN also counts as missing, as ``from_pandas`` did, except inside lists)
+and assemble each column with ``pyarrow.Array.from_buffers``.
+
+Each returns None when a value is not of the plain kinds it knows (a pandas missing value,
+a NumPy array inside a string column): the caller then takes the general route.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _validity(valid):
+    """The validity bitmap of a column (None when nothing is missing) and its null count."""
+    import pyarrow as pa
+
+    missing = len(valid) - int(np.count_nonzero(valid))
+    if missing == 0:
+        return None, 0
+    return pa.py_buffer(np.packbits(valid, bitorder="little")), missing
+
+
+def _is_missing(v) -> bool:
+    return v is None or (isinstance(v, float) and v != v)
+
+
+def numbers(values, arrow_type, dtype):
+    """An int64 or float64 column (``dtype`` the NumPy type); None for a value of another kind."""
+    import pyarrow as pa
+
+    n = len(values)
+    data = np.zeros(n, dtype=dtype)
+    valid = np.ones(n, dtype=bool)
+    kinds = (int, np.integer) if dtype is np.int64 else (int, float, np.integer, np.floating)
+    for k, v in enumerate(values):
+        if _is_missing(v):
+            valid[k] = False
+        elif isinstance(v, (bool, np.bool_)) or not isinstance(v, kinds):
+            return None
+        else:
+            try:
+                data[k] = v
+            except (OverflowError, ValueError):
+                return None
+    bitmap, nulls = _validity(valid)
+    return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
+
+
+def booleans(values):
+    """A bool column; None for a value of another kind."""
+    import pyarrow as pa
+
+    n = len(values)
+    data = np.zeros(n, dtype=bool)
+    valid = np.ones(n, dtype=bool)
+    for k, v in enumerate(values):
+        if _is_missing(v):
+            valid[k] = False
+        elif isinstance(v, (bool, np.bool_)):
+            data[k] = v
+        else:
+            return None
+    bitmap, nulls = _validity(valid)
+    return pa.Array.from_buffers(pa.bool_(), n, [bitmap, pa.py_buffer(np.packbits(data, bitorder="little"))],
+                                 null_count=nulls)
+
+
+def strings(values):
+    """A string column (UTF-8); None for a value of another kind."""
+    import pyarrow as pa
+
+    n = len(values)
+    valid = np.ones(n, dtype=bool)
+    parts = []
+    lengths = np.zeros(n + 1, dtype=np.int64)
+    for k, v in enumerate(values):
+        if v is None:
+            valid[k] = False
+        elif isinstance(v, str):
+            b = v.encode("utf-8")
+            parts.append(b)
+            lengths[k + 1] = len(b)
+        else:
+            return None
+    offsets = np.cumsum(lengths)
+    if offsets[-1] >= 2**31:
+        return None                      # beyond 32-bit offsets: the general route (large strings)
+    bitmap, nulls = _validity(valid)
+    return pa.Array.from_buffers(pa.string(), n, [bitmap, pa.py_buffer(offsets.astype(np.int32)),
+                                                  pa.py_buffer(b"".join(parts))], null_count=nulls)
+
+
+def lists(values, arrow_type):
+    """A list<float64> or list<string> column (``arrow_type``); elements are kept as they are
+    (a NaN inside a list is a value).  None for a value of another kind."""
+    import pyarrow as pa
+
+    n = len(values)
+    valid = np.ones(n, dtype=bool)
+    lengths = np.zeros(n + 1, dtype=np.int64)
+    flat = []
+    for k, v in enumerate(values):
+        if v is None:
+            valid[k] = False
+        elif isinstance(v, (list, tuple)):
+            flat.extend(v)
+            lengths[k + 1] = len(v)
+        else:
+            return None
+    if pa.types.is_string(arrow_type.value_type):
+        child = strings(flat)
+    else:
+        child = _plain_floats(flat)
+    if child is None:
+        return None
+    offsets = np.cumsum(lengths)
+    bitmap, nulls = _validity(valid)
+    return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(offsets.astype(np.int32))],
+                                 null_count=nulls, children=[child])
+
+
+def _plain_floats(values):
+    """float64 values, NaN kept (the elements of a list column); None for a non-number."""
+    import pyarrow as pa
+
+    try:
+        data = np.array(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    if data.ndim != 1 or any(v is None or isinstance(v, (bool, str)) for v in values):
+        return None
+    return pa.Array.from_buffers(pa.float64(), len(data), [None, pa.py_buffer(data)])
+
+
+def column(values, arrow_type):
+    """The Arrow column of ``values`` for one of the output's types, or None (see the module)."""
+    import pyarrow as pa
+
+    if pa.types.is_list(arrow_type):
+        return lists(values, arrow_type)
+    if pa.types.is_string(arrow_type):
+        return strings(values)
+    if pa.types.is_boolean(arrow_type):
+        return booleans(values)
+    if pa.types.is_int64(arrow_type):
+        return numbers(values, arrow_type, np.int64)
+    if pa.types.is_float64(arrow_type):
+        return numbers(values, arrow_type, np.float64)
+    return None
