@@ -47,7 +47,8 @@ def _run(tmp_path, n: int, *, pre: str = "", env: dict | None = None) -> dict:
         "mod = sys.modules.get('inertia.geometry._solid_numba')\n"
         "print(json.dumps({'mass': p.mass, 'inertia': p.inertia_com.tolist(), 'numba': 'numba' in sys.modules,\n"
         "                  'started': bool(started), 'compiled': bool(mod and mod.clean_solid.signatures)}))\n")
-    full_env = {**os.environ, "INERTIA_COMPILED": "auto", **(env or {})}
+    # a cache folder of its own: no ahead-of-time library (inertia._core.aot) unless the test puts one
+    full_env = {**os.environ, "INERTIA_COMPILED": "auto", "INERTIA_CACHE_DIR": str(tmp_path / "cache"), **(env or {})}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=full_env, timeout=300,
                          cwd=tmp_path)
     assert out.returncode == 0, out.stderr
@@ -80,10 +81,22 @@ def test_cold_cache_runs_numpy_and_starts_the_warmup(tmp_path):
 
 def test_warm_cache_runs_the_compiled_kernel(tmp_path):
     pytest.importorskip("numba")
+    from inertia._core import aot
+
     _reference(12)                              # compiled here, so the default cache is warm
-    got = _run(tmp_path, 12, pre="import numba")
+    # no ahead-of-time library in this cache folder, and its build noted as failed for these
+    # sources: nothing to start
+    (tmp_path / "cache" / "aot").mkdir(parents=True)
+    env = {"INERTIA_CACHE_DIR": str(tmp_path / "cache")}
+    failed = tmp_path / "cache" / "aot" / (aot.library_name() + ".failed")
+    failed.write_text(aot.sources_hash(aot.kernel_sources()) + "\nOSError: no compiler\n")
+    got = _run(tmp_path, 12, pre="import numba", env=env)
     assert got["numba"] and got["compiled"] and not got["started"]
     assert got["mass"] == _reference(12).mass
+    # without that note, the warm-up is started to build the library
+    failed.unlink()
+    got = _run(tmp_path, 12, pre="import numba", env=env)
+    assert got["numba"] and got["compiled"] and got["started"]
 
 
 def test_never_keeps_everything_on_numpy_even_for_large_jobs(tmp_path):

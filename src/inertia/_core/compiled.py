@@ -20,6 +20,10 @@ The rule (``INERTIA_COMPILED=auto``, the default):
    process or the next, find the cache warm.
 3. Otherwise the compiled kernel runs.
 
+Before all three, kernels compiled ahead of time (:mod:`.aot`: one shared library in the
+user's cache folder, built by the background warm-up) serve whatever they hold: they load in
+a millisecond, without numba.
+
 ``INERTIA_COMPILED=always`` compiles on first use and waits (the behaviour before this rule);
 ``never`` keeps every call on the NumPy path.  Either way the numbers are the same.
 """
@@ -47,6 +51,7 @@ _expect_much = False       # the caller has announced more work than the import 
 _checked: dict = {}        # module name -> (time of the last cache check, module or None)
 _RECHECK_S = 5.0           # a cold cache is looked at again after this long (the warm-up may be done)
 _warmup_started = False
+_library_checked = False
 
 
 def mode() -> str:
@@ -82,6 +87,12 @@ def kernels(module_name: str, *, work: int = 0):
     m = mode()
     if m == "never":
         return None
+    if m == "auto":
+        from . import aot
+
+        ready = aot.kernels(module_name)   # compiled ahead of time: no numba to import or load
+        if ready is not None:
+            return ready
     if m == "auto" and "numba" not in sys.modules and not _expect_much:
         now = time.process_time()
         if _numpy_since is None:
@@ -102,9 +113,21 @@ def kernels(module_name: str, *, work: int = 0):
         return seen[1]
     warm = _is_cached(module)
     _checked[module_name] = (now, module if warm else None)
-    if not warm:
+    if not warm or _library_wanted():
         start_warmup()
     return module if warm else None
+
+
+def _library_wanted() -> bool:
+    """The ahead-of-time library (:mod:`.aot`) is missing or stale and may be built (checked
+    once per process): the background warm-up then builds it."""
+    global _library_checked
+    if _library_checked or _warmup_started:
+        return False
+    _library_checked = True
+    from . import aot
+
+    return aot.wanted()
 
 
 def is_cached(dispatcher, *, unknown: bool = True) -> bool:

@@ -96,14 +96,17 @@ def run(args) -> int:
     import time
 
     t0 = time.perf_counter()
-    main(background=False)
+    library = main(background=False)
     from ._format import emit
 
     emit(f"compiled kernels ready in {time.perf_counter() - t0:.1f} s")
+    emit(library)
     return 0
 
 
-def main(background: bool = True) -> int:
+def main(background: bool = True) -> str:
+    """Compile every kernel into numba's cache, then build the ahead-of-time library; returns
+    what became of the library (a sentence)."""
     os.environ["INERTIA_COMPILED"] = "always"
     if background:
         try:
@@ -116,6 +119,7 @@ def main(background: bool = True) -> int:
                 step()
             except Exception:      # a step that fails leaves its kernels to compile on first use
                 pass
+        return build_library(force=not background)
     finally:
         lock = os.environ.get("INERTIA_WARMUP_LOCK")
         if lock:
@@ -126,5 +130,24 @@ def main(background: bool = True) -> int:
     return 0
 
 
+def build_library(force: bool = False):
+    """Build the ahead-of-time library of the mesh kernels (:mod:`inertia._core.aot`) when it
+    is missing or stale (``force``: also after a failed attempt); returns what happened, as
+    a sentence."""
+    from .._core import aot
+    from ..geometry import aot_library
+
+    if aot.load() is not None:
+        return f"ahead-of-time kernels up to date ({aot.library_path()})"
+    if not force and not aot.wanted():
+        return "ahead-of-time kernels: an earlier build failed for these sources (numba serves)"
+    try:
+        path = aot_library.build()
+    except Exception as exc:  # noqa: BLE001 - no compiler, no setuptools: numba serves
+        return f"ahead-of-time kernels not built ({type(exc).__name__}: {exc}); numba serves"
+    return f"ahead-of-time kernels built: {path}"
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    main()
+    sys.exit(0)

@@ -1,0 +1,263 @@
+"""Kernels compiled ahead of time into one shared library: a process that uses them never
+imports numba.
+
+A command-line process that reads a mesh pays 0.3-0.4 s before its first kernel runs when the
+kernels come from numba: importing numba (0.12 s) and loading the cached machine code (numba
+initialises its whole compiler target on the first load, 0.25 s).  For ``inertia batch``,
+whose work on 500 small meshes takes about a second, that is a third of the run.  The same
+kernels compiled ahead of time by ``numba.pycc`` load in under a millisecond and run at the
+same speed (measured on the self-crossing search: 1.86 vs 1.84 ms a 5.5k-face mesh).
+
+* :func:`inertia.geometry.aot_library.build` compiles the kernels its table names into the
+  user's cache folder (:func:`cache_dir`), for a generic CPU of the machine's architecture (a
+  home folder shared by several machines stays safe), and :func:`install` puts it in place
+  with a manifest: the argument types, and a hash of every kernel source file it was built
+  from.  The build runs in the background warm-up (``python -m inertia.cli.warmup``) and in
+  ``inertia warm-up``; it needs a C compiler and setuptools, and when it fails it leaves a
+  note (:func:`note_failure`) so that it is not retried for the same sources.
+* :func:`kernels` gives, for a kernel module, an object whose functions are those of the
+  library: valid only while every source it was built from is unchanged, for the same NumPy.
+  A pycc function does not check its arguments (an int32 array where int64 is compiled is
+  read as garbage), so each call checks them against the manifest first (about 1 us), and a
+  call that does not match, or a function the library lacks, goes to the numba kernel
+  (importing numba then).
+
+``INERTIA_COMPILED=always`` or ``never`` bypass the library (:mod:`.compiled`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.machinery
+import importlib.util
+import json
+import os
+import sys
+import zlib
+
+_DTYPES = {"f8": "float64", "f4": "float32", "i8": "int64", "i4": "int32", "u4": "uint32", "u1": "uint8",
+           "b1": "bool"}
+_state: dict = {}            # "library": (module, manifest) or None once looked for
+
+
+def cache_dir() -> str:
+    """``INERTIA_CACHE_DIR``, else the platform's user cache folder + ``inertia``."""
+    env = os.environ.get("INERTIA_CACHE_DIR")
+    if env:
+        return os.path.abspath(os.path.expanduser(env))
+    if sys.platform == "win32":
+        base = os.environ.get("LOCALAPPDATA") or os.path.expanduser("~")
+        return os.path.join(base, "inertia", "cache")
+    if sys.platform == "darwin":
+        return os.path.join(os.path.expanduser("~"), "Library", "Caches", "inertia")
+    return os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
+                        "inertia")
+
+
+def _package_dir() -> str:
+    return os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def library_name() -> str:
+    """The library's module name: one per installation (its folder), so installs do not clash."""
+    return f"inertia_kernels_{zlib.crc32(_package_dir().encode()):08x}"
+
+
+def library_path() -> str:
+    return os.path.join(cache_dir(), "aot", library_name() + importlib.machinery.EXTENSION_SUFFIXES[0])
+
+
+def _manifest_path() -> str:
+    return os.path.join(cache_dir(), "aot", library_name() + ".json")
+
+
+def _failed_path() -> str:
+    return os.path.join(cache_dir(), "aot", library_name() + ".failed")
+
+
+def _digest(path: str) -> str:
+    with open(path, "rb") as fh:
+        return hashlib.sha256(fh.read()).hexdigest()
+
+
+def sources_hash(files) -> str:
+    """One hash of the named source files (relative to the package), in order."""
+    h = hashlib.sha256()
+    for rel in files:
+        h.update(rel.encode() + b"\0" + _digest(os.path.join(_package_dir(), rel)).encode() + b"\0")
+    return h.hexdigest()
+
+
+def kernel_sources() -> list[str]:
+    """Every compiled-kernel source of the package (``_*_numba.py``), relative, sorted: a
+    library built from other versions of any of them is stale."""
+    root = _package_dir()
+    found = []
+    for folder, _, names in os.walk(root):
+        for name in names:
+            if name.startswith("_") and name.endswith("_numba.py"):
+                found.append(os.path.relpath(os.path.join(folder, name), root).replace(os.sep, "/"))
+    return sorted(found)
+
+
+def parse_types(spec: str) -> list[tuple]:
+    """``"f8[:,::1], i8"`` -> ``[("array", "float64", 2, True), ("scalar", "int64")]``: each
+    argument an array (dtype, dimensions, C-contiguous required) or a scalar."""
+    out = []
+    for item in _split(spec):
+        code, _, dims = item.partition("[")
+        dtype = _DTYPES[code.strip()]
+        if not dims:
+            out.append(("scalar", dtype))
+            continue
+        axes = dims.rstrip("]").split(",")
+        out.append(("array", dtype, len(axes), axes[-1].strip() == "::1"))
+    return out
+
+
+def _split(spec: str) -> list[str]:
+    items, depth, cur = [], 0, ""
+    for ch in spec:
+        if ch == "," and depth == 0:
+            items.append(cur.strip())
+            cur = ""
+            continue
+        depth += (ch == "[") - (ch == "]")
+        cur += ch
+    if cur.strip():
+        items.append(cur.strip())
+    return items
+
+
+def _accepts(arg, kind) -> bool:
+    """``arg`` is exactly what the compiled function reads (see the module docstring)."""
+    import numpy as np
+
+    if kind[0] == "scalar":
+        if isinstance(arg, (bool, np.bool_)):
+            return kind[1] == "bool"
+        if kind[1] == "float64":
+            return isinstance(arg, (int, float, np.integer, np.floating))
+        if kind[1] == "int64":
+            return isinstance(arg, (int, np.integer)) and -2**63 <= arg < 2**63
+        return False
+    return (isinstance(arg, np.ndarray) and arg.dtype == np.dtype(kind[1]) and arg.dtype.isnative
+            and arg.ndim == kind[2] and (not kind[3] or arg.flags.c_contiguous))
+
+
+class _Kernels:
+    """The library's functions of one kernel module (see the module docstring)."""
+
+    def __init__(self, module_name: str, library, functions: dict):
+        self._module_name = module_name
+        for name, spec in functions.items():
+            fast = getattr(library, exported_name(module_name, name))
+            setattr(self, name, self._guarded(name, fast, parse_types(spec)))
+
+    def _guarded(self, name, fast, kinds):
+        def call(*args):
+            if len(args) == len(kinds) and all(_accepts(a, k) for a, k in zip(args, kinds)):
+                return fast(*args)
+            return getattr(self._numba(), name)(*args)
+        call.__name__ = name
+        call.__doc__ = f"{self._module_name}.{name}, compiled ahead of time (see inertia._core.aot)"
+        return call
+
+    def _numba(self):
+        import importlib
+
+        return importlib.import_module(self._module_name)
+
+    def __getattr__(self, name):      # a function (or constant) the library does not hold
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(self._numba(), name)
+
+
+def exported_name(module_name: str, function: str) -> str:
+    return module_name.rsplit(".", 1)[-1].strip("_") + "__" + function
+
+
+def load():
+    """``(library module, manifest)``, or None (absent, stale, built for another NumPy, or
+    not loadable); looked for once per process."""
+    if "library" in _state:
+        return _state["library"]
+    _state["library"] = None
+    try:
+        with open(_manifest_path(), encoding="utf-8") as fh:
+            manifest = json.load(fh)
+        import numpy as np
+
+        if manifest.get("numpy") != np.__version__ or manifest.get("library") != os.path.basename(library_path()):
+            return None
+        if manifest.get("sources") != kernel_sources() or sources_hash(manifest["sources"]) != manifest.get("hash"):
+            return None
+        spec = importlib.util.spec_from_file_location(library_name(), library_path())
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    except Exception:  # noqa: BLE001 - absent, unreadable or broken: the numba kernels serve
+        return None
+    _state["library"] = (module, manifest)
+    return _state["library"]
+
+
+def kernels(module_name: str):
+    """The library's functions of ``module_name`` (an object with the module's function
+    names), or None when the library is absent, stale, or holds nothing of that module."""
+    cached = _state.get(("kernels", module_name))
+    if cached is not None or ("kernels", module_name) in _state:
+        return cached
+    lib = load()
+    result = None
+    if lib is not None and module_name in lib[1]["exports"]:
+        try:
+            result = _Kernels(module_name, lib[0], lib[1]["exports"][module_name])
+        except AttributeError:        # a manifest naming a function the library lacks
+            result = None
+    _state[("kernels", module_name)] = result
+    return result
+
+
+def wanted() -> bool:
+    """No usable library yet, and none has failed to build for these sources: the warm-up
+    should build one."""
+    if load() is not None:
+        return False
+    try:
+        with open(_failed_path(), encoding="utf-8") as fh:
+            return fh.readline().strip() != sources_hash(kernel_sources())
+    except OSError:
+        return True
+
+
+def install(built: str, exports: dict, sources_hash: str, sources: list) -> str:
+    """Move the library file ``built`` (compiled for ``exports`` from the ``sources`` whose
+    hash is ``sources_hash``) into place with its manifest, the manifest last: a library
+    without its manifest is never loaded.  Returns the library's path."""
+    import numpy as np
+
+    target = library_path()
+    manifest = {"library": os.path.basename(target), "numpy": np.__version__, "sources": sources,
+                "hash": sources_hash, "exports": exports}
+    if os.path.exists(_manifest_path()):
+        os.unlink(_manifest_path())
+    os.replace(built, target)
+    tmp = _manifest_path() + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(manifest, fh, indent=1)
+    os.replace(tmp, _manifest_path())
+    if os.path.exists(_failed_path()):
+        os.unlink(_failed_path())
+    _state.clear()
+    return target
+
+
+def note_failure(sources_hash: str, error: BaseException) -> None:
+    """Remember that a build failed for these sources (:func:`wanted` then says no)."""
+    try:
+        os.makedirs(os.path.dirname(_failed_path()), exist_ok=True)
+        with open(_failed_path(), "w", encoding="utf-8") as fh:
+            fh.write(sources_hash + "\n" + f"{type(error).__name__}: {error}\n")
+    except OSError:
+        pass

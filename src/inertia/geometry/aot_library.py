@@ -1,0 +1,80 @@
+"""The kernels compiled ahead of time (:mod:`inertia._core.aot`), with the argument types
+they are compiled for, and the build.  The table holds the kernels a mesh file's reading,
+checks and self-crossing search call: the whole of a row of ``inertia batch`` or ``inertia
+props``.  Any other kernel, or a call with other types, runs on numba as before.  Importing
+this module does not import numba (the build does).
+
+Types in numba's notation: ``f8[:,::1]`` a C-contiguous 2-D float64 array, ``u4[:,:,:]`` a
+3-D uint32 array of any strides, ``i8`` an int64 scalar.
+"""
+
+from __future__ import annotations
+
+import os
+
+from .._core import aot
+from .._core.errors import InertiaError
+
+EXPORTS = {
+    "inertia.geometry._topology_numba": {
+        "stl_weld_and_merge": "u4[:,:,:], f8",
+        "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
+        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]",
+    },
+    "inertia.geometry._selfcross_numba": {
+        "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
+        "find_crossing": "f8[:,::1], i8[:,::1], i8, f8, i8[::1]",
+    },
+    "inertia.geometry._text_numba": {
+        "read_ascii_stl": "u1[::1], f8[:,::1], i8[:,::1], i8",
+        "read_obj": "u1[::1], i8",
+    },
+}
+
+
+def build(exports: dict | None = None) -> str:
+    """Compile the kernels of ``exports`` (default :data:`EXPORTS`; ``{module: {function:
+    argument types}}``) with ``numba.pycc`` into the library of :mod:`inertia._core.aot`
+    (about 15 s); returns its path.  Built in a temporary folder beside it, then moved in
+    place.  On failure the error is raised, and noted so that it is not retried for the same
+    sources."""
+    import importlib
+    import shutil
+    import tempfile
+    import warnings
+
+    exports = EXPORTS if exports is None else exports
+    folder = os.path.dirname(aot.library_path())
+    os.makedirs(folder, exist_ok=True)
+    sources = aot.kernel_sources()
+    digest = aot.sources_hash(sources)
+    tmp = tempfile.mkdtemp(prefix=".build-", dir=folder)
+    try:
+        from numba.core.sigutils import _parse_signature_string
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")          # pycc's deprecation notice
+            from numba.pycc import CC
+
+            cc = CC(aot.library_name())
+            cc.output_dir = tmp
+            cc.verbose = False
+            cc.target_cpu = ""                       # generic: safe on any CPU of the architecture
+            for module_name, functions in exports.items():
+                module = importlib.import_module(module_name)
+                for name, spec in functions.items():
+                    dispatcher = getattr(module, name)
+                    args = tuple(_parse_signature_string(f"({spec},)"))
+                    dispatcher.compile(args)         # numba infers the return type
+                    sig = dispatcher.overloads[args].signature
+                    cc.export(aot.exported_name(module_name, name), sig)(dispatcher.py_func)
+            cc.compile()
+        built = [n for n in os.listdir(tmp) if n.startswith(aot.library_name()) and not n.endswith((".o", ".c"))]
+        if len(built) != 1:
+            raise InertiaError(f"numba.pycc left {built!r} in {tmp}, not one library", code="internal_error")
+        return aot.install(os.path.join(tmp, built[0]), exports, digest, sources)
+    except BaseException as exc:
+        aot.note_failure(digest, exc)
+        raise
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)

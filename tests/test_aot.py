@@ -1,0 +1,190 @@
+"""The kernels compiled ahead of time (inertia._core.aot): built once here into a temporary
+cache folder, they give the numba kernels' answers (a second compilation of the same source)
+to rounding, refuse arguments of other types by handing them to numba (never reading them
+as garbage), serve a fresh process without importing numba, and a stale or broken library is
+never loaded."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("numba")
+
+from inertia._core import aot  # noqa: E402
+from inertia.geometry import aot_library  # noqa: E402
+
+
+def _torus(nu=40, nv=16, r=0.35):
+    u, w = np.meshgrid(np.linspace(0, 2 * np.pi, nu, endpoint=False), np.linspace(0, 2 * np.pi, nv, endpoint=False),
+                       indexing="ij")
+    v = np.stack([(1 + r * np.cos(w)) * np.cos(u), (1 + r * np.cos(w)) * np.sin(u), r * np.sin(w)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    a, b = i * nv + j, ((i + 1) % nu) * nv + j
+    c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+    f = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return np.ascontiguousarray(v), np.ascontiguousarray(f, dtype=np.int64)
+
+
+def _stl_bytes(v, f) -> bytes:
+    rec = np.zeros(len(f), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["v"] = v[f]
+    return b"aot test".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes()
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    """The library built into a fresh cache folder (INERTIA_CACHE_DIR) for this module."""
+    folder = tmp_path_factory.mktemp("inertia-cache")
+    old = os.environ.get("INERTIA_CACHE_DIR")
+    os.environ["INERTIA_CACHE_DIR"] = str(folder)
+    aot._state.clear()
+    try:
+        path = aot_library.build()
+        yield folder, path
+    finally:
+        aot._state.clear()
+        if old is None:
+            os.environ.pop("INERTIA_CACHE_DIR", None)
+        else:
+            os.environ["INERTIA_CACHE_DIR"] = old
+
+
+def _both(module_name):
+    import importlib
+
+    fast = aot.kernels(module_name)
+    assert fast is not None, aot.load()
+    return fast, importlib.import_module(module_name)
+
+
+def _close(a, b):
+    if isinstance(a, tuple):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            _close(x, y)
+    elif isinstance(a, np.ndarray):
+        assert a.shape == b.shape and a.dtype == b.dtype
+        if a.dtype.kind == "f":
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-300)
+        else:
+            np.testing.assert_array_equal(a, b)
+    else:
+        assert a == b
+
+
+def test_the_library_gives_the_numba_kernels_answers(library):
+    sc_fast, sc_nb = _both("inertia.geometry._selfcross_numba")
+    topo_fast, topo_nb = _both("inertia.geometry._topology_numba")
+    v, f = _torus()
+    crossed = v.copy()
+    crossed[0] += np.array([0.0, 0.0, 0.5])          # one vertex pulled through the tube: crossings
+    for verts, expect in ((v, 0), (crossed, 1)):
+        outs = [np.zeros(2, np.int64), np.zeros(2, np.int64)]
+        found = [k.find_crossing(verts, f, 64, 1e-9, o) for k, o in zip((sc_fast, sc_nb), outs)]
+        assert found == [expect, expect]
+        np.testing.assert_array_equal(outs[0], outs[1])
+        assert sc_fast.star_certificate(verts, f, np.zeros(3)) == sc_nb.star_certificate(verts, f, np.zeros(3))
+        sums = [np.zeros(15), np.zeros(15)]
+        res = [k.clean_solid(verts, f, 1e-12, 1e-9, s) for k, s in zip((topo_fast, topo_nb), sums)]
+        _close(res[0], res[1])
+        _close(sums[0], sums[1])
+    soup = np.ascontiguousarray(v[f].reshape(-1, 3))
+    soup_f = np.arange(len(soup), dtype=np.int64).reshape(-1, 3)
+    _close(topo_fast.weld_and_merge(soup, soup_f, 1e-9), topo_nb.weld_and_merge(soup, soup_f, 1e-9))
+    raw = np.frombuffer(_stl_bytes(v, f), dtype=np.uint8)
+    corners = raw[84:].reshape(-1, 50)[:, 12:48].copy().view("<u4").reshape(-1, 3, 3)
+    strided = np.frombuffer(_stl_bytes(v, f)[84:], dtype=[("n", "<u4", 3), ("c", "<u4", (3, 3)), ("a", "<u2")])["c"]
+    for arg in (corners, strided):
+        _close(topo_fast.stl_weld_and_merge(arg, 1e-9), topo_nb.stl_weld_and_merge(arg, 1e-9))
+
+
+def test_the_text_readers_from_the_library_read_what_numba_reads(library):
+    fast, nb = _both("inertia.geometry._text_numba")
+    v, f = _torus(12, 6)
+    v = np.round(v, 6)
+    obj = ("".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in v) + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f))
+    raw = np.frombuffer(obj.encode(), dtype=np.uint8)
+    got, ref = fast.read_obj(raw, -1), nb.read_obj(raw, -1)
+    _close(got, ref)
+    assert len(got[2]) == 0                           # no number left to the slow path
+    np.testing.assert_allclose(got[0], v, rtol=1e-15, atol=1e-15)   # both read the numbers written
+    np.testing.assert_array_equal(got[1], f)
+
+
+def test_other_argument_types_go_to_numba_not_to_the_library(library):
+    fast, nb = _both("inertia.geometry._selfcross_numba")
+    v, f = _torus()
+    crossed = v.copy()
+    crossed[0] += np.array([0.0, 0.0, 0.5])
+    out = np.zeros(2, np.int64)
+    # int32 faces, Fortran-ordered vertices, a float where an int is compiled: read as garbage
+    # (or a crash) by a pycc function; the guard sends them to numba, which gives the answer
+    assert fast.find_crossing(crossed, f.astype(np.int32), 64, 1e-9, out) == 1
+    assert fast.find_crossing(np.asfortranarray(crossed), f, 64, 1e-9, out) == 1
+    assert fast.find_crossing(v, f, 64.0, 1e-9, out) == 0
+    assert "numba" in sys.modules
+    assert fast.WARM_PROBE == nb.WARM_PROBE          # what the library lacks comes from the module
+
+
+def _fresh(code: str, cache, **env):
+    full = {**os.environ, "INERTIA_COMPILED": "auto", "INERTIA_CACHE_DIR": str(cache), **env}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=full, timeout=300)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_a_fresh_process_reads_a_mesh_file_without_numba(library, tmp_path):
+    import inertia
+
+    v, f = _torus(60, 24)
+    path = tmp_path / "torus.stl"
+    path.write_bytes(_stl_bytes(v, f))
+    code = ("import json, sys\nimport inertia\nfrom inertia._core import compiled\n"
+            "compiled.start_warmup = lambda: False\n"
+            f"p = inertia.mesh_file_properties({str(path)!r}, density=1000.0)\n"
+            "print(json.dumps({'numba': 'numba' in sys.modules, 'mass': p.mass, 'I': p.inertia_com.tolist()}))\n")
+    got = _fresh(code, library[0])
+    assert not got["numba"]
+    ref = inertia.mesh_file_properties(path, density=1000.0)     # numba (the suite runs with always)
+    assert got["mass"] == pytest.approx(ref.mass, rel=1e-12)
+    np.testing.assert_allclose(got["I"], ref.inertia_com, rtol=1e-12, atol=1e-12 * np.abs(ref.inertia_com).max())
+    # the torus's volume in closed form, as a sanity: 2 pi^2 R r^2, to the faceting
+    assert got["mass"] == pytest.approx(1000.0 * 2 * np.pi ** 2 * 0.35 ** 2, rel=0.02)
+
+
+def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
+    folder, path = library
+    code = ("import json, sys\nfrom inertia._core import aot\n"
+            "print(json.dumps({'loaded': aot.load() is not None, 'wanted': aot.wanted()}))\n")
+    assert _fresh(code, folder) == {"loaded": True, "wanted": False}
+    copy = tmp_path / "cache"
+    shutil.copytree(folder, copy)
+    manifest = copy / "aot" / os.path.basename(aot._manifest_path())
+    meta = json.loads(manifest.read_text())
+    meta["hash"] = "0" * 64                          # built from other sources
+    manifest.write_text(json.dumps(meta))
+    assert _fresh(code, copy) == {"loaded": False, "wanted": True}
+    meta = json.loads((folder / "aot" / manifest.name).read_text())
+    manifest.write_text(json.dumps(meta))
+    (copy / "aot" / os.path.basename(path)).write_bytes(b"\x7fELF not a library")
+    assert _fresh(code, copy)["loaded"] is False     # unloadable: numba serves, nothing crashes
+    # a build that failed for these sources is not retried; for other sources it is
+    (copy / "aot" / os.path.basename(path)).unlink()
+    failed = copy / "aot" / os.path.basename(aot._failed_path())
+    failed.write_text(aot.sources_hash(aot.kernel_sources()) + "\nOSError: no compiler\n")
+    assert _fresh(code, copy) == {"loaded": False, "wanted": False}
+    failed.write_text("1" * 64 + "\nOSError: no compiler\n")
+    assert _fresh(code, copy) == {"loaded": False, "wanted": True}
+
+
+def test_parse_types():
+    assert aot.parse_types("f8[:,::1], i8[::1], u4[:,:,:], i8, f8") == [
+        ("array", "float64", 2, True), ("array", "int64", 1, True), ("array", "uint32", 3, False),
+        ("scalar", "int64"), ("scalar", "float64")]
