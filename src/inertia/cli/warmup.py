@@ -1,4 +1,5 @@
-"""``inertia warm-up``: compile every numba kernel into numba's cache ahead of use.
+"""``inertia warm-up``: compile every numba kernel into numba's cache ahead of use, then
+build the ahead-of-time library of the mesh kernels (:mod:`inertia._core.aot`).
 
 Also started in the background (``python -m inertia.cli.warmup``: detached, at low priority,
 silent) by :mod:`inertia._core.compiled` when a call finds a kernel's cache cold (a fresh
@@ -76,8 +77,10 @@ def _steps():
 
 HELP = "compile the numba kernels ahead of use (about half a minute, once per install)"
 DESCRIPTION = ("Compile every compiled kernel into numba's cache now, so that no later call waits for the "
-               "compiler.  The first call after an install starts this in the background by itself; run it "
-               "by hand to have it done before you start.")
+               "compiler, then build the mesh kernels into a library in the user's cache folder, which a "
+               "process loads without importing numba (needs a C compiler; without one numba serves).  "
+               "The first call after an install starts this in the background by itself; run it by hand "
+               "to have it done before you start.")
 EPILOG = """\
 examples:
   inertia warm-up
@@ -114,9 +117,13 @@ def main(background: bool = True) -> str:
         except (AttributeError, OSError):
             pass
     try:
+        import warnings
+
         for step in _steps():
             try:
-                step()
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")   # the steps' meshes are defective on purpose
+                    step()
             except Exception:      # a step that fails leaves its kernels to compile on first use
                 pass
         return build_library(force=not background)
