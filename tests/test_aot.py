@@ -148,21 +148,28 @@ def _fresh(code: str, cache, **env):
 
 def test_a_fresh_process_reads_a_mesh_file_without_numba(library, tmp_path):
     import inertia
+    from tests._make import write_ascii_stl, write_obj
 
     v, f = _torus(60, 24)
-    path = tmp_path / "torus.stl"
-    path.write_bytes(_stl_bytes(v, f))
-    code = ("import json, sys\nimport inertia\nfrom inertia._core import compiled\n"
-            "compiled.start_warmup = lambda: False\n"
-            f"p = inertia.mesh_file_properties({str(path)!r}, density=1000.0)\n"
-            "print(json.dumps({'numba': 'numba' in sys.modules, 'mass': p.mass, 'I': p.inertia_com.tolist()}))\n")
-    got = _fresh(code, library[0])
-    assert not got["numba"]
-    ref = inertia.mesh_file_properties(path, density=1000.0)     # numba (the suite runs with always)
-    assert got["mass"] == pytest.approx(ref.mass, rel=1e-12)
-    np.testing.assert_allclose(got["I"], ref.inertia_com, rtol=1e-12, atol=1e-12 * np.abs(ref.inertia_com).max())
-    # the torus's volume in closed form, as a sanity: 2 pi^2 R r^2, to the faceting
-    assert got["mass"] == pytest.approx(1000.0 * 2 * np.pi ** 2 * 0.35 ** 2, rel=0.02)
+    paths = [tmp_path / "torus.stl", tmp_path / "torus.obj", tmp_path / "torus_ascii.stl"]
+    paths[0].write_bytes(_stl_bytes(v, f))
+    write_obj(paths[1], v, f)
+    write_ascii_stl(paths[2], v[f])
+    for path in paths:
+        code = ("import json, sys\nimport inertia\nfrom inertia._core import compiled\n"
+                "compiled.start_warmup = lambda: False\n"
+                f"p = inertia.mesh_file_properties({str(path)!r}, density=1000.0)\n"
+                "print(json.dumps({'numba': 'numba' in sys.modules, 'mass': p.mass, 'I': p.inertia_com.tolist(),\n"
+                "                  'used': sorted(getattr(sys.modules.get('inertia.geometry._text_readers'), '_compiled_used', ()))}))\n")
+        got = _fresh(code, library[0])
+        assert not got["numba"], path.name
+        # a text file small as this one is read by the compiled reader: the library costs nothing to load
+        assert got["used"] == {"torus.stl": [], "torus.obj": ["obj"], "torus_ascii.stl": ["ascii_stl"]}[path.name]
+        ref = inertia.mesh_file_properties(path, density=1000.0)     # numba (the suite runs with always)
+        assert got["mass"] == pytest.approx(ref.mass, rel=1e-12)
+        np.testing.assert_allclose(got["I"], ref.inertia_com, rtol=1e-12, atol=1e-12 * np.abs(ref.inertia_com).max())
+        # the torus's volume in closed form, as a sanity: 2 pi^2 R r^2, to the faceting
+        assert got["mass"] == pytest.approx(1000.0 * 2 * np.pi ** 2 * 0.35 ** 2, rel=0.02)
 
 
 def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):

@@ -41,19 +41,28 @@ _compiled_used: set[str] = set()
 
 
 def _kernels_for(size: int, compiled: bool | None, fmt: str):
-    """The compiled readers for a file of ``size`` bytes of format ``fmt``, or None for the reference."""
-    if compiled is False or (compiled is None and size < EAGER_BYTES and fmt not in _compiled_used):
+    """The compiled readers for a file of ``size`` bytes of format ``fmt``, or None for the
+    reference.  Small files wait for the compiled reader to be loaded unless it comes from
+    the ahead-of-time library (:mod:`inertia._core.aot`), which costs nothing to load."""
+    if compiled is False:
         return None
-    if compiled:
+    if compiled is None and size < EAGER_BYTES and fmt not in _compiled_used and not _ahead_of_time():
+        return None
+    kernels = text_kernels(1 << 30 if compiled else size)
+    if kernels is None and compiled:
         try:
             from . import _text_numba as kernels
         except ImportError:
             return None
-    else:
-        kernels = text_kernels(size)
     if kernels is not None:
         _compiled_used.add(fmt)
     return kernels
+
+
+def _ahead_of_time() -> bool:
+    from .._core import aot, compiled
+
+    return compiled.mode() == "auto" and aot.kernels("inertia.geometry._text_numba") is not None
 
 
 def prepare(formats) -> None:
