@@ -195,6 +195,10 @@ def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
     assert _fresh(code, copy) == {"loaded": False, "wanted": False}
     failed.write_text("1" * 64 + "\nOSError: no compiler\n")
     assert _fresh(code, copy) == {"loaded": False, "wanted": True}
+    # a cache folder that cannot be written: no build is attempted (it would fail every run)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    assert _fresh(code, blocker / "cache") == {"loaded": False, "wanted": False}
 
 
 def test_parse_types():

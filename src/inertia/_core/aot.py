@@ -220,15 +220,26 @@ def kernels(module_name: str):
 
 
 def wanted() -> bool:
-    """No usable library yet, and none has failed to build for these sources: the warm-up
-    should build one."""
-    if load() is not None:
+    """No usable library yet, none has failed to build for these sources, and the cache
+    folder can be written: the warm-up should build one."""
+    if load() is not None or not _writable(os.path.dirname(library_path())):
         return False
     try:
         with open(_failed_path(), encoding="utf-8") as fh:
             return fh.readline().strip() != sources_hash(kernel_sources())
     except OSError:
         return True
+
+
+def _writable(folder: str) -> bool:
+    """``folder`` exists and can be written, or could be made (its nearest existing parent
+    can be written)."""
+    while folder and not os.path.exists(folder):
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return False
+        folder = parent
+    return os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK)
 
 
 def install(built: str, exports: dict, sources_hash: str, sources: list) -> str:
