@@ -135,6 +135,14 @@ def test_other_argument_types_go_to_numba_not_to_the_library(library):
     assert fast.find_crossing(crossed, f.astype(np.int32), 64, 1e-9, out) == 1
     assert fast.find_crossing(np.asfortranarray(crossed), f, 64, 1e-9, out) == 1
     assert fast.find_crossing(v, f, 64.0, 1e-9, out) == 0
+    # a read-only output: the library would write it; numba refuses it, as it always did
+    frozen = np.zeros(2, np.int64)
+    frozen.flags.writeable = False
+    with pytest.raises(Exception) as theirs:
+        nb.find_crossing(crossed, f, 64, 1e-9, frozen)
+    with pytest.raises(type(theirs.value)):
+        fast.find_crossing(crossed, f, 64, 1e-9, frozen)
+    assert not frozen.any()
     assert "numba" in sys.modules
     assert fast.WARM_PROBE == nb.WARM_PROBE          # what the library lacks comes from the module
 
@@ -181,7 +189,12 @@ def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
     shutil.copytree(folder, copy)
     manifest = copy / "aot" / os.path.basename(aot._manifest_path())
     meta = json.loads(manifest.read_text())
+    assert "geometry/aot_library.py" in meta["sources"]     # the table too: a change to it rebuilds
     meta["hash"] = "0" * 64                          # built from other sources
+    manifest.write_text(json.dumps(meta))
+    assert _fresh(code, copy) == {"loaded": False, "wanted": True}
+    meta["sources"] = meta["sources"][1:]            # built before a kernel source existed
+    meta["hash"] = aot.sources_hash(meta["sources"])
     manifest.write_text(json.dumps(meta))
     assert _fresh(code, copy) == {"loaded": False, "wanted": True}
     meta = json.loads((folder / "aot" / manifest.name).read_text())
@@ -202,6 +215,6 @@ def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
 
 
 def test_parse_types():
-    assert aot.parse_types("f8[:,::1], i8[::1], u4[:,:,:], i8, f8") == [
-        ("array", "float64", 2, True), ("array", "int64", 1, True), ("array", "uint32", 3, False),
-        ("scalar", "int64"), ("scalar", "float64")]
+    assert aot.parse_types("f8[:,::1], i8[::1]!, u4[:,:,:], i8, f8") == [
+        ("array", "float64", 2, True, False), ("array", "int64", 1, True, True),
+        ("array", "uint32", 3, False, False), ("scalar", "int64"), ("scalar", "float64")]

@@ -348,4 +348,4 @@ def test_a_file_that_kills_its_worker_costs_one_row_not_the_run(tmp_path):
         if "CRASH" in job.path:
             assert row["status"] == "error" and row["reason"] == "crashed" and job.path in row["message"]
         else:
-            assert row["status"] == "ok" and row["mass"] == process_file(job)["mass"] == 1000.0
+            assert row["status"] == "ok" and row["mass"] == process_file(job)["mass"] == 1000.0, row

@@ -18,7 +18,8 @@ same speed (measured on the self-crossing search: 1.86 vs 1.84 ms a 5.5k-face me
 * :func:`kernels` gives, for a kernel module, an object whose functions are those of the
   library: valid only while every source it was built from is unchanged, for the same NumPy.
   A pycc function does not check its arguments (an int32 array where int64 is compiled is
-  read as garbage), so each call checks them against the manifest first (about 1 us), and a
+  read as garbage, a read-only output is written), so each call checks them against the
+  manifest first (about 1 us; an output is marked ``!`` and must be writeable), and a
   call that does not match, or a function the library lacks, goes to the numba kernel
   (importing numba then).
 
@@ -101,17 +102,19 @@ def kernel_sources() -> list[str]:
 
 
 def parse_types(spec: str) -> list[tuple]:
-    """``"f8[:,::1], i8"`` -> ``[("array", "float64", 2, True), ("scalar", "int64")]``: each
-    argument an array (dtype, dimensions, C-contiguous required) or a scalar."""
+    """``"f8[:,::1], i8[::1]!, i8"`` -> ``[("array", "float64", 2, True, False), ("array",
+    "int64", 1, True, True), ("scalar", "int64")]``: each argument an array (dtype,
+    dimensions, C-contiguous required, written by the kernel: marked ``!``) or a scalar."""
     out = []
     for item in _split(spec):
-        code, _, dims = item.partition("[")
+        written = item.endswith("!")
+        code, _, dims = item.rstrip("!").partition("[")
         dtype = _DTYPES[code.strip()]
         if not dims:
             out.append(("scalar", dtype))
             continue
         axes = dims.rstrip("]").split(",")
-        out.append(("array", dtype, len(axes), axes[-1].strip() == "::1"))
+        out.append(("array", dtype, len(axes), axes[-1].strip() == "::1", written))
     return out
 
 
@@ -142,7 +145,8 @@ def _accepts(arg, kind) -> bool:
             return isinstance(arg, (int, np.integer)) and -2**63 <= arg < 2**63
         return False
     return (isinstance(arg, np.ndarray) and arg.dtype == np.dtype(kind[1]) and arg.dtype.isnative
-            and arg.ndim == kind[2] and (not kind[3] or arg.flags.c_contiguous))
+            and arg.ndim == kind[2] and (not kind[3] or arg.flags.c_contiguous)
+            and (not kind[4] or arg.flags.writeable))
 
 
 class _Kernels:
@@ -191,7 +195,10 @@ def load():
 
         if manifest.get("numpy") != np.__version__ or manifest.get("library") != os.path.basename(library_path()):
             return None
-        if manifest.get("sources") != kernel_sources() or sources_hash(manifest["sources"]) != manifest.get("hash"):
+        # every kernel source now (a new one makes it stale), and each unchanged (with the
+        # table the library was built from, which the builder lists too)
+        listed = manifest["sources"]
+        if not set(kernel_sources()) <= set(listed) or sources_hash(listed) != manifest.get("hash"):
             return None
         spec = importlib.util.spec_from_file_location(library_name(), library_path())
         module = importlib.util.module_from_spec(spec)

@@ -342,8 +342,9 @@ class _Executor:
 
         On a cluster, a chunk whose task fails (a worker process lost, e.g. killed by a
         crash in a compiled library) is split and its files are retried one per task; a file
-        that still fails costs one error row (``reason="crashed"``, naming the file), never
-        the run.  ``task`` replaces :func:`process_packed` (tests).
+        whose task is lost again gets one more try, alone on the cluster (Dask also counts
+        the tasks queued on a dying worker), and if that fails too it costs one error row
+        (``reason="crashed"``, naming the file), never the run.  ``task`` replaces :func:`process_packed` (tests).
         """
         if self.pool is not None:
             yield from self.pool.map(chunks, options)
@@ -354,13 +355,14 @@ class _Executor:
             return
         import pickle
 
-        from distributed import as_completed
+        from distributed import as_completed, wait
 
         task = task or process_packed
         pending = {}  # future key -> (chunk index, sub-index or None, jobs)
 
-        def submit(jobs, i, sub):
+        def submit(jobs, i, sub, attempt=0):
             key = f"inertia-chunk-{i}-{'all' if sub is None else sub}-{id(self)}"
+            key += f"-again{attempt}" if attempt else ""
             fut = self.client.submit(task, pickle.dumps((jobs, options), protocol=pickle.HIGHEST_PROTOCOL),
                                      pure=False, key=key)
             pending[fut.key] = (i, sub, jobs)
@@ -369,6 +371,7 @@ class _Executor:
         futures = [submit(chunk, i, None) for i, chunk in enumerate(chunks)]
         self._futures = futures
         split_rows: dict[int, dict] = {}
+        again = []     # files alone whose task was lost once
         # with_results: the client fetches each result as its task finishes, in the background
         seq = as_completed(futures, with_results=True, raise_errors=False)
         for fut, result in seq:
@@ -383,7 +386,21 @@ class _Executor:
                     seq.add(new)
                 continue
             else:
-                rows = [crashed_row(jobs[0], result, options)]
+                # a file alone whose task was lost: the worker may have died of another task
+                # queued with it (Dask counts every task on a lost worker); tried again below,
+                # alone on the cluster, before it is called crashed
+                again.append((i, sub, jobs))
+                continue
+            whole = reassemble(split_rows, chunks, i, sub, rows)
+            if whole is not None:
+                yield i, whole
+        for i, sub, jobs in again:
+            fut = submit(jobs, i, sub, attempt=1)
+            self._futures.append(fut)
+            pending.pop(fut.key, None)
+            wait([fut])
+            rows = (pickle.loads(fut.result()) if fut.status == "finished"
+                    else [crashed_row(jobs[0], fut.exception(), options)])
             whole = reassemble(split_rows, chunks, i, sub, rows)
             if whole is not None:
                 yield i, whole

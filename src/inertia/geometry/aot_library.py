@@ -5,7 +5,8 @@ props``.  Any other kernel, or a call with other types, runs on numba as before.
 this module does not import numba (the build does).
 
 Types in numba's notation: ``f8[:,::1]`` a C-contiguous 2-D float64 array, ``u4[:,:,:]`` a
-3-D uint32 array of any strides, ``i8`` an int64 scalar.
+3-D uint32 array of any strides, ``i8`` an int64 scalar; ``!`` marks an array the kernel
+writes (a call with a read-only one goes to numba, which refuses it as before).
 """
 
 from __future__ import annotations
@@ -19,14 +20,14 @@ EXPORTS = {
     "inertia.geometry._topology_numba": {
         "stl_weld_and_merge": "u4[:,:,:], f8",
         "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
-        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]",
+        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!",
     },
     "inertia.geometry._selfcross_numba": {
         "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
-        "find_crossing": "f8[:,::1], i8[:,::1], i8, f8, i8[::1]",
+        "find_crossing": "f8[:,::1], i8[:,::1], i8, f8, i8[::1]!",
     },
     "inertia.geometry._text_numba": {
-        "read_ascii_stl": "u1[::1], f8[:,::1], i8[:,::1], i8",
+        "read_ascii_stl": "u1[::1], f8[:,::1]!, i8[:,::1]!, i8",
         "read_obj": "u1[::1], i8",
     },
 }
@@ -46,7 +47,8 @@ def build(exports: dict | None = None) -> str:
     exports = EXPORTS if exports is None else exports
     folder = os.path.dirname(aot.library_path())
     os.makedirs(folder, exist_ok=True)
-    sources = aot.kernel_sources()
+    here = os.path.relpath(os.path.abspath(__file__), os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    sources = aot.kernel_sources() + [here.replace(os.sep, "/")]   # the kernels, and this table
     digest = aot.sources_hash(sources)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=folder)
     try:
@@ -64,7 +66,7 @@ def build(exports: dict | None = None) -> str:
                 module = importlib.import_module(module_name)
                 for name, spec in functions.items():
                     dispatcher = getattr(module, name)
-                    args = tuple(_parse_signature_string(f"({spec},)"))
+                    args = tuple(_parse_signature_string(f"({spec.replace('!', '')},)"))
                     dispatcher.compile(args)         # numba infers the return type
                     sig = dispatcher.overloads[args].signature
                     cc.export(aot.exported_name(module_name, name), sig)(dispatcher.py_func)
@@ -74,7 +76,7 @@ def build(exports: dict | None = None) -> str:
             raise InertiaError(f"numba.pycc left {built!r} in {tmp}, not one library", code="internal_error")
         return aot.install(os.path.join(tmp, built[0]), exports, digest, sources)
     except BaseException as exc:
-        aot.note_failure(digest, exc)
+        aot.note_failure(aot.sources_hash(aot.kernel_sources()), exc)
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
