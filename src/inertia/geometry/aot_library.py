@@ -50,6 +50,7 @@ def build(exports: dict | None = None) -> str:
     here = os.path.relpath(os.path.abspath(__file__), os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     sources = aot.kernel_sources() + [here.replace(os.sep, "/")]   # the kernels, and this table
     digest = aot.sources_hash(sources)
+    _remove_stale_builds(folder)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=folder)
     try:
         from numba.core.sigutils import _parse_signature_string
@@ -80,3 +81,17 @@ def build(exports: dict | None = None) -> str:
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _remove_stale_builds(folder: str, age_s: float = 3600.0) -> None:
+    """Remove the temporary folders of builds that were killed (older than ``age_s``)."""
+    import shutil
+    import time
+
+    for name in os.listdir(folder):
+        path = os.path.join(folder, name)
+        try:
+            if name.startswith(".build-") and time.time() - os.path.getmtime(path) > age_s:
+                shutil.rmtree(path, ignore_errors=True)
+        except OSError:
+            pass
