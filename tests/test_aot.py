@@ -188,23 +188,27 @@ def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
     copy = tmp_path / "cache"
     shutil.copytree(folder, copy)
     manifest = copy / "aot" / os.path.basename(aot._manifest_path())
+    good = json.loads(manifest.read_text())
+    assert "geometry/aot_library.py" in good["sources"]     # the table too: a change to it rebuilds
+    assert "geometry/_text_reference.py" in good["sources"]  # and what the kernels import
     meta = json.loads(manifest.read_text())
-    assert "geometry/aot_library.py" in meta["sources"]     # the table too: a change to it rebuilds
-    meta["hash"] = "0" * 64                          # built from other sources
+    meta["sources"]["geometry/_selfcross_numba.py"][1] += 1   # a source touched since ...
+    manifest.write_text(json.dumps(meta))
+    assert _fresh(code, copy) == {"loaded": True, "wanted": False}   # ... with the same contents
+    meta["hash"] = "0" * 64                                    # ... with other contents
     manifest.write_text(json.dumps(meta))
     assert _fresh(code, copy) == {"loaded": False, "wanted": True}
-    meta["sources"] = meta["sources"][1:]            # built before a kernel source existed
-    meta["hash"] = aot.sources_hash(meta["sources"])
+    meta = json.loads(json.dumps(good))
+    del meta["sources"]["geometry/_selfcross_numba.py"]       # built before a source existed
     manifest.write_text(json.dumps(meta))
     assert _fresh(code, copy) == {"loaded": False, "wanted": True}
-    meta = json.loads((folder / "aot" / manifest.name).read_text())
-    manifest.write_text(json.dumps(meta))
+    manifest.write_text(json.dumps(good))
     (copy / "aot" / os.path.basename(path)).write_bytes(b"\x7fELF not a library")
     assert _fresh(code, copy)["loaded"] is False     # unloadable: numba serves, nothing crashes
     # a build that failed for these sources is not retried; for other sources it is
     (copy / "aot" / os.path.basename(path)).unlink()
     failed = copy / "aot" / os.path.basename(aot._failed_path())
-    failed.write_text(aot.sources_hash(aot.kernel_sources()) + "\nOSError: no compiler\n")
+    failed.write_text(aot.sources_hash(aot.library_sources()) + "\nOSError: no compiler\n")
     assert _fresh(code, copy) == {"loaded": False, "wanted": False}
     failed.write_text("1" * 64 + "\nOSError: no compiler\n")
     assert _fresh(code, copy) == {"loaded": False, "wanted": True}
@@ -218,3 +222,45 @@ def test_parse_types():
     assert aot.parse_types("f8[:,::1], i8[::1]!, u4[:,:,:], i8, f8") == [
         ("array", "float64", 2, True, False), ("array", "int64", 1, True, True),
         ("array", "uint32", 3, False, False), ("scalar", "int64"), ("scalar", "float64")]
+
+
+def test_an_interrupted_build_is_not_noted_as_failed(tmp_path, monkeypatch):
+    """Ctrl-C during a build: the build stops, and is tried again later (no failure note)."""
+    numba_pycc = pytest.importorskip("numba.pycc")
+    monkeypatch.setenv("INERTIA_CACHE_DIR", str(tmp_path / "cache"))
+    aot._state.clear()
+
+    def interrupted(self, *a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(numba_pycc.CC, "compile", interrupted)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            aot_library.build({"inertia.geometry._topology_numba": {"weld_map": "f8[:,::1]"}})
+        assert not os.path.exists(aot._failed_path()) and aot.wanted()
+        assert not [n for n in os.listdir(tmp_path / "cache" / "aot") if n.startswith(".build-")]
+    finally:
+        aot._state.clear()
+
+
+def test_threaded_callers_and_a_missing_numba_do_not_take_the_library(library, tmp_path, monkeypatch):
+    from inertia._core import compiled
+
+    monkeypatch.setenv("INERTIA_COMPILED", "auto")
+    name = "inertia.geometry._text_numba"
+    assert getattr(compiled.kernels(name), "holds_gil", False)            # the library's, holding the GIL
+    assert not getattr(compiled.kernels(name, ahead_of_time=False), "holds_gil", False)   # numba's
+    # numba gone after the build: the library is not used (a call it cannot take would need
+    # numba), the NumPy path answers, as without the library
+    v, f = _torus()
+    np.save(tmp_path / "soup.npy", v[f].reshape(-1, 3))
+    code = ("import json, sys\nsys.modules['numba'] = None\nimport numpy as np\nimport inertia\n"
+            "from inertia._core import compiled\ncompiled.start_warmup = lambda: False\n"
+            f"soup = np.load({str(tmp_path / 'soup.npy')!r})\n"
+            "p = inertia.mesh_properties(soup, np.arange(len(soup)).reshape(-1, 3), density=1.0)\n"
+            "print(json.dumps({'mass': p.mass, 'lib': compiled.kernels('inertia.geometry._topology_numba') is not None}))\n")
+    got = _fresh(code, library[0])
+    import inertia
+
+    assert not got["lib"]
+    assert got["mass"] == pytest.approx(inertia.mesh_properties(v, f, density=1.0).mass, rel=1e-12)

@@ -88,8 +88,8 @@ def test_warm_cache_runs_the_compiled_kernel(tmp_path):
     # sources: nothing to start
     (tmp_path / "cache" / "aot").mkdir(parents=True)
     env = {"INERTIA_CACHE_DIR": str(tmp_path / "cache")}
-    failed = tmp_path / "cache" / "aot" / (aot.library_name() + ".failed")
-    failed.write_text(aot.sources_hash(aot.kernel_sources()) + "\nOSError: no compiler\n")
+    failed = tmp_path / "cache" / "aot" / (os.path.basename(aot.library_path()) + ".failed")
+    failed.write_text(aot.sources_hash(aot.library_sources()) + "\nOSError: no compiler\n")
     got = _run(tmp_path, 12, pre="import numba", env=env)
     assert got["numba"] and got["compiled"] and not got["started"]
     assert got["mass"] == _reference(12).mass

@@ -10,6 +10,7 @@ import sys
 import pytest
 
 pa = pytest.importorskip("pyarrow")
+np = pytest.importorskip("numpy")
 
 from inertia.batch import output  # noqa: E402
 from inertia.batch.arrow_columns import column  # noqa: E402
@@ -72,7 +73,9 @@ def test_the_buffer_built_table_is_the_one_pyarrow_builds():
 
 @pytest.mark.parametrize("values, arrow_type", [
     ([1, "x"], pa.int64()), ([1.5], pa.int64()), ([True], pa.float64()), ([b"x"], pa.string()),
-    ([[1.0, "a"]], pa.list_(pa.float64())), ([2**70], pa.int64()),
+    ([[1.0, "a"]], pa.list_(pa.float64())), ([2**70], pa.int64()), ([2**53 + 1], pa.float64()),
+    ([[np.bool_(True)]], pa.list_(pa.float64())), ([[b"1.5"]], pa.list_(pa.float64())),
+    ([[2**60]], pa.list_(pa.float64())), ([[None]], pa.list_(pa.float64())),
 ])
 def test_values_of_another_kind_take_the_general_route(values, arrow_type):
     assert column(values, arrow_type) is None

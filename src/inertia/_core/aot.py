@@ -11,17 +11,21 @@ same speed (measured on the self-crossing search: 1.86 vs 1.84 ms a 5.5k-face me
 * :func:`inertia.geometry.aot_library.build` compiles the kernels its table names into the
   user's cache folder (:func:`cache_dir`), for a generic CPU of the machine's architecture (a
   home folder shared by several machines stays safe), and :func:`install` puts it in place
-  with a manifest: the argument types, and a hash of every kernel source file it was built
-  from.  The build runs in the background warm-up (``python -m inertia.cli.warmup``) and in
+  with a manifest: the argument types, and the size, time and a hash of every module of
+  the layers the kernels live in and import (:data:`SOURCE_FOLDERS`).  The build runs in
+  the background warm-up (``python -m inertia.cli.warmup``) and in
   ``inertia warm-up``; it needs a C compiler and setuptools, and when it fails it leaves a
   note (:func:`note_failure`) so that it is not retried for the same sources.
 * :func:`kernels` gives, for a kernel module, an object whose functions are those of the
-  library: valid only while every source it was built from is unchanged, for the same NumPy.
+  library: valid only while every source it was built from is unchanged, for the same NumPy,
+  and while numba is installed (a call the library cannot take goes to numba).
   A pycc function does not check its arguments (an int32 array where int64 is compiled is
   read as garbage, a read-only output is written), so each call checks them against the
   manifest first (about 1 us; an output is marked ``!`` and must be writeable), and a
   call that does not match, or a function the library lacks, goes to the numba kernel
-  (importing numba then).
+  (importing numba then).  The library's functions hold the GIL: a caller that runs kernels
+  in threads asks for numba's (``kernels(..., ahead_of_time=False)`` in :mod:`.compiled`).
+  Its numbers equal numba's to rounding (generic code: no fused multiply-adds).
 
 ``INERTIA_COMPILED=always`` or ``never`` bypass the library (:mod:`.compiled`).
 """
@@ -69,11 +73,11 @@ def library_path() -> str:
 
 
 def _manifest_path() -> str:
-    return os.path.join(cache_dir(), "aot", library_name() + ".json")
+    return library_path() + ".json"
 
 
 def _failed_path() -> str:
-    return os.path.join(cache_dir(), "aot", library_name() + ".failed")
+    return library_path() + ".failed"
 
 
 def _digest(path: str) -> str:
@@ -82,23 +86,38 @@ def _digest(path: str) -> str:
 
 
 def sources_hash(files) -> str:
-    """One hash of the named source files (relative to the package), in order."""
+    """One hash of the contents of the named source files (relative to the package), in order."""
     h = hashlib.sha256()
     for rel in files:
         h.update(rel.encode() + b"\0" + _digest(os.path.join(_package_dir(), rel)).encode() + b"\0")
     return h.hexdigest()
 
 
-def kernel_sources() -> list[str]:
-    """Every compiled-kernel source of the package (``_*_numba.py``), relative, sorted: a
-    library built from other versions of any of them is stale."""
+#: the folders whose modules the kernels are (or import: constants of the reference readers,
+#: tolerances), with the table and this loader: a library built from other versions of any
+#: of them is stale
+SOURCE_FOLDERS = ("_core", "geometry")
+
+
+def library_sources() -> list[str]:
+    """The sources a library depends on (see :data:`SOURCE_FOLDERS`), relative, sorted."""
     root = _package_dir()
     found = []
-    for folder, _, names in os.walk(root):
-        for name in names:
-            if name.startswith("_") and name.endswith("_numba.py"):
-                found.append(os.path.relpath(os.path.join(folder, name), root).replace(os.sep, "/"))
+    for sub in SOURCE_FOLDERS:
+        folder = os.path.join(root, sub)
+        for name in os.listdir(folder):
+            if name.endswith(".py"):
+                found.append(f"{sub}/{name}")
     return sorted(found)
+
+
+def source_stats(files) -> dict:
+    """``{file: [size, mtime_ns]}``: the quick check that files are as they were."""
+    out = {}
+    for rel in files:
+        st = os.stat(os.path.join(_package_dir(), rel))
+        out[rel] = [st.st_size, st.st_mtime_ns]
+    return out
 
 
 def parse_types(spec: str) -> list[tuple]:
@@ -150,7 +169,11 @@ def _accepts(arg, kind) -> bool:
 
 
 class _Kernels:
-    """The library's functions of one kernel module (see the module docstring)."""
+    """The library's functions of one kernel module (see the module docstring).  They hold
+    the GIL (pycc does not release it): a caller that runs kernels in threads asks for the
+    numba module instead (``holds_gil``)."""
+
+    holds_gil = True
 
     def __init__(self, module_name: str, library, functions: dict):
         self._module_name = module_name
@@ -173,7 +196,7 @@ class _Kernels:
         return importlib.import_module(self._module_name)
 
     def __getattr__(self, name):      # a function (or constant) the library does not hold
-        if name.startswith("__"):
+        if name.startswith("__") or name == "holds_gil":
             raise AttributeError(name)
         return getattr(self._numba(), name)
 
@@ -195,10 +218,12 @@ def load():
 
         if manifest.get("numpy") != np.__version__ or manifest.get("library") != os.path.basename(library_path()):
             return None
-        # every kernel source now (a new one makes it stale), and each unchanged (with the
-        # table the library was built from, which the builder lists too)
-        listed = manifest["sources"]
-        if not set(kernel_sources()) <= set(listed) or sources_hash(listed) != manifest.get("hash"):
+        # the same sources (a new or removed one makes it stale), each unchanged: as it was
+        # (size and time, like a .pyc), or else of the same contents (a reinstall)
+        files = library_sources()
+        if sorted(manifest["sources"]) != files:
+            return None
+        if source_stats(files) != manifest["sources"] and sources_hash(files) != manifest.get("hash"):
             return None
         spec = importlib.util.spec_from_file_location(library_name(), library_path())
         module = importlib.util.module_from_spec(spec)
@@ -233,7 +258,7 @@ def wanted() -> bool:
         return False
     try:
         with open(_failed_path(), encoding="utf-8") as fh:
-            return fh.readline().strip() != sources_hash(kernel_sources())
+            return fh.readline().strip() != sources_hash(library_sources())
     except OSError:
         return True
 
@@ -249,15 +274,16 @@ def _writable(folder: str) -> bool:
     return os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK)
 
 
-def install(built: str, exports: dict, sources_hash: str, sources: list) -> str:
-    """Move the library file ``built`` (compiled for ``exports`` from the ``sources`` whose
-    hash is ``sources_hash``) into place with its manifest, the manifest last: a library
-    without its manifest is never loaded.  Returns the library's path."""
+def install(built: str, exports: dict, sources: dict, digest: str) -> str:
+    """Move the library file ``built`` (compiled for ``exports`` from ``sources``, as
+    :func:`source_stats` gives them, whose contents hash to ``digest``) into place with its
+    manifest, the manifest last: a library without its manifest is never loaded.  Returns
+    the library's path."""
     import numpy as np
 
     target = library_path()
     manifest = {"library": os.path.basename(target), "numpy": np.__version__, "sources": sources,
-                "hash": sources_hash, "exports": exports}
+                "hash": digest, "exports": exports}
     if os.path.exists(_manifest_path()):
         os.unlink(_manifest_path())
     os.replace(built, target)

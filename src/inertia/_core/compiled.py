@@ -52,6 +52,7 @@ _checked: dict = {}        # module name -> (time of the last cache check, modul
 _RECHECK_S = 5.0           # a cold cache is looked at again after this long (the warm-up may be done)
 _warmup_started = False
 _library_checked = False
+_numba_found = None        # numba_available(), once looked for
 
 
 def mode() -> str:
@@ -69,28 +70,38 @@ def prefer_compiled() -> None:
 
 
 def numba_available() -> bool:
-    """numba can be imported (checked without importing it when possible)."""
+    """numba can be imported (checked without importing it when possible; once per process)."""
+    global _numba_found
     if "numba" in sys.modules:
-        return True
-    import importlib.util
+        return sys.modules["numba"] is not None
+    if _numba_found is None:
+        import importlib.util
 
-    return importlib.util.find_spec("numba") is not None
+        try:
+            _numba_found = importlib.util.find_spec("numba") is not None
+        except (ImportError, ValueError):
+            _numba_found = False
+    return _numba_found
 
 
-def kernels(module_name: str, *, work: int = 0):
+def kernels(module_name: str, *, work: int = 0, ahead_of_time: bool = True):
     """The compiled kernel module ``module_name``, or None when the NumPy path should run.
 
     ``work`` is the size of the job (faces, body-steps); the kernels the module's
     ``WARM_PROBE`` names show whether it is warm.  See the module docstring for the rule.
+    ``ahead_of_time=False``: numba's kernels even where the library has them (they release
+    the GIL, for callers that run them in threads).
     """
     global _numpy_since
     m = mode()
     if m == "never":
         return None
-    if m == "auto":
+    if m == "auto" and ahead_of_time and numba_available():
         from . import aot
 
-        ready = aot.kernels(module_name)   # compiled ahead of time: no numba to import or load
+        # compiled ahead of time: no numba to import or load (numba must still be there:
+        # a call the library cannot take goes to it)
+        ready = aot.kernels(module_name)
         if ready is not None:
             return ready
     if m == "auto" and "numba" not in sys.modules and not _expect_much:

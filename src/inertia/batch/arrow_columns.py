@@ -40,7 +40,7 @@ def numbers(values, arrow_type, dtype):
     for k, v in enumerate(values):
         if _is_missing(v):
             valid[k] = False
-        elif isinstance(v, (bool, np.bool_)) or not isinstance(v, kinds):
+        elif not _number(v, kinds, exact_ints=dtype is not np.int64):
             return None
         else:
             try:
@@ -49,6 +49,16 @@ def numbers(values, arrow_type, dtype):
                 return None
     bitmap, nulls = _validity(valid)
     return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
+
+
+def _number(v, kinds, exact_ints: bool) -> bool:
+    """``v`` is a number of ``kinds`` (never a bool); with ``exact_ints``, an integer only
+    if a float64 holds it exactly (pyarrow refuses the others rather than round them)."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, kinds):
+        return False
+    if exact_ints and isinstance(v, (int, np.integer)):
+        return -2**53 <= int(v) <= 2**53
+    return True
 
 
 def booleans(values):
@@ -128,12 +138,10 @@ def _plain_floats(values):
     """float64 values, NaN kept (the elements of a list column); None for a non-number."""
     import pyarrow as pa
 
-    try:
-        data = np.array(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        return None
-    if data.ndim != 1 or any(v is None or isinstance(v, (bool, str)) for v in values):
-        return None
+    kinds = (int, float, np.integer, np.floating)
+    if not all(_number(v, kinds, exact_ints=True) for v in values):
+        return None                       # None inside a list, bytes, bools...: the general route
+    data = np.array(values, dtype=np.float64)
     return pa.Array.from_buffers(pa.float64(), len(data), [None, pa.py_buffer(data)])
 
 

@@ -399,8 +399,14 @@ class _Executor:
             self._futures.append(fut)
             pending.pop(fut.key, None)
             wait([fut])
-            rows = (pickle.loads(fut.result()) if fut.status == "finished"
-                    else [crashed_row(jobs[0], fut.exception(), options)])
+            if fut.status == "finished":
+                rows = pickle.loads(fut.result())
+            else:
+                try:
+                    error = fut.exception()
+                except Exception as exc:  # noqa: BLE001 - cancelled (a scheduler lost): that is the error
+                    error = exc
+                rows = [crashed_row(jobs[0], error, options)]
             whole = reassemble(split_rows, chunks, i, sub, rows)
             if whole is not None:
                 yield i, whole

@@ -145,6 +145,12 @@ def _parallel_stl(data: np.ndarray, kernels):
     bounds = _stl_chunks(data, min(threads, 8, len(data) // PARALLEL_BYTES))
     if len(bounds) < 3:
         return None
+    if getattr(kernels, "holds_gil", False):   # the ahead-of-time library: numba's reader runs in threads
+        from .mesh_arrays import compiled_kernels
+
+        kernels = compiled_kernels("inertia.geometry._text_numba", len(data) // 12, ahead_of_time=False)
+        if kernels is None:
+            return None
     room = np.array([_stl_room(b - a) for a, b in zip(bounds, bounds[1:])])
     first = np.concatenate([[[0, 0]], np.cumsum(room, axis=0)])
     big_v, big_f = np.empty((first[-1, 0], 3)), np.empty((first[-1, 1], 3), dtype=np.int64)

@@ -1,7 +1,8 @@
 """The kernels compiled ahead of time (:mod:`inertia._core.aot`), with the argument types
-they are compiled for, and the build.  The table holds the kernels a mesh file's reading,
-checks and self-crossing search call: the whole of a row of ``inertia batch`` or ``inertia
-props``.  Any other kernel, or a call with other types, runs on numba as before.  Importing
+they are compiled for, and the build.  The table holds every kernel the mesh-file path calls from
+Python (reading, welding, checks, winding numbers, the self-crossing search): the whole of a
+row of ``inertia batch`` or ``inertia props``.  Any other kernel, or a call with other
+types, runs on numba as before (compiled then if numba's cache is cold).  Importing
 this module does not import numba (the build does).
 
 Types in numba's notation: ``f8[:,::1]`` a C-contiguous 2-D float64 array, ``u4[:,:,:]`` a
@@ -20,7 +21,10 @@ EXPORTS = {
     "inertia.geometry._topology_numba": {
         "stl_weld_and_merge": "u4[:,:,:], f8",
         "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
+        "weld_map": "f8[:,::1]",
+        "weld_compact": "f8[:,::1], i8[:,::1]",
         "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!",
+        "winding_numbers": "f8[:,::1], f8[:,:,::1]",
     },
     "inertia.geometry._selfcross_numba": {
         "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
@@ -29,6 +33,7 @@ EXPORTS = {
     "inertia.geometry._text_numba": {
         "read_ascii_stl": "u1[::1], f8[:,::1]!, i8[:,::1]!, i8",
         "read_obj": "u1[::1], i8",
+        "gather_tokens": "u1[::1], i8[:,::1]",
     },
 }
 
@@ -47,8 +52,8 @@ def build(exports: dict | None = None) -> str:
     exports = EXPORTS if exports is None else exports
     folder = os.path.dirname(aot.library_path())
     os.makedirs(folder, exist_ok=True)
-    here = os.path.relpath(os.path.abspath(__file__), os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    sources = aot.kernel_sources() + [here.replace(os.sep, "/")]   # the kernels, and this table
+    sources = aot.library_sources()          # the kernels, what they import, this table
+    stats = aot.source_stats(sources)
     digest = aot.sources_hash(sources)
     _remove_stale_builds(folder)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=folder)
@@ -75,9 +80,9 @@ def build(exports: dict | None = None) -> str:
         built = [n for n in os.listdir(tmp) if n.startswith(aot.library_name()) and not n.endswith((".o", ".c"))]
         if len(built) != 1:
             raise InertiaError(f"numba.pycc left {built!r} in {tmp}, not one library", code="internal_error")
-        return aot.install(os.path.join(tmp, built[0]), exports, digest, sources)
-    except BaseException as exc:
-        aot.note_failure(aot.sources_hash(aot.kernel_sources()), exc)
+        return aot.install(os.path.join(tmp, built[0]), exports, stats, digest)
+    except Exception as exc:          # not an interrupt: a Ctrl-C is no reason to give up
+        aot.note_failure(digest, exc)
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -69,7 +69,7 @@ def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
 _topology_state = None
 
 
-def compiled_kernels(module_name: str, work: int = 0):
+def compiled_kernels(module_name: str, work: int = 0, ahead_of_time: bool = True):
     """The compiled kernel module ``module_name`` of this layer, or None for the NumPy path:
     None when ``_topology_state`` is False (tests run "as if numba were not installed"),
     else as :func:`inertia._core.compiled.kernels` decides (numba missing, a small job in a
@@ -78,7 +78,7 @@ def compiled_kernels(module_name: str, work: int = 0):
         return None
     from .._core.compiled import kernels
 
-    return kernels(module_name, work=work)
+    return kernels(module_name, work=work, ahead_of_time=ahead_of_time)
 
 
 def topology_kernels(work: int = 0):
