@@ -40,6 +40,9 @@ import os
 import sys
 import zlib
 
+from .atomic import write_text_atomic
+from .errors import InertiaError
+
 _DTYPES = {"f8": "float64", "f4": "float32", "i8": "int64", "i4": "int32", "u4": "uint32", "u1": "uint8",
            "b1": "bool"}
 _state: dict = {}            # "library": (module, manifest) or None once looked for
@@ -287,10 +290,7 @@ def install(built: str, exports: dict, sources: dict, digest: str) -> str:
     if os.path.exists(_manifest_path()):
         os.unlink(_manifest_path())
     os.replace(built, target)
-    tmp = _manifest_path() + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        json.dump(manifest, fh, indent=1)
-    os.replace(tmp, _manifest_path())
+    write_text_atomic(_manifest_path(), json.dumps(manifest, indent=1))
     if os.path.exists(_failed_path()):
         os.unlink(_failed_path())
     _state.clear()
@@ -300,8 +300,6 @@ def install(built: str, exports: dict, sources: dict, digest: str) -> str:
 def note_failure(sources_hash: str, error: BaseException) -> None:
     """Remember that a build failed for these sources (:func:`wanted` then says no)."""
     try:
-        os.makedirs(os.path.dirname(_failed_path()), exist_ok=True)
-        with open(_failed_path(), "w", encoding="utf-8") as fh:
-            fh.write(sources_hash + "\n" + f"{type(error).__name__}: {error}\n")
-    except OSError:
+        write_text_atomic(_failed_path(), sources_hash + "\n" + f"{type(error).__name__}: {error}\n")
+    except (OSError, InertiaError):    # an unwritable cache folder: wanted() says no anyway
         pass

@@ -96,12 +96,8 @@ def kernels(module_name: str, *, work: int = 0, ahead_of_time: bool = True):
     m = mode()
     if m == "never":
         return None
-    if m == "auto" and ahead_of_time and numba_available():
-        from . import aot
-
-        # compiled ahead of time: no numba to import or load (numba must still be there:
-        # a call the library cannot take goes to it)
-        ready = aot.kernels(module_name)
+    if ahead_of_time:
+        ready = ahead_of_time_kernels(module_name)
         if ready is not None:
             return ready
     if m == "auto" and "numba" not in sys.modules and not _expect_much:
@@ -139,6 +135,17 @@ def _library_wanted() -> bool:
     from . import aot
 
     return aot.wanted()
+
+
+def ahead_of_time_kernels(module_name: str):
+    """The kernels of ``module_name`` from the ahead-of-time library (:mod:`.aot`) when
+    :func:`kernels` takes them (``auto``, numba installed: a call the library cannot take
+    goes to it), else None."""
+    if mode() != "auto" or not numba_available():
+        return None
+    from . import aot
+
+    return aot.kernels(module_name)   # no numba to import or load
 
 
 def is_cached(dispatcher, *, unknown: bool = True) -> bool:

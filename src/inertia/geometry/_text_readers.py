@@ -19,6 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._core.compiled import ahead_of_time_kernels
 from .._core.errors import MeshFileError
 from . import _text_reference as ref
 
@@ -46,7 +47,8 @@ def _kernels_for(size: int, compiled: bool | None, fmt: str):
     the ahead-of-time library (:mod:`inertia._core.aot`), which costs nothing to load."""
     if compiled is False:
         return None
-    if compiled is None and size < EAGER_BYTES and fmt not in _compiled_used and not _ahead_of_time():
+    if (compiled is None and size < EAGER_BYTES and fmt not in _compiled_used
+            and ahead_of_time_kernels("inertia.geometry._text_numba") is None):
         return None
     kernels = text_kernels(1 << 30 if compiled else size)
     if kernels is None and compiled:
@@ -57,12 +59,6 @@ def _kernels_for(size: int, compiled: bool | None, fmt: str):
     if kernels is not None:
         _compiled_used.add(fmt)
     return kernels
-
-
-def _ahead_of_time() -> bool:
-    from .._core import aot, compiled
-
-    return compiled.mode() == "auto" and aot.kernels("inertia.geometry._text_numba") is not None
 
 
 def prepare(formats) -> None:
