@@ -20,9 +20,14 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from ._heightfield_numba import CELL_EDGES, face_twins, unproved_faces
 from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
+
+#: shells of fewer faces are searched whole (the cell proof of :mod:`._heightfield_numba` pays
+#: from about this size)
+HEIGHTFIELD_MIN_FACES = 256
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
 WARM_PROBE = ("star_certificate", "find_crossing")
@@ -207,6 +212,12 @@ def _bucket(x, y, z, mask):
 
 @nb.njit(**_JIT)
 def certified_fans(V, F, N):
+    """Per vertex: :func:`certified_fans_of` for every vertex."""
+    return certified_fans_of(V, F, N, np.ones(V.shape[0], dtype=np.bool_))
+
+
+@nb.njit(**_JIT)
+def certified_fans_of(V, F, N, wanted):
     """Per vertex: True when no two faces around it meet but at the vertex and along their
     common edges, so no pair of them can cross.  Sufficient: the corners after the vertex
     (a -> b in each face, turned so that the vertex comes first) close into cycles (each
@@ -214,7 +225,8 @@ def certified_fans(V, F, N):
     the sum of their normals (beyond a 1e-6 relative margin), and a direction inside the first
     face's sector (its bisector) lies in no other face's sector (beyond a 1e-9 margin).  Then
     the projected sectors wind around the vertex once, so they are disjoint, and faces whose
-    projections meet only at the vertex meet only there."""
+    projections meet only at the vertex meet only there.  Only the vertices ``wanted`` are
+    tried (the others are False)."""
     nv = V.shape[0]
     nf = F.shape[0]
     start = np.zeros(nv + 1, dtype=np.int64)
@@ -238,7 +250,7 @@ def certified_fans(V, F, N):
     for v in range(nv):
         s0 = start[v]
         k = start[v + 1] - s0
-        if k < 3:
+        if k < 3 or not wanted[v]:
             continue
         nx = 0.0
         ny = 0.0
@@ -454,9 +466,38 @@ def find_crossing(V, F, max_per_face, rtol, out):
     if not (cell > 0.0 and cell < np.inf):
         cell = 1.0
     N, diag = face_frames(V, F)                 # per mesh, not per grid tried
-    cert = certified_fans(V, F, N)
+    rows = np.arange(nf)
+    if nf >= HEIGHTFIELD_MIN_FACES:
+        adj, closed = face_twins(F, V.shape[0])
+        if closed:
+            keep = np.zeros(nf, dtype=np.bool_)
+            n_keep = unproved_faces(V, F, N, diag, adj, CELL_EDGES, keep)
+            if n_keep == 0:
+                return 0                        # every cell proved
+            if n_keep < nf:
+                rows = np.nonzero(keep)[0]
+    if rows.shape[0] < nf:
+        wanted = np.zeros(V.shape[0], dtype=np.bool_)
+        for r in rows:
+            for k in range(3):
+                wanted[F[r, k]] = True
+        cert = certified_fans_of(V, F, N, wanted)
+    else:
+        cert = certified_fans(V, F, N)
+    Fs = F
+    Ns = N
+    diags = diag
+    if rows.shape[0] < nf:                      # search the faces of the cells not proved
+        Fs = np.ascontiguousarray(F[rows])
+        Ns = np.ascontiguousarray(N[rows])
+        diags = diag[rows]
     while True:
-        found = first_crossing(V, F, N, diag, cert, origin, cell, max_per_face, rtol, out)
+        found = first_crossing(V, Fs, Ns, diags, cert, origin, cell, max_per_face, rtol, out)
         if found >= 0:
+            if found == 1:
+                i = rows[out[0]]
+                j = rows[out[1]]
+                out[0] = min(i, j)
+                out[1] = max(i, j)
             return found
         cell *= 2.0

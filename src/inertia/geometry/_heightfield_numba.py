@@ -1,0 +1,455 @@
+"""Numba kernels: a proof, cell by cell of a coarse grid, that a closed shell does not cross
+itself, for the shells the star certificate cannot prove (a torus, a bracket), so that the
+face-pair search runs only where the proof fails.
+
+The argument.  If two faces cross, they share a point x, and x lies in some cell C of a grid;
+both faces' boxes hold x, so both are among the faces whose boxes meet C (the cell's *patch*).
+So it is enough that no two faces of each patch meet but along the edges and vertices they
+share.  A patch proves that when it is a *height field* along one of the six axis directions
+d (projecting along an axis drops a coordinate: the projected corners are the input numbers,
+no rounding):
+
+1. every face is positively oriented seen along d (the d-component of its normal beyond a
+   margin of 1e-12 of its box diagonal squared: the normal's own rounding is below 1e-15);
+2. the projection is locally one-to-one: around each vertex inside the patch (every face
+   around it in the patch) the projected faces wind once (counted exactly: the sectors, each
+   turning counterclockwise by less than a half turn, that pass the +u ray from the vertex,
+   by comparisons of coordinates alone); around each vertex on the patch's border the faces
+   form one wedge (one border edge out, one in) turning by less than a full turn;
+3. the patch's border edges form one closed loop, whose projection is a simple polygon (every
+   pair of non-adjacent border edges apart, by boxes or by orientation signs beyond their
+   rounding bound).
+
+Then the projection is a local homeomorphism of the patch whose border goes one-to-one onto a
+Jordan curve: it covers the inside of the curve exactly once, so the patch is a surface (a
+disk) that the projection maps one-to-one, and no two of its faces share a point they do not
+share in the mesh.  A patch that fails is cut into 8 and each part tried again (twice); the
+faces of the parts still unproved go to the face-pair search (:func:`._selfcross_numba.first_crossing`).
+
+Every test that rounding could decide is made with a margin, and the doubtful side is
+"not proved": the proof is never wrong, at worst it leaves a cell to the search.  Cells are
+filed in scaled coordinates ``(x - origin) / h`` widened by :data:`CELL_SLACK` cells (the
+rounding of that division is 1e-11 cells at most on the grid sizes used), so a face is filed in
+every cell its box meets.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+_JIT = dict(cache=True, nogil=True, boundscheck=False)
+
+#: a face is positively oriented along the axis when its normal's component there is above
+#: this times its box diagonal squared (the component's rounding is below 1e-15 of that)
+ORIENT_MARGIN = 1e-12
+#: cells (scaled units) by which a face's box is widened when filed (rounding is < 1e-11)
+CELL_SLACK = 1e-9
+#: the rounding bound of a 2-D orientation, relative to |t1| + |t2| (Shewchuk's is 3.3e-16)
+_CCW_BOUND = 1e-15
+#: a patch is cut into 8 parts up to this many times before its faces go to the search
+MAX_DEPTH = 2
+#: a patch of fewer faces is not cut (its faces go to the search)
+MIN_CUT = 8
+#: the grid's cells are this many times the median longest edge of the faces
+CELL_EDGES = 4.0
+#: at most this many cells per face in the grid (cells grow until it holds)
+MAX_CELLS_PER_FACE = 4
+
+
+@nb.njit(**_JIT)
+def face_twins(F, nv):
+    """``adj[t, k]``: the face across the edge ``F[t, k] -> F[t, k + 1]`` (the one face with
+    the edge the other way), and True; False when an edge has no such face or several (the
+    shell is then not a closed, consistently wound surface: nothing is proved)."""
+    nf = F.shape[0]
+    start = np.zeros(nv + 1, dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            start[F[t, k] + 1] += 1
+    for i in range(nv):
+        start[i + 1] += start[i]
+    fill = start[:-1].copy()
+    nxt = np.empty(3 * nf, dtype=np.int64)          # per slot of a vertex: the corner after it,
+    fac = np.empty(3 * nf, dtype=np.int64)          # and the face
+    for t in range(nf):
+        for k in range(3):
+            v = F[t, k]
+            s = fill[v]
+            fill[v] += 1
+            nxt[s] = F[t, (k + 1) % 3]
+            fac[s] = t
+    adj = np.empty((nf, 3), dtype=np.int64)
+    for t in range(nf):
+        for k in range(3):
+            a = F[t, k]
+            b = F[t, (k + 1) % 3]
+            found = -1
+            for s in range(start[b], start[b + 1]):
+                if nxt[s] == a:
+                    if found >= 0:
+                        return adj, False
+                    found = fac[s]
+            if found < 0:
+                return adj, False
+            adj[t, k] = found
+    return adj, True
+
+
+@nb.njit(**_JIT)
+def _orient_sign(pu, pw, qu, qw, ru, rw):
+    """Sign of the 2-D orientation (p, q, r): 1, -1, or 0 when rounding could decide it."""
+    t1 = (qu - pu) * (rw - pw)
+    t2 = (qw - pw) * (ru - pu)
+    det = t1 - t2
+    bound = _CCW_BOUND * (abs(t1) + abs(t2))
+    if det > bound:
+        return 1
+    if det < -bound:
+        return -1
+    return 0
+
+
+@nb.njit(**_JIT)
+def _upper(du, dw):
+    """The direction (du, dw) has its angle in (0, pi] (else in (-pi, 0]); exact."""
+    return dw > 0.0 or (dw == 0.0 and du < 0.0)
+
+
+@nb.njit(**_JIT)
+def _turns_before(V, iu, iw, v, u, w):
+    """The angle of u - v is below that of w - v, both in (-pi, pi] (projected on iu, iw);
+    False when rounding could decide it."""
+    uu = V[u, iu] - V[v, iu]
+    uw = V[u, iw] - V[v, iw]
+    wu = V[w, iu] - V[v, iu]
+    ww = V[w, iw] - V[v, iw]
+    hu = _upper(uu, uw)
+    hw = _upper(wu, ww)
+    if hu != hw:
+        return hw                       # u in the lower half, w in the upper
+    return _orient_sign(0.0, 0.0, uu, uw, wu, ww) > 0
+
+
+@nb.njit(**_JIT)
+def _simple_loop(V, iu, iw, loop, m, lo_u, order):
+    """The closed polygon ``loop[:m]`` (vertex numbers, projected on iu, iw) is simple: every
+    pair of edges that are not neighbours in the loop proved apart.  The edges are sorted by
+    their lowest u; each is compared with those that start before it ends (a sweep)."""
+    for i in range(m):
+        x = min(V[loop[i], iu], V[loop[(i + 1) % m], iu])
+        lo_u[i] = x
+        r = i                             # insertion sort of the edges by lowest u
+        while r > 0 and lo_u[order[r - 1]] > x:
+            order[r] = order[r - 1]
+            r -= 1
+        order[r] = i
+    for r in range(m):
+        i = order[r]
+        p1 = loop[i]
+        p2 = loop[(i + 1) % m]
+        pu1 = V[p1, iu]
+        pw1 = V[p1, iw]
+        pu2 = V[p2, iu]
+        pw2 = V[p2, iw]
+        hu = max(pu1, pu2)
+        lw = min(pw1, pw2)
+        hw = max(pw1, pw2)
+        for q in range(r + 1, m):
+            j = order[q]
+            if lo_u[j] > hu:
+                break                     # this one and the rest start after edge i ends
+            if j == (i + 1) % m or i == (j + 1) % m:
+                continue                  # neighbours in the loop meet at their corner
+            q1 = loop[j]
+            q2 = loop[(j + 1) % m]
+            qu1 = V[q1, iu]
+            qw1 = V[q1, iw]
+            qu2 = V[q2, iu]
+            qw2 = V[q2, iw]
+            if min(qw1, qw2) > hw or max(qw1, qw2) < lw:
+                continue                  # the boxes are apart
+            s1 = _orient_sign(pu1, pw1, pu2, pw2, qu1, qw1)
+            s2 = _orient_sign(pu1, pw1, pu2, pw2, qu2, qw2)
+            if s1 != 0 and s1 == s2:
+                continue                  # q on one side of p's line
+            s3 = _orient_sign(qu1, qw1, qu2, qw2, pu1, pw1)
+            s4 = _orient_sign(qu1, qw1, qu2, qw2, pu2, pw2)
+            if s3 != 0 and s3 == s4:
+                continue
+            return False
+    return True
+
+
+@nb.njit(**_JIT)
+def patch_check(V, F, N, diag, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
+    """0 when the faces ``faces[:n]`` form a height field along one axis (see the module
+    docstring): then no two of them meet but where they share edges and vertices.  Else the
+    first test failed: 1 a face not turned along the axis, 2 two wedges at a vertex, 3 a
+    closed patch, 4 an inner vertex not wound once, 5 a border wedge turning a full turn, 6
+    more than one border loop, 7 a border loop not simple.  ``mark`` is a number not used by
+    an earlier call with the same work arrays: ``fstamp`` (F,) and ``vwork`` (V, 5) int64
+    (per vertex: stamp, winding, passes of the -u ray, border edge out and in), ``iwork``
+    int64 and ``fwork`` float64 of 6 n and 3 n."""
+    if n < 2:
+        return 0
+    # the directions along which every face turns counterclockwise: +x, +y, +z, -x, -y, -z
+    px = py = pz = nx = ny = nz = True
+    for i in range(n):
+        t = faces[i]
+        m = ORIENT_MARGIN * diag[t] * diag[t]
+        a = N[t, 0]
+        b = N[t, 1]
+        c = N[t, 2]
+        px = px and a > m
+        nx = nx and a < -m
+        py = py and b > m
+        ny = ny and b < -m
+        pz = pz and c > m
+        nz = nz and c < -m
+    if px:
+        ax = 0
+    elif py:
+        ax = 1
+    elif pz:
+        ax = 2
+    elif nx:
+        ax = 3
+    elif ny:
+        ax = 4
+    elif nz:
+        ax = 5
+    else:
+        return 1
+    # (u, w, d) right-handed: the faces turn counterclockwise in (u, w) seen along d
+    if ax == 0:
+        iu, iw = 1, 2
+    elif ax == 1:
+        iu, iw = 2, 0
+    elif ax == 2:
+        iu, iw = 0, 1
+    elif ax == 3:
+        iu, iw = 2, 1
+    elif ax == 4:
+        iu, iw = 0, 2
+    else:
+        iu, iw = 1, 0
+    for i in range(n):
+        t = faces[i]
+        fstamp[t] = mark
+        for k in range(3):
+            v = F[t, k]
+            if vwork[v, 0] != mark:
+                vwork[v, 0] = mark
+                vwork[v, 1] = 0
+                vwork[v, 2] = 0
+                vwork[v, 3] = -1
+                vwork[v, 4] = -1
+    n_border = 0
+    for i in range(n):
+        t = faces[i]
+        for k in range(3):
+            v = F[t, k]
+            a = F[t, (k + 1) % 3]
+            b = F[t, (k + 2) % 3]
+            vw = V[v, iw]
+            aw = V[a, iw]
+            bw = V[b, iw]
+            if aw < vw and vw <= bw:
+                vwork[v, 1] += 1              # the sector a -> b around v passes the +u ray
+            elif aw >= vw and vw > bw:
+                vwork[v, 2] += 1            # ... or the -u ray
+            if fstamp[adj[t, k]] != mark:  # the edge v -> a is on the patch's border
+                if vwork[v, 3] >= 0 or vwork[a, 4] >= 0:
+                    return 2               # two wedges meet at a vertex
+                vwork[v, 3] = a
+                vwork[a, 4] = v
+                n_border += 1
+    if n_border < 3:
+        return 3
+    first = -1
+    for i in range(n):
+        t = faces[i]
+        for k in range(3):
+            v = F[t, k]
+            if vwork[v, 3] < 0:
+                if vwork[v, 4] >= 0 or vwork[v, 1] != 1:
+                    return 4               # a vertex inside the patch whose faces wind not once
+            else:
+                first = v
+                # the wedge turns from the edge out (to bout) to the edge in (from bin_):
+                # theta(in) - theta(out) + 2 pi passes, below 2 pi
+                p = vwork[v, 2]
+                if vwork[v, 4] < 0 or p >= 2:
+                    return 5
+                if p == 1 and not _turns_before(V, iu, iw, v, vwork[v, 4], vwork[v, 3]):
+                    return 5
+    v = first
+    for i in range(n_border):
+        iwork[i] = v
+        v = vwork[v, 3]
+        if v < 0 or vwork[v, 0] != mark or (v == first and i < n_border - 1):
+            return 6                       # more than one loop
+    if v != first:
+        return 6
+    return 0 if _simple_loop(V, iu, iw, iwork, n_border, fwork, iwork[n_border:]) else 7
+
+
+@nb.njit(**_JIT)
+def unproved_faces(V, F, N, diag, adj, cell_edges, keep):
+    """Set ``keep[t]`` for the faces of the patches that :func:`patch_check` does
+    not prove, cutting each failed cell into 8 up to :data:`MAX_DEPTH` times; returns how many.
+    ``N``, ``diag``: :func:`._selfcross_numba.face_frames`; ``adj``: :func:`face_twins`."""
+    nf = F.shape[0]
+    nv = V.shape[0]
+    origin = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    longest = np.empty(nf)
+    for t in range(nf):
+        m = 0.0
+        for k in range(3):
+            a = F[t, k]
+            b = F[t, (k + 1) % 3]
+            for c in range(3):
+                origin[c] = min(origin[c], V[a, c])
+                top[c] = max(top[c], V[a, c])
+            dx = V[b, 0] - V[a, 0]
+            dy = V[b, 1] - V[a, 1]
+            dz = V[b, 2] - V[a, 2]
+            m = max(m, dx * dx + dy * dy + dz * dz)
+        longest[t] = np.sqrt(m)
+    h = cell_edges * np.median(longest)
+    if not (h > 0.0 and h < np.inf):
+        for t in range(nf):
+            keep[t] = True
+        return nf
+    # scaled boxes; the grid's cells at most MAX_CELLS_PER_FACE per face, and 1e5 per axis
+    bl = np.empty((nf, 3))
+    bh = np.empty((nf, 3))
+    while True:
+        dims = np.empty(3, dtype=np.int64)
+        cells = 1.0
+        for c in range(3):
+            d = np.floor((top[c] - origin[c]) / h + CELL_SLACK) + 1.0
+            cells *= d
+            dims[c] = np.int64(min(d, 1e5))
+        if cells <= MAX_CELLS_PER_FACE * nf + 64 and dims.max() < 100000:
+            break
+        h *= 2.0
+    for t in range(nf):
+        for c in range(3):
+            lo = min(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
+            hi = max(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
+            bl[t, c] = (lo - origin[c]) / h
+            bh[t, c] = (hi - origin[c]) / h
+    ncell = dims[0] * dims[1] * dims[2]
+    counts = np.zeros(ncell + 1, dtype=np.int64)
+    ilo = np.empty((nf, 3), dtype=np.int64)
+    ihi = np.empty((nf, 3), dtype=np.int64)
+    for t in range(nf):
+        for c in range(3):
+            ilo[t, c] = max(np.int64(np.floor(bl[t, c] - CELL_SLACK)), 0)
+            ihi[t, c] = min(np.int64(np.floor(bh[t, c] + CELL_SLACK)), dims[c] - 1)
+        for x in range(ilo[t, 0], ihi[t, 0] + 1):
+            for y in range(ilo[t, 1], ihi[t, 1] + 1):
+                for z in range(ilo[t, 2], ihi[t, 2] + 1):
+                    counts[(x * dims[1] + y) * dims[2] + z + 1] += 1
+    for i in range(ncell):
+        counts[i + 1] += counts[i]
+    fill = counts[:-1].copy()
+    entries = np.empty(counts[ncell], dtype=np.int64)
+    for t in range(nf):
+        for x in range(ilo[t, 0], ihi[t, 0] + 1):
+            for y in range(ilo[t, 1], ihi[t, 1] + 1):
+                for z in range(ilo[t, 2], ihi[t, 2] + 1):
+                    i = (x * dims[1] + y) * dims[2] + z
+                    entries[fill[i]] = t
+                    fill[i] += 1
+    fstamp = np.full(nf, -1, dtype=np.int64)
+    vwork = np.full((nv, 5), -1, dtype=np.int64)
+    biggest = 1
+    for i in range(ncell):
+        biggest = max(biggest, counts[i + 1] - counts[i])
+    iwork = np.empty(6 * biggest, dtype=np.int64)
+    fwork = np.empty(3 * biggest)
+    # work stack of the cut parts: faces, and the part's low corner and size (scaled)
+    room = biggest * (8 * MAX_DEPTH + 1)
+    stack_faces = np.empty(room, dtype=np.int64)
+    st_start = np.empty(8 * MAX_DEPTH + 1, dtype=np.int64)
+    st_n = np.empty(8 * MAX_DEPTH + 1, dtype=np.int64)
+    st_lo = np.empty((8 * MAX_DEPTH + 1, 3))
+    st_size = np.empty(8 * MAX_DEPTH + 1)
+    st_depth = np.empty(8 * MAX_DEPTH + 1, dtype=np.int64)
+    mark = 0
+    n_keep = 0
+    for x in range(dims[0]):
+        for y in range(dims[1]):
+            for z in range(dims[2]):
+                i = (x * dims[1] + y) * dims[2] + z
+                c0 = counts[i]
+                n = counts[i + 1] - c0
+                if n < 2:
+                    continue
+                if patch_check(V, F, N, diag, adj, entries[c0:], n, mark, fstamp, vwork, iwork, fwork) == 0:
+                    mark += 1
+                    continue
+                mark += 1
+                # cut it: depth-first over the parts
+                for k in range(n):
+                    stack_faces[k] = entries[c0 + k]
+                sp = 1
+                st_start[0] = 0
+                st_n[0] = n
+                st_lo[0, 0] = x
+                st_lo[0, 1] = y
+                st_lo[0, 2] = z
+                st_size[0] = 1.0
+                st_depth[0] = 0
+                first_pop = True
+                while sp > 0:
+                    sp -= 1
+                    s0 = st_start[sp]
+                    m = st_n[sp]
+                    depth = st_depth[sp]
+                    if not first_pop:
+                        if m < 2 or patch_check(V, F, N, diag, adj, stack_faces[s0:], m, mark, fstamp,
+                                                vwork, iwork, fwork) == 0:
+                            mark += 1
+                            continue
+                        mark += 1
+                    first_pop = False
+                    if depth >= MAX_DEPTH or m < MIN_CUT:
+                        for k in range(m):
+                            t = stack_faces[s0 + k]
+                            if not keep[t]:
+                                keep[t] = True
+                                n_keep += 1
+                        continue
+                    half = 0.5 * st_size[sp]
+                    lx = st_lo[sp, 0]
+                    ly = st_lo[sp, 1]
+                    lz = st_lo[sp, 2]
+                    # the parts' faces go above this part's (which stays until its parts are done)
+                    base = s0 + m
+                    for part in range(8):
+                        px = lx + half * (part & 1)
+                        py = ly + half * ((part >> 1) & 1)
+                        pz = lz + half * ((part >> 2) & 1)
+                        cnt = 0
+                        for k in range(m):
+                            t = stack_faces[s0 + k]
+                            if (bl[t, 0] <= px + half + CELL_SLACK and bh[t, 0] >= px - CELL_SLACK
+                                    and bl[t, 1] <= py + half + CELL_SLACK and bh[t, 1] >= py - CELL_SLACK
+                                    and bl[t, 2] <= pz + half + CELL_SLACK and bh[t, 2] >= pz - CELL_SLACK):
+                                stack_faces[base + cnt] = t
+                                cnt += 1
+                        st_start[sp] = base
+                        st_n[sp] = cnt
+                        st_lo[sp, 0] = px
+                        st_lo[sp, 1] = py
+                        st_lo[sp, 2] = pz
+                        st_size[sp] = half
+                        st_depth[sp] = depth + 1
+                        sp += 1
+                        base += cnt
+    return n_keep
