@@ -210,3 +210,18 @@ def test_a_wall_pushed_through_a_torus_is_found():
         w[outer, :2] *= (0.55 / ring[outer])[:, None]           # the outer wall through the inner one
         assert sc.find_crossing(np.ascontiguousarray(w), f, 64, CROSS_RTOL, out) == 1, angle
         assert sc.faces_cross(w, f, *sc.face_frames(w, f), out[0], out[1], CROSS_RTOL)
+
+
+def test_a_shell_among_many_vertices_is_searched_on_its_own():
+    """One component of a large mesh (its faces use 1 % of the vertex array) gives the same
+    answer and the same pair as the shell alone."""
+    m = trimesh.creation.torus(1.0, 0.3, major_sections=60, minor_sections=12)
+    v = np.array(m.vertices)
+    f = np.ascontiguousarray(m.faces, dtype=np.int64)
+    others = np.random.default_rng(0).random((100_000, 3)) + 5.0
+    out, alone = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
+    for w in (v, v * np.where(np.arange(len(v)) == 0, 0.2, 1.0)[:, None]):   # embedded, then a vertex through
+        got = sc.find_crossing(np.ascontiguousarray(np.vstack([others, w])), f + len(others), 64, CROSS_RTOL, out)
+        assert got == sc.find_crossing(np.ascontiguousarray(w), f, 64, CROSS_RTOL, alone)
+        assert tuple(out) == tuple(alone) if got else True
+    assert got == 1

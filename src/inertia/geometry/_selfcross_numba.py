@@ -446,8 +446,12 @@ def find_crossing(V, F, max_per_face, rtol, out):
     used vertices, cells as long as the median of the faces' longest edges (the NumPy twin's
     ``self_crossing._cell``), twice as long while a face spans more than ``max_per_face``;
     the face frames and fan certificates computed once for every grid tried.  Returns 1 (a
-    pair in ``out``) or 0."""
+    pair in ``out``) or 0.  A shell that uses few of many vertices (one component of a large
+    mesh) is first renumbered to its own vertices, so that the work is of its size."""
     nf = F.shape[0]
+    if V.shape[0] > 4 * nf + 1024:
+        used = np.unique(F)
+        return find_crossing(np.ascontiguousarray(V[used]), np.searchsorted(used, F), max_per_face, rtol, out)
     origin = np.full(3, np.inf)
     longest = np.empty(nf)
     for t in range(nf):

@@ -20,6 +20,15 @@ Two steps, cheapest first:
    are skipped, and so are pairs around a vertex whose fan of faces is proved flat (compiled
    path: ``_selfcross_numba.certified_fans``; most pairs whose boxes overlap are such
    neighbours).  Touching faces (a shared vertex, coplanar contact) are not crossings.
+   The compiled search first proves what it can cell by cell (:mod:`._heightfield_numba`,
+   shells of 256 faces and more): in a grid of cells about four edges long, the faces whose
+   boxes meet a cell are shown to project one-to-one along an axis (every face turned that
+   way, every fan wound once, one simple border loop), so none of them can cross another
+   there; cells it cannot prove are cut in 8 (twice) and the faces of the parts still not
+   proved go to the pair search.  On the tori of ``bench/batch.py`` it proves 99 % of the
+   faces and the search costs a third of what it did (0.15 against 0.45 us a face).  The
+   NumPy path searches every pair (same answers: tests compare them with and without the
+   proof).
 
 A crossing is then weighed (:func:`crossing_effect`): real exports carry tiny local ones
 (wingnut.obj: one face poking 1e-3 of its size through three others, changing the volume by
