@@ -201,7 +201,9 @@ def test_a_wall_pushed_through_a_torus_is_found():
     assert sc.find_crossing(v, f, 64, CROSS_RTOL, out) == 0
     keep = np.zeros(len(f), dtype=bool)
     N, diag = sc.face_frames(v, f)
-    assert hf.unproved_faces(v, f, N, diag, hf.face_twins(f, len(v))[0], hf.CELL_EDGES, keep) < len(f) // 10
+    origin, top, edge = hf.box_and_median_edge(v, f)
+    assert hf.unproved_faces(v, f, N, diag, hf.face_twins(f, len(v))[0], origin, top, hf.CELL_EDGES * edge,
+                             keep) < len(f) // 10
     ring = np.hypot(v[:, 0], v[:, 1])
     for angle in np.linspace(0, 2 * np.pi, 7)[:-1]:
         w = v.copy()

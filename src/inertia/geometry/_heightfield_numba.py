@@ -296,12 +296,10 @@ def patch_check(V, F, N, diag, adj, faces, n, mark, fstamp, vwork, iwork, fwork)
 
 
 @nb.njit(**_JIT)
-def unproved_faces(V, F, N, diag, adj, cell_edges, keep):
-    """Set ``keep[t]`` for the faces of the patches that :func:`patch_check` does
-    not prove, cutting each failed cell into 8 up to :data:`MAX_DEPTH` times; returns how many.
-    ``N``, ``diag``: :func:`._selfcross_numba.face_frames`; ``adj``: :func:`face_twins`."""
+def box_and_median_edge(V, F):
+    """The low and high corners (3,) of the vertices the faces use, and the median of the
+    faces' longest edges (the cell of the face-pair search's grid)."""
     nf = F.shape[0]
-    nv = V.shape[0]
     origin = np.full(3, np.inf)
     top = np.full(3, -np.inf)
     longest = np.empty(nf)
@@ -318,7 +316,18 @@ def unproved_faces(V, F, N, diag, adj, cell_edges, keep):
             dz = V[b, 2] - V[a, 2]
             m = max(m, dx * dx + dy * dy + dz * dz)
         longest[t] = np.sqrt(m)
-    h = cell_edges * np.median(longest)
+    return origin, top, np.median(longest)
+
+
+@nb.njit(**_JIT)
+def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
+    """Set ``keep[t]`` for the faces of the patches that :func:`patch_check` does
+    not prove, cutting each failed cell into 8 up to :data:`MAX_DEPTH` times; returns how many.
+    ``N``, ``diag``: :func:`._selfcross_numba.face_frames`; ``adj``: :func:`face_twins`;
+    ``origin``, ``top``, and ``h`` (the cell, :data:`CELL_EDGES` median longest edges):
+    :func:`box_and_median_edge`."""
+    nf = F.shape[0]
+    nv = V.shape[0]
     if not (h > 0.0 and h < np.inf):
         for t in range(nf):
             keep[t] = True

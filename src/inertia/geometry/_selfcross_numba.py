@@ -20,7 +20,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ._heightfield_numba import CELL_EDGES, face_twins, unproved_faces
+from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_twins, unproved_faces
 from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
@@ -448,25 +448,19 @@ def find_crossing(V, F, max_per_face, rtol, out):
     the face frames and fan certificates computed once for every grid tried.  Returns 1 (a
     pair in ``out``) or 0.  A shell that uses few of many vertices (one component of a large
     mesh) is first renumbered to its own vertices, so that the work is of its size."""
-    nf = F.shape[0]
-    if V.shape[0] > 4 * nf + 1024:
+    if V.shape[0] > 4 * F.shape[0] + 1024:
         used = np.unique(F)
-        return find_crossing(np.ascontiguousarray(V[used]), np.searchsorted(used, F), max_per_face, rtol, out)
-    origin = np.full(3, np.inf)
-    longest = np.empty(nf)
-    for t in range(nf):
-        m = 0.0
-        for k in range(3):
-            a = F[t, k]
-            b = F[t, (k + 1) % 3]
-            for c in range(3):
-                origin[c] = min(origin[c], V[a, c])
-            dx = V[b, 0] - V[a, 0]
-            dy = V[b, 1] - V[a, 1]
-            dz = V[b, 2] - V[a, 2]
-            m = max(m, dx * dx + dy * dy + dz * dz)
-        longest[t] = np.sqrt(m)
-    cell = np.median(longest)
+        return _find_crossing(np.ascontiguousarray(V[used]), np.searchsorted(used, F), max_per_face, rtol, out)
+    return _find_crossing(V, F, max_per_face, rtol, out)
+
+
+@nb.njit(**_JIT)
+def _find_crossing(V, F, max_per_face, rtol, out):
+    """:func:`find_crossing` once the vertices are the shell's own (not recursive: numba
+    compiles a recursive call with other argument types badly)."""
+    nf = F.shape[0]
+    origin, top, cell = box_and_median_edge(V, F)
+    h = CELL_EDGES * cell                       # the cell proof's grid (it proves nothing if h is not finite)
     if not (cell > 0.0 and cell < np.inf):
         cell = 1.0
     N, diag = face_frames(V, F)                 # per mesh, not per grid tried
@@ -475,7 +469,7 @@ def find_crossing(V, F, max_per_face, rtol, out):
         adj, closed = face_twins(F, V.shape[0])
         if closed:
             keep = np.zeros(nf, dtype=np.bool_)
-            n_keep = unproved_faces(V, F, N, diag, adj, CELL_EDGES, keep)
+            n_keep = unproved_faces(V, F, N, diag, adj, origin, top, h, keep)
             if n_keep == 0:
                 return 0                        # every cell proved
             if n_keep < nf:
