@@ -118,3 +118,27 @@ def test_temporary_files_of_a_killed_run_are_removed_by_the_next(folder, tmp_pat
     _run(folder, out, density=1000.0, resume=True)
     assert not any(p.exists() for p in stale) and keep.exists()
     assert len(read_frame(out)) == 4
+
+
+@pytest.mark.parametrize("order", ["identity", "reversed", "runs", "random", "empty", "subset"])
+def test_rows_in_job_order_are_those_arrow_take_picks(order):
+    # the final table is assembled from slices (no pyarrow.compute in a batch run); truth:
+    # pyarrow's own Table.take on the same indices
+    import numpy as np
+    import pyarrow as pa
+
+    from inertia.batch.run import _rows_at
+
+    n = 57
+    table = pa.concat_tables([pa.table({"path": [f"p{i}" for i in range(k, min(k + 10, n))],
+                                        "x": [float(i) for i in range(k, min(k + 10, n))]})
+                              for k in range(0, n, 10)])
+    rng = np.random.default_rng(5)
+    index = {"identity": list(range(n)), "reversed": list(range(n))[::-1],
+             "runs": list(range(30, 57)) + list(range(0, 10)) + list(range(10, 30)),
+             "random": [int(i) for i in rng.permutation(n)], "empty": [],
+             "subset": [int(i) for i in rng.choice(n, 20, replace=False)]}[order]
+    got = _rows_at(table, index)
+    want = table.take(pa.array(index, type=pa.int64()))
+    assert got.to_pydict() == want.to_pydict()
+    assert got.column("path").to_pylist() == [f"p{i}" for i in index]

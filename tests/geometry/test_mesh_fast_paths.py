@@ -105,8 +105,8 @@ def test_near_merge_groups_match_the_kd_tree():
     base = rng.uniform(-1, 1, size=(3000, 3))
     # chains: points 0.9 tol apart along a line join transitively, across several cells
     chain = np.array([0.5, 0.5, 0.5]) + np.outer(np.arange(40) * 0.9 * tol, [1, 0, 0])
-    # pairs straddling cell boundaries (cells of 16 tol) at distance just under and just over tol
-    edge = 16 * tol * 7
+    # pairs straddling cell boundaries at distance just under and just over tol
+    edge = nbk.NEAR_CELL_TOLS * tol * 7
     straddle = np.array([[edge - 0.4 * tol, 0.1, 0.1], [edge + 0.5 * tol, 0.1, 0.1],
                          [edge - 0.6 * tol, -0.3, 0.2], [edge + 0.45 * tol, -0.3, 0.2 + 0.2 * tol],
                          [-edge - 0.5 * tol, 0.7, -0.7], [-edge + 0.6 * tol, 0.7, -0.7]])

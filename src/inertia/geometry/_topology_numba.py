@@ -37,6 +37,9 @@ from ._solid_numba import clean_solid, closed_single_shell  # noqa: E402,F401
 
 #: merging never joins vertices farther apart than this fraction of the short face edges
 MERGE_EDGE_FRACTION = 0.25
+#: the near merge's grid cells are this many times its tolerance (a point's box of +- tol
+#: leaves its cell with odds of about 6 / this)
+NEAR_CELL_TOLS = 256.0
 
 _M1 = np.uint64(0x9E3779B97F4A7C15)
 _M2 = np.uint64(0xC2B2AE3D27D4EB4F)
@@ -188,12 +191,15 @@ def near_merge_map(vertices, tol):
     Returns an empty array when the grid cannot index the coordinates (|x| / tol too large
     for int64, or non-finite values); the caller then uses its general method.
 
-    Grid hashing with cells of side 16 tol: a point's partners within tol lie in the cells
-    that the box [x - tol, x + tol] touches, on average (1 + 1/8)^3 ~ 1.4 cells.  (Merge
-    tolerances are far below the spacing of distinct vertices, so cells rarely hold two.)
+    Grid hashing with cells of side :data:`NEAR_CELL_TOLS` tol.  Each point is compared, as
+    it is filed, with the points filed before it in its own cell; a point whose box
+    [x - tol, x + tol] leaves its cell (one in about NEAR_CELL_TOLS / 6) is then also compared
+    with the points of the other cells that box touches.  Two points within tol in different
+    cells each have such a box, so every pair is seen.  (Merge tolerances are far below the
+    spacing of distinct vertices, so cells rarely hold two points.)
     """
     n = vertices.shape[0]
-    side = 16.0 * tol
+    side = NEAR_CELL_TOLS * tol
     inv = 1.0 / side
     limit = 2.0 ** 60
     cells = np.empty((n, 3), dtype=np.int64)
@@ -207,6 +213,11 @@ def near_merge_map(vertices, tol):
     mask = np.uint64(cap - 1)
     head = np.full(cap, -1, dtype=np.int64)      # first point of the cell in this slot
     nxt = np.full(n, -1, dtype=np.int64)         # next point of the same cell
+    parent = np.arange(n)
+    tol2 = tol * tol
+    margin = 1.0 + 1e-9   # a cell touched only through rounding is looked at too
+    leaves = np.zeros(n, dtype=np.bool_)
+    n_leave = 0
     for i in range(n):
         slot = _mix3(np.uint64(cells[i, 0]), np.uint64(cells[i, 1]), np.uint64(cells[i, 2])) & mask
         while True:
@@ -215,42 +226,59 @@ def near_merge_map(vertices, tol):
                 head[slot] = i
                 break
             if cells[j, 0] == cells[i, 0] and cells[j, 1] == cells[i, 1] and cells[j, 2] == cells[i, 2]:
+                while j >= 0:                    # the points of this cell filed before i
+                    if _within(vertices, i, j, tol2):
+                        union_low(parent, i, j)
+                    j = nxt[j]
                 nxt[i] = head[slot]
                 head[slot] = i
                 break
             slot = (slot + np.uint64(1)) & mask
-    parent = np.arange(n)
-    tol2 = tol * tol
-    margin = 1.0 + 1e-9   # a cell touched only through rounding is looked at too
-    lo = np.empty(3, dtype=np.int64)
-    hi = np.empty(3, dtype=np.int64)
-    for i in range(n):
         for k in range(3):
-            lo[k] = np.int64(np.floor((vertices[i, k] - tol * margin) * inv))
-            hi[k] = np.int64(np.floor((vertices[i, k] + tol * margin) * inv))
-        for c0 in range(lo[0], hi[0] + 1):
-            for c1 in range(lo[1], hi[1] + 1):
-                for c2 in range(lo[2], hi[2] + 1):
-                    slot = _mix3(np.uint64(c0), np.uint64(c1), np.uint64(c2)) & mask
-                    while True:
-                        j = head[slot]
-                        if j < 0:
-                            break
-                        if cells[j, 0] == c0 and cells[j, 1] == c1 and cells[j, 2] == c2:
-                            while j >= 0:
-                                if j > i:
-                                    d0 = vertices[i, 0] - vertices[j, 0]
-                                    d1 = vertices[i, 1] - vertices[j, 1]
-                                    d2 = vertices[i, 2] - vertices[j, 2]
-                                    if d0 * d0 + d1 * d1 + d2 * d2 <= tol2:
+            if (np.floor((vertices[i, k] - tol * margin) * inv) != cells[i, k]
+                    or np.floor((vertices[i, k] + tol * margin) * inv) != cells[i, k]):
+                leaves[i] = True
+                n_leave += 1
+                break
+    if n_leave > 0:
+        lo = np.empty(3, dtype=np.int64)
+        hi = np.empty(3, dtype=np.int64)
+        for i in range(n):
+            if not leaves[i]:
+                continue
+            for k in range(3):
+                lo[k] = np.int64(np.floor((vertices[i, k] - tol * margin) * inv))
+                hi[k] = np.int64(np.floor((vertices[i, k] + tol * margin) * inv))
+            for c0 in range(lo[0], hi[0] + 1):
+                for c1 in range(lo[1], hi[1] + 1):
+                    for c2 in range(lo[2], hi[2] + 1):
+                        if c0 == cells[i, 0] and c1 == cells[i, 1] and c2 == cells[i, 2]:
+                            continue             # its own cell: done as it was filed
+                        slot = _mix3(np.uint64(c0), np.uint64(c1), np.uint64(c2)) & mask
+                        while True:
+                            j = head[slot]
+                            if j < 0:
+                                break
+                            if cells[j, 0] == c0 and cells[j, 1] == c1 and cells[j, 2] == c2:
+                                while j >= 0:
+                                    if _within(vertices, i, j, tol2):
                                         union_low(parent, i, j)
-                                j = nxt[j]
-                            break
-                        slot = (slot + np.uint64(1)) & mask
+                                    j = nxt[j]
+                                break
+                            slot = (slot + np.uint64(1)) & mask
     rep = np.empty(n, dtype=np.int64)
     for i in range(n):
         rep[i] = find_root(parent, i)
     return rep
+
+
+@nb.njit(**_JIT)
+def _within(vertices, i, j, tol2):
+    """Points i and j are at distance <= sqrt(tol2)."""
+    d0 = vertices[i, 0] - vertices[j, 0]
+    d1 = vertices[i, 1] - vertices[j, 1]
+    d2 = vertices[i, 2] - vertices[j, 2]
+    return d0 * d0 + d1 * d1 + d2 * d2 <= tol2
 
 
 # One numeric kernel kept whole (146 lines, over the 80-line rule on purpose): its passes
