@@ -53,6 +53,8 @@ MAX_DEPTH = 2
 MIN_CUT = 8
 #: the grid's cells are this many times the median longest edge of the faces
 CELL_EDGES = 4.0
+#: the median longest edge (the grids' cell size) is taken over at most about this many faces
+MEDIAN_SAMPLE = 1024
 #: at most this many cells per face in the grid (cells grow until it holds)
 MAX_CELLS_PER_FACE = 4
 
@@ -298,25 +300,39 @@ def patch_check(V, F, N, diag, adj, faces, n, mark, fstamp, vwork, iwork, fwork)
 @nb.njit(**_JIT)
 def box_and_median_edge(V, F):
     """The low and high corners (3,) of the vertices the faces use, and the median of the
-    faces' longest edges (the cell of the face-pair search's grid)."""
+    faces' longest edges (the cell of the face-pair search's grid), taken over at most
+    :data:`MEDIAN_SAMPLE` faces evenly spread (a cell size, not a measurement)."""
     nf = F.shape[0]
-    origin = np.full(3, np.inf)
-    top = np.full(3, -np.inf)
-    longest = np.empty(nf)
+    lx = ly = lz = np.inf
+    hx = hy = hz = -np.inf
     for t in range(nf):
+        for k in range(3):
+            a = F[t, k]
+            x = V[a, 0]
+            y = V[a, 1]
+            z = V[a, 2]
+            lx = min(lx, x)
+            ly = min(ly, y)
+            lz = min(lz, z)
+            hx = max(hx, x)
+            hy = max(hy, y)
+            hz = max(hz, z)
+    origin = np.array([lx, ly, lz])
+    top = np.array([hx, hy, hz])
+    stride = max(1, nf // MEDIAN_SAMPLE)
+    longest = np.empty((nf + stride - 1) // stride)
+    for i in range(longest.shape[0]):
+        t = i * stride
         m = 0.0
         for k in range(3):
             a = F[t, k]
             b = F[t, (k + 1) % 3]
-            for c in range(3):
-                origin[c] = min(origin[c], V[a, c])
-                top[c] = max(top[c], V[a, c])
             dx = V[b, 0] - V[a, 0]
             dy = V[b, 1] - V[a, 1]
             dz = V[b, 2] - V[a, 2]
             m = max(m, dx * dx + dy * dy + dz * dz)
-        longest[t] = np.sqrt(m)
-    return origin, top, np.median(longest)
+        longest[i] = m
+    return origin, top, np.sqrt(np.median(longest))
 
 
 @nb.njit(**_JIT)
