@@ -571,8 +571,6 @@ def _rows_at(table, index):
     run, on a machine whose cores the workers need."""
     import pyarrow as pa
 
-    if len(index) == len(table) and all(i == k for k, i in enumerate(index)):
-        return table
     pieces, start = [], 0
     for k in range(1, len(index) + 1):
         if k == len(index) or index[k] != index[k - 1] + 1:

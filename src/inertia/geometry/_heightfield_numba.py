@@ -60,10 +60,10 @@ MAX_CELLS_PER_FACE = 4
 
 
 @nb.njit(**_JIT)
-def face_twins(F, nv):
-    """``adj[t, k]``: the face across the edge ``F[t, k] -> F[t, k + 1]`` (the one face with
-    the edge the other way), and True; False when an edge has no such face or several (the
-    shell is then not a closed, consistently wound surface: nothing is proved)."""
+def vertex_slots(F, nv):
+    """The faces around each vertex, by a counting sort: vertex v's slots are
+    ``start[v]:start[v + 1]``; slot s holds the face ``fac[s]`` and, in it, the corner after v
+    ``nxt[s]``."""
     nf = F.shape[0]
     start = np.zeros(nv + 1, dtype=np.int64)
     for t in range(nf):
@@ -72,8 +72,8 @@ def face_twins(F, nv):
     for i in range(nv):
         start[i + 1] += start[i]
     fill = start[:-1].copy()
-    nxt = np.empty(3 * nf, dtype=np.int64)          # per slot of a vertex: the corner after it,
-    fac = np.empty(3 * nf, dtype=np.int64)          # and the face
+    nxt = np.empty(3 * nf, dtype=np.int64)
+    fac = np.empty(3 * nf, dtype=np.int64)
     for t in range(nf):
         for k in range(3):
             v = F[t, k]
@@ -81,6 +81,16 @@ def face_twins(F, nv):
             fill[v] += 1
             nxt[s] = F[t, (k + 1) % 3]
             fac[s] = t
+    return start, fac, nxt
+
+
+@nb.njit(**_JIT)
+def face_twins(F, nv):
+    """``adj[t, k]``: the face across the edge ``F[t, k] -> F[t, k + 1]`` (the one face with
+    the edge the other way), and True; False when an edge has no such face or several (the
+    shell is then not a closed, consistently wound surface: nothing is proved)."""
+    nf = F.shape[0]
+    start, fac, nxt = vertex_slots(F, nv)
     adj = np.empty((nf, 3), dtype=np.int64)
     for t in range(nf):
         for k in range(3):

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_twins, unproved_faces
+from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_twins, unproved_faces, vertex_slots
 from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
@@ -228,19 +228,7 @@ def certified_fans_of(V, F, N, wanted):
     projections meet only at the vertex meet only there.  Only the vertices ``wanted`` are
     tried (the others are False)."""
     nv = V.shape[0]
-    nf = F.shape[0]
-    start = np.zeros(nv + 1, dtype=np.int64)
-    for t in range(nf):
-        for k in range(3):
-            start[F[t, k] + 1] += 1
-    for i in range(nv):
-        start[i + 1] += start[i]
-    fill = start[:-1].copy()
-    around = np.empty(3 * nf, dtype=np.int64)
-    for t in range(nf):
-        for k in range(3):
-            around[fill[F[t, k]]] = t
-            fill[F[t, k]] += 1
+    start, around, _ = vertex_slots(F, nv)
     cert = np.zeros(nv, dtype=np.bool_)
     kmax = 0
     for i in range(nv):
