@@ -20,6 +20,8 @@ pytest.importorskip("numba")
 from inertia._core import aot  # noqa: E402
 from inertia.geometry import aot_library  # noqa: E402
 
+_NO_TWINS = np.empty((0, 3), dtype=np.int64)         # find_crossing finds the edges' twins itself
+
 
 def _torus(nu=40, nv=16, r=0.35):
     u, w = np.meshgrid(np.linspace(0, 2 * np.pi, nu, endpoint=False), np.linspace(0, 2 * np.pi, nv, endpoint=False),
@@ -93,14 +95,20 @@ def test_the_library_gives_the_numba_kernels_answers(library):
     crossed[0] += np.array([0.0, 0.0, 0.5])          # one vertex pulled through the tube: crossings
     for verts, expect in ((v, 0), (crossed, 1)):
         outs = [np.zeros(2, np.int64), np.zeros(2, np.int64)]
-        found = [k.find_crossing(verts, f, 64, 1e-9, o) for k, o in zip((sc_fast, sc_nb), outs)]
+        found = [k.find_crossing(verts, f, _NO_TWINS, 64, 1e-9, o) for k, o in zip((sc_fast, sc_nb), outs)]
         assert found == [expect, expect]
         np.testing.assert_array_equal(outs[0], outs[1])
         assert sc_fast.star_certificate(verts, f, np.zeros(3)) == sc_nb.star_certificate(verts, f, np.zeros(3))
         sums = [np.zeros(15), np.zeros(15)]
-        res = [k.clean_solid(verts, f, 1e-12, 1e-9, s) for k, s in zip((topo_fast, topo_nb), sums)]
-        _close(res[0], res[1])
-        _close(sums[0], sums[1])
+        twins = [np.full((len(f), 3), -1), np.full((len(f), 3), -1)]
+        res = [k.clean_solid(verts, f, 1e-12, 1e60, s, a) for k, s, a in zip((topo_fast, topo_nb), sums, twins)]
+        assert res[0] == res[1] == 1
+        # the same sums to rounding (the two compilers contract and order additions their own
+        # way; the torus' first moments and products are zeros of rounding size)
+        np.testing.assert_allclose(sums[0], sums[1], rtol=1e-12, atol=1e-12 * np.abs(sums[1]).max())
+        _close(twins[0], twins[1])
+        # the search given the edges' twins answers as when it finds them itself
+        assert sc_fast.find_crossing(verts, f, twins[0], 64, 1e-9, outs[0]) == expect
     soup = np.ascontiguousarray(v[f].reshape(-1, 3))
     soup_f = np.arange(len(soup), dtype=np.int64).reshape(-1, 3)
     _close(topo_fast.weld_and_merge(soup, soup_f, 1e-9), topo_nb.weld_and_merge(soup, soup_f, 1e-9))
@@ -132,16 +140,16 @@ def test_other_argument_types_go_to_numba_not_to_the_library(library):
     out = np.zeros(2, np.int64)
     # int32 faces, Fortran-ordered vertices, a float where an int is compiled: read as garbage
     # (or a crash) by a pycc function; the guard sends them to numba, which gives the answer
-    assert fast.find_crossing(crossed, f.astype(np.int32), 64, 1e-9, out) == 1
-    assert fast.find_crossing(np.asfortranarray(crossed), f, 64, 1e-9, out) == 1
-    assert fast.find_crossing(v, f, 64.0, 1e-9, out) == 0
+    assert fast.find_crossing(crossed, f.astype(np.int32), _NO_TWINS, 64, 1e-9, out) == 1
+    assert fast.find_crossing(np.asfortranarray(crossed), f, _NO_TWINS, 64, 1e-9, out) == 1
+    assert fast.find_crossing(v, f, _NO_TWINS, 64.0, 1e-9, out) == 0
     # a read-only output: the library would write it; numba refuses it, as it always did
     frozen = np.zeros(2, np.int64)
     frozen.flags.writeable = False
     with pytest.raises(Exception) as theirs:
-        nb.find_crossing(crossed, f, 64, 1e-9, frozen)
+        nb.find_crossing(crossed, f, _NO_TWINS, 64, 1e-9, frozen)
     with pytest.raises(type(theirs.value)):
-        fast.find_crossing(crossed, f, 64, 1e-9, frozen)
+        fast.find_crossing(crossed, f, _NO_TWINS, 64, 1e-9, frozen)
     assert not frozen.any()
     assert "numba" in sys.modules
     assert fast.WARM_PROBE == nb.WARM_PROBE          # what the library lacks comes from the module

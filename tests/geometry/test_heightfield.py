@@ -19,6 +19,8 @@ from inertia.geometry import _heightfield_numba as hf  # noqa: E402
 from inertia.geometry import _selfcross_numba as sc  # noqa: E402
 from inertia.geometry.intersections import CROSS_RTOL  # noqa: E402
 
+_NO_TWINS = np.empty((0, 3), dtype=np.int64)        # find_crossing finds the edges' twins itself
+
 
 def _check(v, f, adj=None):
     """patch_check of the whole of ``f`` (edges without a face across point to a face outside)."""
@@ -182,7 +184,7 @@ def test_the_search_with_the_proof_agrees_with_the_whole_search():
             v, f = trimesh.remesh.subdivide(v, f)
             v, f = np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(f, dtype=np.int64)
         out = np.zeros(2, dtype=np.int64)
-        got = sc.find_crossing(v, f, 64, CROSS_RTOL, out)
+        got = sc.find_crossing(v, f, _NO_TWINS, 64, CROSS_RTOL, out)
         assert got == _full_search(v, f), it
         if got:
             found_any += 1
@@ -198,7 +200,7 @@ def test_a_wall_pushed_through_a_torus_is_found():
     v = np.array(m.vertices, float)
     f = np.ascontiguousarray(m.faces, dtype=np.int64)
     out = np.zeros(2, dtype=np.int64)
-    assert sc.find_crossing(v, f, 64, CROSS_RTOL, out) == 0
+    assert sc.find_crossing(v, f, _NO_TWINS, 64, CROSS_RTOL, out) == 0
     keep = np.zeros(len(f), dtype=bool)
     N, diag = sc.face_frames(v, f)
     origin, top, edge = hf.box_and_median_edge(v, f)
@@ -210,7 +212,7 @@ def test_a_wall_pushed_through_a_torus_is_found():
         near = np.abs(np.angle(np.exp(1j * (np.arctan2(v[:, 1], v[:, 0]) - angle)))) < 0.03
         outer = near & (ring > 1.0)
         w[outer, :2] *= (0.55 / ring[outer])[:, None]           # the outer wall through the inner one
-        assert sc.find_crossing(np.ascontiguousarray(w), f, 64, CROSS_RTOL, out) == 1, angle
+        assert sc.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS, 64, CROSS_RTOL, out) == 1, angle
         assert sc.faces_cross(w, f, *sc.face_frames(w, f), out[0], out[1], CROSS_RTOL)
 
 
@@ -223,7 +225,7 @@ def test_a_shell_among_many_vertices_is_searched_on_its_own():
     others = np.random.default_rng(0).random((100_000, 3)) + 5.0
     out, alone = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
     for w in (v, v * np.where(np.arange(len(v)) == 0, 0.2, 1.0)[:, None]):   # embedded, then a vertex through
-        got = sc.find_crossing(np.ascontiguousarray(np.vstack([others, w])), f + len(others), 64, CROSS_RTOL, out)
-        assert got == sc.find_crossing(np.ascontiguousarray(w), f, 64, CROSS_RTOL, alone)
+        got = sc.find_crossing(np.ascontiguousarray(np.vstack([others, w])), f + len(others), _NO_TWINS, 64, CROSS_RTOL, out)
+        assert got == sc.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS, 64, CROSS_RTOL, alone)
         assert tuple(out) == tuple(alone) if got else True
     assert got == 1

@@ -288,12 +288,42 @@ def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
     v = np.ascontiguousarray(m.vertices * [1.0, 2.0, 0.5] + rng.normal(size=3) * 1e3)
     f = np.ascontiguousarray(m.faces, dtype=np.int64)
     out = np.empty(15)
-    assert nbk.clean_solid(v, f, 1e-14, 1e60, out)
+    twins = np.full((len(f), 3), -1)
+    assert nbk.clean_solid(v, f, 1e-14, 1e60, out, twins)
     ref = np.empty(10)
     assert nbi.solid_sums(v, f, out[11:14].copy(), ref) == -1
     assert np.array_equal(ref, out[:10])
     used_lo, used_hi = v.min(axis=0), v.max(axis=0)
     assert np.array_equal(out[11:14], 0.5 * (used_lo + used_hi))
+
+
+def test_clean_solid_finds_each_edges_twin_as_face_twins_does():
+    """The face across each edge, noted by the fused check as it matches the edges, is the one
+    the self-crossing proof's own counting sort finds (``face_twins``), on shells with
+    vertices of low and high valence (the check's two matching paths: a cone's apex has 64
+    faces); and the face across twice is the face itself, through the same edge."""
+    trimesh = pytest.importorskip("trimesh")
+    from inertia.geometry._heightfield_numba import face_twins
+
+    shells = [trimesh.creation.torus(1.0, 0.3, major_sections=50, minor_sections=20),
+              trimesh.creation.cone(0.5, 1.0, sections=64), trimesh.creation.icosphere(3)]
+    rng = np.random.default_rng(3)
+    for m in shells:
+        f = np.ascontiguousarray(m.faces, dtype=np.int64)
+        turn = rng.integers(0, 3, len(f))[:, None]                  # each face's corners turned, faces shuffled
+        f = np.ascontiguousarray(f[np.arange(len(f))[:, None], (np.arange(3) + turn) % 3][rng.permutation(len(f))])
+        v = np.ascontiguousarray(m.vertices, dtype=np.float64)
+        twins = np.full((len(f), 3), -1)
+        assert nbk.clean_solid(v, f, 1e-14, 1e60, np.empty(15), twins)
+        ref, closed = face_twins(f, len(v))
+        assert closed
+        np.testing.assert_array_equal(twins, ref)
+        t = np.arange(len(f))[:, None, None]
+        back = twins[twins]                                          # (F, 3, 3): the twin's twins
+        assert ((back == t).sum(axis=2) == 1).all()                  # the face itself, once
+        k_back = np.argmax(back == t, axis=2)                        # through the twin's edge k_back
+        start, end = f, np.roll(f, -1, axis=1)                       # edge k runs start -> end
+        assert (start[twins, k_back] == end).all() and (end[twins, k_back] == start).all()
 
 
 def test_public_call_tries_the_faces_as_given_then_welds():

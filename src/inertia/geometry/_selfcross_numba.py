@@ -429,21 +429,24 @@ def first_crossing(V, F, N, diag, cert, origin, cell, max_per_face, rtol, out):
 
 
 @nb.njit(**_JIT)
-def find_crossing(V, F, max_per_face, rtol, out):
+def find_crossing(V, F, adj, max_per_face, rtol, out):
     """:func:`first_crossing` with its grid chosen here: the origin at the low corner of the
     used vertices, cells as long as the median of the faces' longest edges (the NumPy twin's
     ``self_crossing._cell``), twice as long while a face spans more than ``max_per_face``;
     the face frames and fan certificates computed once for every grid tried.  Returns 1 (a
     pair in ``out``) or 0.  A shell that uses few of many vertices (one component of a large
-    mesh) is first renumbered to its own vertices, so that the work is of its size."""
+    mesh) is first renumbered to its own vertices, so that the work is of its size.  ``adj``:
+    the face across each edge as :func:`._heightfield_numba.face_twins` gives it (from
+    :func:`._solid_numba.clean_solid`, which has matched the edges already), or an empty
+    array: then found here."""
     if V.shape[0] > 4 * F.shape[0] + 1024:
         used = np.unique(F)
-        return _find_crossing(np.ascontiguousarray(V[used]), np.searchsorted(used, F), max_per_face, rtol, out)
-    return _find_crossing(V, F, max_per_face, rtol, out)
+        return _find_crossing(np.ascontiguousarray(V[used]), np.searchsorted(used, F), adj, max_per_face, rtol, out)
+    return _find_crossing(V, F, adj, max_per_face, rtol, out)
 
 
 @nb.njit(**_JIT)
-def _find_crossing(V, F, max_per_face, rtol, out):
+def _find_crossing(V, F, adj, max_per_face, rtol, out):
     """:func:`find_crossing` once the vertices are the shell's own (not recursive: numba
     compiles a recursive call with other argument types badly)."""
     nf = F.shape[0]
@@ -454,7 +457,9 @@ def _find_crossing(V, F, max_per_face, rtol, out):
     N, diag = face_frames(V, F)                 # per mesh, not per grid tried
     rows = np.arange(nf)
     if nf >= HEIGHTFIELD_MIN_FACES:
-        adj, closed = face_twins(F, V.shape[0])
+        closed = adj.shape[0] == nf
+        if not closed:
+            adj, closed = face_twins(F, V.shape[0])
         if closed:
             keep = np.zeros(nf, dtype=np.bool_)
             n_keep = unproved_faces(V, F, N, diag, adj, origin, top, h, keep)

@@ -23,12 +23,12 @@ EXPORTS = {
         "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
         "weld_map": "f8[:,::1]",
         "weld_compact": "f8[:,::1], i8[:,::1]",
-        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!",
+        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!, i8[:,::1]!",
         "winding_numbers": "f8[:,::1], f8[:,:,::1]",
     },
     "inertia.geometry._selfcross_numba": {
         "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
-        "find_crossing": "f8[:,::1], i8[:,::1], i8, f8, i8[::1]!",
+        "find_crossing": "f8[:,::1], i8[:,::1], i8[:,::1], i8, f8, i8[::1]!",
     },
     "inertia.geometry._text_numba": {
         "read_ascii_stl": "u1[::1], f8[:,::1]!, i8[:,::1]!, i8",

@@ -143,10 +143,12 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
             rep = weld_map(v)
             fw = rep[faces]
             n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
-        if kernels.clean_solid(v, np.ascontiguousarray(fw), DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out):
+        fw = np.ascontiguousarray(fw)
+        twins = np.empty((len(fw), 3), dtype=np.int64)
+        if kernels.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out, twins):
             volume = out[0] / 6.0
             com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search)
+            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:
@@ -188,11 +190,12 @@ def _negligible_note(crossing, effect: dict) -> Defect:
                   "given", {"faces": (a, b), "effect": dict(effect)}, "note")
 
 
-def _crossing_of(vertices, faces, center, search: bool):
+def _crossing_of(vertices, faces, center, search: bool, face_twins=None):
     """:func:`.self_crossing.self_crossing` with the search up to SEARCH_MAX_FACES, or none
     (``self_crossing="certificate"``: a shell the certificate does not prove gets the note
     self_crossing_unchecked)."""
-    return self_crossing(vertices, faces, center, max_faces=SEARCH_MAX_FACES if search else 0)
+    return self_crossing(vertices, faces, center, max_faces=SEARCH_MAX_FACES if search else 0,
+                         face_twins=face_twins)
 
 
 def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False,

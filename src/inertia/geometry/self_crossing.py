@@ -129,6 +129,10 @@ def _cell(vertices, faces) -> float:
     return cell if cell > 0 and np.isfinite(cell) else 1.0
 
 
+#: ``face_twins`` not known: the compiled search finds them
+_NO_TWINS = np.empty((0, 3), dtype=np.int64)
+
+
 @dataclass(frozen=True)
 class Crossing:
     """Two faces of the shell that cross (``faces``), near ``point``."""
@@ -137,8 +141,10 @@ class Crossing:
     point: np.ndarray
 
 
-def first_crossing(vertices, faces) -> Crossing | None:
-    """The first pair of faces found crossing, or None."""
+def first_crossing(vertices, faces, *, face_twins=None) -> Crossing | None:
+    """The first pair of faces found crossing, or None.  ``face_twins`` (F, 3) int64, if
+    known: the face across each edge, ``face_twins[t, k]`` across the edge from corner k
+    to corner k + 1 (as the compiled clean-solid check finds them); else found here."""
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     f = np.ascontiguousarray(faces, dtype=np.int64)
     if len(f) < 2:
@@ -146,7 +152,8 @@ def first_crossing(vertices, faces) -> Crossing | None:
     k = _kernels(30 * len(f))             # the NumPy search costs ~30x the integrals a face
     if k is not None:
         out = np.zeros(2, dtype=np.int64)
-        if not k.find_crossing(v, f, MAX_CELLS_PER_FACE, CROSS_RTOL, out):
+        twins = _NO_TWINS if face_twins is None else np.ascontiguousarray(face_twins, dtype=np.int64)
+        if not k.find_crossing(v, f, twins, MAX_CELLS_PER_FACE, CROSS_RTOL, out):
             return None
         i, j = int(out[0]), int(out[1])
         return Crossing((i, j), v[f[i]].mean(axis=0))
@@ -189,13 +196,14 @@ def crossing_effect(vertices, faces, exact) -> dict:
                 "inertia": float(np.linalg.norm(I_e - I_r) / np.linalg.norm(I_r)) + rel["inertia"]}
 
 
-def self_crossing(vertices, faces, center, *, max_faces: int | None = SEARCH_MAX_FACES):
+def self_crossing(vertices, faces, center, *, max_faces: int | None = SEARCH_MAX_FACES, face_twins=None):
     """Whether the closed, consistently outward shell ``faces`` crosses itself: ``None`` (it
     does not: certified or searched), a :class:`Crossing`, or the string ``"unchecked"`` (not
     star-shaped from ``center`` and over ``max_faces`` faces; None: no limit).  ``center`` is
-    a point well inside, the COM, for the certificate."""
+    a point well inside, the COM, for the certificate; ``face_twins``: see
+    :func:`first_crossing`."""
     if star_certificate(vertices, faces, center):
         return None
     if max_faces is not None and len(faces) > max_faces:
         return "unchecked"
-    return first_crossing(vertices, faces)
+    return first_crossing(vertices, faces, face_twins=face_twins)
