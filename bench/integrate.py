@@ -36,6 +36,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from free_body import INERTIA_DIAG, OMEGA0, random_batch  # noqa: E402
+from startup import ensure_bytecode  # noqa: E402
 
 METHODS = ("euler_explicit", "euler_implicit", "rk4", "splitting", "dmv", "dmv4", "midpoint")
 H = 1e-3
@@ -167,6 +168,7 @@ def rollout_rows(N: int, n: int, cfun) -> dict:
 def simulate_walls(method: str, runs: int) -> list:
     cmd = [sys.executable, "-m", "inertia.cli.main", "simulate", "--moments", "1,2,3", "--omega", "0.01,1,0",
            "--times", "0,1e4", "--step", "0.01", "--method", method]
+    ensure_bytecode("inertia")                                 # as installed (see bench/startup.py)
     subprocess.run(cmd, check=True, capture_output=True)      # warm the numba cache
     return [seconds(lambda: subprocess.run(cmd, check=True, capture_output=True)) for _ in range(runs)]
 
