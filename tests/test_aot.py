@@ -106,6 +106,7 @@ def test_the_library_gives_the_numba_kernels_answers(library):
         # the same sums to rounding (the two compilers contract and order additions their own
         # way; the torus' first moments and products are zeros of rounding size)
         np.testing.assert_allclose(sums[0], sums[1], rtol=1e-12, atol=1e-12 * np.abs(sums[1]).max())
+        assert sums[0][14] == 0.0 and (twins[0] >= 0).all()      # not star-shaped: the twins are noted
         _close(twins[0], twins[1])
         # the search given the edges' twins answers as when it finds them itself
         assert sc_fast.find_crossing(verts, f, twins[0], 64, 1e-9, outs[0]) == expect

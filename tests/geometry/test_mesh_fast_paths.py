@@ -299,14 +299,21 @@ def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
 
 def test_clean_solid_finds_each_edges_twin_as_face_twins_does():
     """The face across each edge, noted by the fused check as it matches the edges, is the one
-    the self-crossing proof's own counting sort finds (``face_twins``), on shells with
-    vertices of low and high valence (the check's two matching paths: a cone's apex has 64
-    faces); and the face across twice is the face itself, through the same edge."""
+    the self-crossing proof's own counting sort finds (``face_twins``), on shells that the
+    pass does not prove star-shaped (the check then needs them), with vertices of low and
+    high valence (the check's two matching paths: the center of the cone's base, pushed up
+    into the cone as a dimple, has 64 faces); and the face across twice is the face itself,
+    through the same edge."""
     trimesh = pytest.importorskip("trimesh")
     from inertia.geometry._heightfield_numba import face_twins
 
+    cone = trimesh.creation.cone(0.5, 1.0, sections=64)
+    dimple = np.array(cone.vertices)
+    base = np.flatnonzero(np.all(np.abs(dimple) < 1e-12, axis=1))
+    assert len(base) == 1
+    dimple[base, 2] = 0.7                                        # below the side everywhere: no crossing
     shells = [trimesh.creation.torus(1.0, 0.3, major_sections=50, minor_sections=20),
-              trimesh.creation.cone(0.5, 1.0, sections=64), trimesh.creation.icosphere(3)]
+              trimesh.Trimesh(dimple, cone.faces, process=False)]
     rng = np.random.default_rng(3)
     for m in shells:
         f = np.ascontiguousarray(m.faces, dtype=np.int64)
@@ -314,7 +321,9 @@ def test_clean_solid_finds_each_edges_twin_as_face_twins_does():
         f = np.ascontiguousarray(f[np.arange(len(f))[:, None], (np.arange(3) + turn) % 3][rng.permutation(len(f))])
         v = np.ascontiguousarray(m.vertices, dtype=np.float64)
         twins = np.full((len(f), 3), -1)
-        assert nbk.clean_solid(v, f, 1e-14, 1e60, np.empty(15), twins)
+        out = np.empty(15)
+        assert nbk.clean_solid(v, f, 1e-14, 1e60, out, twins)
+        assert out[14] == 0.0                                        # not proved star-shaped
         ref, closed = face_twins(f, len(v))
         assert closed
         np.testing.assert_array_equal(twins, ref)

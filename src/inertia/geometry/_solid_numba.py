@@ -117,7 +117,7 @@ def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums, star):
     through, ``star[1]`` is 1 once a face does not see p strictly inside, 2 if the ray grazes.
 
     ``sums`` (n_chunks, 11): per chunk the 10 sums of ``solid_sums`` and twice the area;
-    ``owner``: per half-edge ``3 t + k``, its face t and corner k (the edge runs from corner k).
+    ``owner``: per half-edge ``4 t + k``, its face t and corner k (the edge runs from corner k).
     """
     r0 = p[0]
     r1 = p[1]
@@ -198,7 +198,7 @@ def _faces_pass(vertices, faces, p, area_rtol, fill, upper, owner, sums, star):
                         j = fill[b]
                         fill[b] += 1
                         upper[j] = -(a + 1)
-                    owner[j] = 3 * i + k
+                    owner[j] = 4 * i + k
             sums[c, 0] += t0
             sums[c, 1] += t1
             sums[c, 2] += t2
@@ -228,21 +228,25 @@ def _merge(parent, a, b):
 
 
 @nb.njit(**_JIT)
-def _join(parent, adj, h, g):
-    """The half-edges ``h`` and ``g`` (``3 t + k``) run along one edge: each face is the
-    other's across it (``adj``), and their sets are joined (:func:`_merge`)."""
-    t = h // 3
-    u = g // 3
-    adj[t, h - 3 * t] = u
-    adj[u, g - 3 * u] = t
+def _join(parent, adj, want, h, g):
+    """The half-edges ``h`` and ``g`` (``4 t + k``) run along one edge: their faces' sets are
+    joined (:func:`_merge`), and with ``want`` each face is noted as the other's across it
+    (``adj``).  ``want`` is a constant at each call of :func:`_match`, so that the loop
+    without the notes is compiled without them (a flag tested in the loop doubled the
+    matching's time)."""
+    t = h >> 2
+    u = g >> 2
+    if want:
+        adj[t, h & 3] = u
+        adj[u, g & 3] = t
     return _merge(parent, t, u)
 
 
 @nb.njit(**_JIT)
-def _match(start, upper, owner, parent, adj):
+def _match(start, upper, owner, parent, adj, want):
     """Match the half-edges filed under each vertex: each upper vertex exactly twice, once in
-    each direction; join the two faces of each edge and note each in ``adj`` as the other's
-    twin.  Returns the number of joins that merged two components (-1 on an open,
+    each direction; join the two faces of each edge and (``want``) note each in ``adj`` as
+    the other's twin.  Returns the number of joins that merged two components (-1 on an open,
     non-manifold or inconsistently wound edge)."""
     merged = 0
     for i in range(start.shape[0] - 1):
@@ -260,7 +264,7 @@ def _match(start, upper, owner, parent, adj):
                     return -1                    # met three times or more: non-manifold
                 if upper[j + 1] != -upper[j]:
                     return -1                    # both faces run the same way
-                merged += _join(parent, adj, owner[j], owner[j + 1])
+                merged += _join(parent, adj, want, owner[j], owner[j + 1])
                 j += 2
             continue
         for j in range(s0, s1):
@@ -278,7 +282,7 @@ def _match(start, upper, owner, parent, adj):
                     partner = q
             if partner < 0:
                 return -1                        # met once: open
-            merged += _join(parent, adj, owner[j], owner[partner])
+            merged += _join(parent, adj, want, owner[j], owner[partner])
             upper[partner] = 0
     return merged
 
@@ -294,13 +298,15 @@ def clean_solid(vertices, faces, area_rtol, limit, out, adj):
     det``, i.e. 6 x the signed volume), twice the total area at ``out[10]``, ``p``, the
     bounding-box center of the used vertices, at ``out[11:14]``, and ``out[14]`` 1 when the
     shell is proved star-shaped from ``p`` with a one-to-one radial projection (it then
-    cannot cross itself; :mod:`inertia.geometry.self_crossing`), else 0; and ``adj`` (F, 3)
-    int64 the face across each edge (``adj[t, k]``: the edge from corner k to corner k + 1, as
-    :func:`._heightfield_numba.face_twins` gives it).  (See the module docstring.)
+    cannot cross itself; :mod:`inertia.geometry.self_crossing`), else 0; and, when ``adj`` is
+    (F, 3) int64 and the shell is not proved star-shaped (the self-crossing check then runs),
+    the face across each edge in ``adj`` (``adj[t, k]``: the edge from corner k to corner
+    k + 1, as :func:`._heightfield_numba.face_twins` gives it); ``adj`` of no rows: not
+    wanted.  (See the module docstring.)
     """
     nv = vertices.shape[0]
     nf = faces.shape[0]
-    if nf < 4 or nv < 4 or nv >= 2 ** 31 or 3 * nf >= 2 ** 31 or adj.shape[0] != nf:
+    if nf < 4 or nv < 4 or nv >= 2 ** 31 or 4 * nf >= 2 ** 31 or (adj.shape[0] != nf and adj.shape[0] != 0):
         return False
     # 1. half-edges a -> b are filed under min(a, b): how many under each vertex
     counts = np.zeros(nv + 1, dtype=np.int64)
@@ -324,7 +330,7 @@ def clean_solid(vertices, faces, area_rtol, limit, out, adj):
     start[nv] = total
     # 3. per face: area, volume sums per chunk, half-edge filing
     upper = np.empty(3 * nf, dtype=np.int32)     # the other vertex + 1, negated when running down
-    owner = np.empty(3 * nf, dtype=np.int32)     # the face and corner of the half-edge, 3 t + k
+    owner = np.empty(3 * nf, dtype=np.int32)     # the face and corner of the half-edge, 4 t + k
     n_chunks = (nf + CHUNK - 1) // CHUNK
     sums = np.empty((n_chunks, 11))
     fill = start[:-1].copy()
@@ -342,12 +348,17 @@ def clean_solid(vertices, faces, area_rtol, limit, out, adj):
     # faces of each edge joined (union-find; int32 halves the cache misses of int64): one
     # edge-connected component when nf - 1 joins merged two (nesting needs the full check)
     parent = np.arange(nf).astype(np.int32)
-    if _match(start, upper, owner, parent, adj) != nf - 1:
+    star_shaped = star[1] == 0 and star[0] == 1
+    if adj.shape[0] == nf and not star_shaped:         # the self-crossing check will want the twins
+        merged = _match(start, upper, owner, parent, adj, True)
+    else:
+        merged = _match(start, upper, owner, parent, adj, False)
+    if merged != nf - 1:
         return False
     out[11] = p[0]
     out[12] = p[1]
     out[13] = p[2]
-    out[14] = 1.0 if star[1] == 0 and star[0] == 1 else 0.0
+    out[14] = 1.0 if star_shaped else 0.0
     return True
 
 
@@ -356,7 +367,7 @@ def closed_single_shell(vertices, faces, area_rtol, out):
     """:func:`clean_solid`'s verdict (no coordinate limit); on True ``out[0]`` is the total area
     and ``out[1]`` the signed volume (about the bounding-box center of the used vertices)."""
     full = np.empty(15)
-    if not clean_solid(vertices, faces, area_rtol, np.inf, full, np.empty((faces.shape[0], 3), dtype=np.int64)):
+    if not clean_solid(vertices, faces, area_rtol, np.inf, full, np.empty((0, 3), dtype=np.int64)):
         return False
     out[0] = 0.5 * full[10]
     out[1] = full[0] / 6.0

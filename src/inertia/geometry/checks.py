@@ -144,11 +144,13 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
             fw = rep[faces]
             n_welded = int(V - np.count_nonzero(rep == np.arange(V)))
         fw = np.ascontiguousarray(fw)
-        twins = np.empty((len(fw), 3), dtype=np.int64)
+        # the face across each edge, for the self-crossing check (noted by the kernel only if the
+        # shell is not proved star-shaped in its pass; pages of an array not written cost nothing)
+        twins = np.empty((len(fw) if search and len(fw) <= SEARCH_MAX_FACES else 0, 3), dtype=np.int64)
         if kernels.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out, twins):
             volume = out[0] / 6.0
             com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins)
+            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins if len(twins) else None)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:
