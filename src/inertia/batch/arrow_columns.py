@@ -12,6 +12,8 @@ a NumPy array inside a string column): the caller then takes the general route.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 
@@ -34,6 +36,13 @@ def numbers(values, arrow_type, dtype):
     import pyarrow as pa
 
     n = len(values)
+    fast = _all_plain(values, float if dtype is np.float64 else int, dtype)
+    if fast is not None:                  # every value a plain float (or int): one NumPy conversion
+        valid = fast == fast              # NaN is missing
+        if dtype is np.float64 and not valid.all():
+            fast[~valid] = 0.0
+        bitmap, nulls = _validity(valid)
+        return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(fast)], null_count=nulls)
     data = np.zeros(n, dtype=dtype)
     valid = np.ones(n, dtype=bool)
     kinds = (int, np.integer) if dtype is np.int64 else (int, float, np.integer, np.floating)
@@ -49,6 +58,18 @@ def numbers(values, arrow_type, dtype):
                 return None
     bitmap, nulls = _validity(valid)
     return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
+
+
+def _all_plain(values, kind, dtype):
+    """``values`` as a NumPy array when every one is exactly of type ``kind`` (``float`` or
+    ``int``: not a bool, not a NumPy scalar, not missing) and fits ``dtype``; else None (the
+    caller then looks at each value)."""
+    if not set(map(type, values)) <= {kind}:
+        return None
+    try:
+        return np.array(values, dtype=dtype)
+    except OverflowError:
+        return None
 
 
 def _number(v, kinds, exact_ints: bool) -> bool:
@@ -113,15 +134,19 @@ def lists(values, arrow_type):
     n = len(values)
     valid = np.ones(n, dtype=bool)
     lengths = np.zeros(n + 1, dtype=np.int64)
-    flat = []
-    for k, v in enumerate(values):
-        if v is None:
-            valid[k] = False
-        elif isinstance(v, (list, tuple)):
-            flat.extend(v)
-            lengths[k + 1] = len(v)
-        else:
-            return None
+    if set(map(type, values)) <= {list}:  # no row missing: lengths and elements in C loops
+        lengths[1:] = np.fromiter(map(len, values), dtype=np.int64, count=n)
+        flat = list(itertools.chain.from_iterable(values))
+    else:
+        flat = []
+        for k, v in enumerate(values):
+            if v is None:
+                valid[k] = False
+            elif isinstance(v, (list, tuple)):
+                flat.extend(v)
+                lengths[k + 1] = len(v)
+            else:
+                return None
     if pa.types.is_string(arrow_type.value_type):
         child = strings(flat)
     else:
@@ -138,10 +163,12 @@ def _plain_floats(values):
     """float64 values, NaN kept (the elements of a list column); None for a non-number."""
     import pyarrow as pa
 
-    kinds = (int, float, np.integer, np.floating)
-    if not all(_number(v, kinds, exact_ints=True) for v in values):
-        return None                       # None inside a list, bytes, bools...: the general route
-    data = np.array(values, dtype=np.float64)
+    data = _all_plain(values, float, np.float64)
+    if data is None:
+        kinds = (int, float, np.integer, np.floating)
+        if not all(_number(v, kinds, exact_ints=True) for v in values):
+            return None                   # None inside a list, bytes, bools...: the general route
+        data = np.array(values, dtype=np.float64)
     return pa.Array.from_buffers(pa.float64(), len(data), [None, pa.py_buffer(data)])
 
 
