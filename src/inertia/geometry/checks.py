@@ -150,7 +150,7 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         if kernels.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out, twins):
             volume = out[0] / 6.0
             com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins if len(twins) else None)
+            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:

@@ -144,7 +144,8 @@ class Crossing:
 def first_crossing(vertices, faces, *, face_twins=None) -> Crossing | None:
     """The first pair of faces found crossing, or None.  ``face_twins`` (F, 3) int64, if
     known: the face across each edge, ``face_twins[t, k]`` across the edge from corner k
-    to corner k + 1 (as the compiled clean-solid check finds them); else found here."""
+    to corner k + 1 (as the compiled clean-solid check finds them); else (None, or no rows)
+    found here."""
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     f = np.ascontiguousarray(faces, dtype=np.int64)
     if len(f) < 2:
