@@ -37,8 +37,8 @@ def _check(v, f, adj=None):
                 adj[t, k] = where.get((row[(k + 1) % 3], row[k]), len(f))
     N, diag = sc.face_frames(v, f)
     n = len(f)
-    return hf.patch_check(v, f, N, diag, adj, np.arange(n), n, 0, np.full(n + 1, -1),
-                          np.full((len(v), 5), -1), np.empty(6 * n, dtype=np.int64), np.empty(3 * n))
+    return hf.patch_check(v, f, hf.orientation_bits(N, diag), adj, np.arange(n), n, 0, np.full(n + 1, -1),
+                          np.full((len(v), 5), -1), np.empty(6 * n, dtype=np.int64), np.empty(9 * n))
 
 
 def _grid(n=4, z=None):
@@ -144,10 +144,11 @@ def test_a_proved_patch_never_holds_a_crossing_pair():
         adj, closed = hf.face_twins(f, len(v))
         assert closed
         fstamp, vwork = np.full(len(f), -1), np.full((len(v), 5), -1)
+        omask = hf.orientation_bits(N, diag)
         for mark, faces in enumerate(_cells(v, f, rng.choice([2.0, 4.0, 8.0]))):
             n = len(faces)
-            code = hf.patch_check(v, f, N, diag, adj, faces, n, mark, fstamp, vwork,
-                                  np.empty(6 * n, dtype=np.int64), np.empty(3 * n))
+            code = hf.patch_check(v, f, omask, adj, faces, n, mark, fstamp, vwork,
+                                  np.empty(6 * n, dtype=np.int64), np.empty(9 * n))
             crossing = any(sc.faces_cross(v, f, N, diag, faces[i], faces[j], CROSS_RTOL)
                            for i in range(n) for j in range(i + 1, n)
                            if len(set(f[faces[i]]) & set(f[faces[j]])) < 2)

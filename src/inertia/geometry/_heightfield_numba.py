@@ -144,12 +144,20 @@ def _turns_before(V, iu, iw, v, u, w):
 
 
 @nb.njit(**_JIT)
-def _simple_loop(V, iu, iw, loop, m, lo_u, order):
+def _simple_loop(V, iu, iw, loop, m, fwork, order):
     """The closed polygon ``loop[:m]`` (vertex numbers, projected on iu, iw) is simple: every
     pair of edges that are not neighbours in the loop proved apart.  The edges are sorted by
-    their lowest u; each is compared with those that start before it ends (a sweep)."""
+    their lowest u; each is compared with those that start before it ends (a sweep).
+    ``fwork``: 3 m floats; ``order``: m integers."""
+    pu = fwork[:m]
+    pw = fwork[m:2 * m]
+    lo_u = fwork[2 * m:3 * m]
     for i in range(m):
-        x = min(V[loop[i], iu], V[loop[(i + 1) % m], iu])
+        pu[i] = V[loop[i], iu]
+        pw[i] = V[loop[i], iw]
+    for i in range(m):
+        i2 = i + 1 if i + 1 < m else 0
+        x = min(pu[i], pu[i2])
         lo_u[i] = x
         r = i                             # insertion sort of the edges by lowest u
         while r > 0 and lo_u[order[r - 1]] > x:
@@ -158,12 +166,12 @@ def _simple_loop(V, iu, iw, loop, m, lo_u, order):
         order[r] = i
     for r in range(m):
         i = order[r]
-        p1 = loop[i]
-        p2 = loop[(i + 1) % m]
-        pu1 = V[p1, iu]
-        pw1 = V[p1, iw]
-        pu2 = V[p2, iu]
-        pw2 = V[p2, iw]
+        i2 = i + 1 if i + 1 < m else 0
+        i0 = i - 1 if i > 0 else m - 1
+        pu1 = pu[i]
+        pw1 = pw[i]
+        pu2 = pu[i2]
+        pw2 = pw[i2]
         hu = max(pu1, pu2)
         lw = min(pw1, pw2)
         hw = max(pw1, pw2)
@@ -171,16 +179,15 @@ def _simple_loop(V, iu, iw, loop, m, lo_u, order):
             j = order[q]
             if lo_u[j] > hu:
                 break                     # this one and the rest start after edge i ends
-            if j == (i + 1) % m or i == (j + 1) % m:
+            if j == i2 or j == i0:
                 continue                  # neighbours in the loop meet at their corner
-            q1 = loop[j]
-            q2 = loop[(j + 1) % m]
-            qu1 = V[q1, iu]
-            qw1 = V[q1, iw]
-            qu2 = V[q2, iu]
-            qw2 = V[q2, iw]
+            j2 = j + 1 if j + 1 < m else 0
+            qw1 = pw[j]
+            qw2 = pw[j2]
             if min(qw1, qw2) > hw or max(qw1, qw2) < lw:
                 continue                  # the boxes are apart
+            qu1 = pu[j]
+            qu2 = pu[j2]
             s1 = _orient_sign(pu1, pw1, pu2, pw2, qu1, qw1)
             s2 = _orient_sign(pu1, pw1, pu2, pw2, qu2, qw2)
             if s1 != 0 and s1 == s2:
@@ -194,45 +201,65 @@ def _simple_loop(V, iu, iw, loop, m, lo_u, order):
 
 
 @nb.njit(**_JIT)
-def patch_check(V, F, N, diag, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
-    """0 when the faces ``faces[:n]`` form a height field along one axis (see the module
-    docstring): then no two of them meet but where they share edges and vertices.  Else the
-    first test failed: 1 a face not turned along the axis, 2 two wedges at a vertex, 3 a
-    closed patch, 4 an inner vertex not wound once, 5 a border wedge turning a full turn, 6
-    more than one border loop, 7 a border loop not simple.  ``mark`` is a number not used by
-    an earlier call with the same work arrays: ``fstamp`` (F,) and ``vwork`` (V, 5) int64
-    (per vertex: stamp, winding, passes of the -u ray, border edge out and in), ``iwork``
-    int64 and ``fwork`` float64 of 6 n and 3 n."""
-    if n < 2:
-        return 0
-    # the directions along which every face turns counterclockwise: +x, +y, +z, -x, -y, -z
-    px = py = pz = nx = ny = nz = True
-    for i in range(n):
-        t = faces[i]
+def orientation_bits(N, diag):
+    """Per face, the axis directions along which it turns counterclockwise (test 1 of the
+    module docstring, with :data:`ORIENT_MARGIN`): bits 1, 2, 4 for +x, +y, +z and 8, 16, 32
+    for -x, -y, -z (uint8).  A patch is oriented along the directions of all its faces' bits."""
+    nf = N.shape[0]
+    out = np.empty(nf, dtype=np.uint8)
+    for t in range(nf):
         m = ORIENT_MARGIN * diag[t] * diag[t]
         a = N[t, 0]
         b = N[t, 1]
         c = N[t, 2]
-        px = px and a > m
-        nx = nx and a < -m
-        py = py and b > m
-        ny = ny and b < -m
-        pz = pz and c > m
-        nz = nz and c < -m
-    if px:
+        bits = 0
+        if a > m:
+            bits |= 1
+        elif a < -m:
+            bits |= 8
+        if b > m:
+            bits |= 2
+        elif b < -m:
+            bits |= 16
+        if c > m:
+            bits |= 4
+        elif c < -m:
+            bits |= 32
+        out[t] = bits
+    return out
+
+
+@nb.njit(**_JIT)
+def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
+    """0 when the faces ``faces[:n]`` form a height field along one axis (see the module
+    docstring): then no two of them meet but where they share edges and vertices.  Else the
+    first test failed: 1 a face not turned along the axis, 2 two wedges at a vertex, 3 a
+    closed patch, 4 an inner vertex not wound once, 5 a border wedge turning a full turn, 6
+    more than one border loop, 7 a border loop not simple.  ``omask``: :func:`orientation_bits`
+    of the faces.  ``mark`` is a number not used by
+    an earlier call with the same work arrays: ``fstamp`` (F,) and ``vwork`` (V, 5) int64
+    (per vertex: stamp, winding, passes of the -u ray, border edge out and in), ``iwork``
+    int64 and ``fwork`` float64 of 6 n and 9 n."""
+    if n < 2:
+        return 0
+    # the directions along which every face turns counterclockwise (bits: orientation_bits)
+    bits = 63
+    for i in range(n):
+        bits &= omask[faces[i]]
+        if bits == 0:
+            return 1
+    if bits & 1:
         ax = 0
-    elif py:
+    elif bits & 2:
         ax = 1
-    elif pz:
+    elif bits & 4:
         ax = 2
-    elif nx:
+    elif bits & 8:
         ax = 3
-    elif ny:
+    elif bits & 16:
         ax = 4
-    elif nz:
-        ax = 5
     else:
-        return 1
+        ax = 5
     # (u, w, d) right-handed: the faces turn counterclockwise in (u, w) seen along d
     if ax == 0:
         iu, iw = 1, 2
@@ -249,24 +276,25 @@ def patch_check(V, F, N, diag, adj, faces, n, mark, fstamp, vwork, iwork, fwork)
     for i in range(n):
         t = faces[i]
         fstamp[t] = mark
+    n_border = 0
+    for i in range(n):
+        t = faces[i]
+        vs = (F[t, 0], F[t, 1], F[t, 2])
+        ws = (V[vs[0], iw], V[vs[1], iw], V[vs[2], iw])
         for k in range(3):
-            v = F[t, k]
+            v = vs[k]
             if vwork[v, 0] != mark:
                 vwork[v, 0] = mark
                 vwork[v, 1] = 0
                 vwork[v, 2] = 0
                 vwork[v, 3] = -1
                 vwork[v, 4] = -1
-    n_border = 0
-    for i in range(n):
-        t = faces[i]
         for k in range(3):
-            v = F[t, k]
-            a = F[t, (k + 1) % 3]
-            b = F[t, (k + 2) % 3]
-            vw = V[v, iw]
-            aw = V[a, iw]
-            bw = V[b, iw]
+            v = vs[k]
+            a = vs[(k + 1) % 3]
+            vw = ws[k]
+            aw = ws[(k + 1) % 3]
+            bw = ws[(k + 2) % 3]
             if aw < vw and vw <= bw:
                 vwork[v, 1] += 1              # the sector a -> b around v passes the +u ray
             elif aw >= vw and vw > bw:
@@ -401,13 +429,16 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                     entries[fill[i]] = t
                     fill[i] += 1
     fstamp = np.full(nf, -1, dtype=np.int64)
+    omask = orientation_bits(N, diag)
     vwork = np.full((nv, 5), -1, dtype=np.int64)
     biggest = 1
     for i in range(ncell):
         biggest = max(biggest, counts[i + 1] - counts[i])
     iwork = np.empty(6 * biggest, dtype=np.int64)
-    fwork = np.empty(3 * biggest)
-    # work stack of the cut parts: faces, and the part's low corner and size (scaled)
+    fwork = np.empty(9 * biggest)
+    # work stack of the cut parts: faces, and the part's low corner and size (scaled); the parts
+    # of a part of m faces take 8 m slots above it, and a part holds at most its parent's faces:
+    # (8 MAX_DEPTH + 1) times the largest cell at most
     room = biggest * (8 * MAX_DEPTH + 1)
     stack_faces = np.empty(room, dtype=np.int64)
     st_start = np.empty(8 * MAX_DEPTH + 1, dtype=np.int64)
@@ -425,7 +456,7 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                 n = counts[i + 1] - c0
                 if n < 2:
                     continue
-                if patch_check(V, F, N, diag, adj, entries[c0:], n, mark, fstamp, vwork, iwork, fwork) == 0:
+                if patch_check(V, F, omask, adj, entries[c0:], n, mark, fstamp, vwork, iwork, fwork) == 0:
                     mark += 1
                     continue
                 mark += 1
@@ -447,7 +478,7 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                     m = st_n[sp]
                     depth = st_depth[sp]
                     if not first_pop:
-                        if m < 2 or patch_check(V, F, N, diag, adj, stack_faces[s0:], m, mark, fstamp,
+                        if m < 2 or patch_check(V, F, omask, adj, stack_faces[s0:], m, mark, fstamp,
                                                 vwork, iwork, fwork) == 0:
                             mark += 1
                             continue
@@ -464,27 +495,37 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                     lx = st_lo[sp, 0]
                     ly = st_lo[sp, 1]
                     lz = st_lo[sp, 2]
-                    # the parts' faces go above this part's (which stays until its parts are done)
+                    # the parts' faces go above this part's (which stays until its parts are
+                    # done), part p's in m slots from base + m p.  A face goes to the parts on
+                    # the sides of the three inner planes that its box reaches (with the slack):
+                    # every part it meets (a face that meets a part meets this one, so it is
+                    # here), and at worst a few more (sound: a patch of more faces proves more)
                     base = s0 + m
+                    mx = lx + half
+                    my = ly + half
+                    mz = lz + half
                     for part in range(8):
-                        px = lx + half * (part & 1)
-                        py = ly + half * ((part >> 1) & 1)
-                        pz = lz + half * ((part >> 2) & 1)
-                        cnt = 0
-                        for k in range(m):
-                            t = stack_faces[s0 + k]
-                            if (bl[t, 0] <= px + half + CELL_SLACK and bh[t, 0] >= px - CELL_SLACK
-                                    and bl[t, 1] <= py + half + CELL_SLACK and bh[t, 1] >= py - CELL_SLACK
-                                    and bl[t, 2] <= pz + half + CELL_SLACK and bh[t, 2] >= pz - CELL_SLACK):
-                                stack_faces[base + cnt] = t
-                                cnt += 1
-                        st_start[sp] = base
-                        st_n[sp] = cnt
-                        st_lo[sp, 0] = px
-                        st_lo[sp, 1] = py
-                        st_lo[sp, 2] = pz
+                        st_n[sp + part] = 0
+                    for k in range(m):
+                        t = stack_faces[s0 + k]
+                        x0 = 0 if bl[t, 0] <= mx + CELL_SLACK else 1
+                        x1 = 2 if bh[t, 0] >= mx - CELL_SLACK else 1
+                        y0 = 0 if bl[t, 1] <= my + CELL_SLACK else 1
+                        y1 = 2 if bh[t, 1] >= my - CELL_SLACK else 1
+                        z0 = 0 if bl[t, 2] <= mz + CELL_SLACK else 1
+                        z1 = 2 if bh[t, 2] >= mz - CELL_SLACK else 1
+                        for zb in range(z0, z1):
+                            for yb in range(y0, y1):
+                                for xb in range(x0, x1):
+                                    part = xb + 2 * yb + 4 * zb
+                                    stack_faces[base + part * m + st_n[sp + part]] = t
+                                    st_n[sp + part] += 1
+                    for part in range(8):
+                        st_start[sp] = base + part * m
+                        st_lo[sp, 0] = lx + half * (part & 1)
+                        st_lo[sp, 1] = ly + half * ((part >> 1) & 1)
+                        st_lo[sp, 2] = lz + half * ((part >> 2) & 1)
                         st_size[sp] = half
                         st_depth[sp] = depth + 1
                         sp += 1
-                        base += cnt
     return n_keep
