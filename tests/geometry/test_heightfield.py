@@ -194,6 +194,44 @@ def test_the_search_with_the_proof_agrees_with_the_whole_search():
     assert 20 < found_any < 140
 
 
+def _crossing_pairs(v, f):
+    """Every pair of faces that cross (boxes first, then the exact test), faces sharing an edge
+    left out."""
+    N, diag = sc.face_frames(v, f)
+    lo, hi = v[f].min(1), v[f].max(1)
+    pairs = []
+    for a in range(len(f)):
+        near = np.nonzero(np.all((lo[a + 1:] <= hi[a]) & (hi[a + 1:] >= lo[a]), axis=1))[0] + a + 1
+        for b in near:
+            if len(set(f[a]) & set(f[b])) < 2 and sc.faces_cross(v, f, N, diag, a, b, CROSS_RTOL):
+                pairs.append((a, b))
+    return pairs
+
+
+def test_the_proof_leaves_both_faces_of_every_crossing_pair_to_the_search():
+    """unproved_faces keeps both faces of each pair that crosses (the search sees only the kept
+    faces), on tangled shells with cells of 2 to 8 edges: proved cells, cut ones, and parts."""
+    rng = np.random.default_rng(23)
+    pairs_seen = proved_some = 0
+    for it in range(40):
+        v, f = _jittered(rng, it)
+        if len(f) < 400:
+            v, f = trimesh.remesh.subdivide(v, f)
+            v, f = np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(f, dtype=np.int64)
+        adj, closed = hf.face_twins(f, len(v))
+        assert closed
+        N, diag = sc.face_frames(v, f)
+        origin, top, edge = hf.box_and_median_edge(v, f)
+        keep = np.zeros(len(f), dtype=bool)
+        n_keep = hf.unproved_faces(v, f, N, diag, adj, origin, top, rng.choice([2.0, 4.0, 8.0]) * edge, keep)
+        assert n_keep == keep.sum()
+        proved_some += n_keep < len(f)
+        for a, b in _crossing_pairs(v, f):
+            pairs_seen += 1
+            assert keep[a] and keep[b], (it, a, b)
+    assert pairs_seen > 100 and proved_some > 20
+
+
 def test_a_wall_pushed_through_a_torus_is_found():
     """A rippled torus proved embedded; one ring of its tube pushed through the opposite wall is
     found, whichever cells the crossing lies in."""
