@@ -235,14 +235,13 @@ def test_parse_types():
 
 def test_an_interrupted_build_is_not_noted_as_failed(tmp_path, monkeypatch):
     """Ctrl-C during a build: the build stops, and is tried again later (no failure note)."""
-    numba_pycc = pytest.importorskip("numba.pycc")
     monkeypatch.setenv("INERTIA_CACHE_DIR", str(tmp_path / "cache"))
     aot._state.clear()
 
-    def interrupted(self, *a, **k):
+    def interrupted(*a, **k):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(numba_pycc.CC, "compile", interrupted)
+    monkeypatch.setattr(aot_library, "_compile_in_child", interrupted)
     try:
         with pytest.raises(KeyboardInterrupt):
             aot_library.build({"inertia.geometry._topology_numba": {"weld_map": "f8[:,::1]"}})
@@ -273,3 +272,40 @@ def test_threaded_callers_and_a_missing_numba_do_not_take_the_library(library, t
 
     assert not got["lib"]
     assert got["mass"] == pytest.approx(inertia.mesh_properties(v, f, density=1.0).mass, rel=1e-12)
+
+
+def test_the_library_holds_a_callee_changed_since_numba_cached_its_caller(library, tmp_path, monkeypatch):
+    """Numba's cache keys a kernel by its own file: a cached kernel keeps the code of a callee
+    from another module as it was (an exported f calls h of its module, which calls g of
+    another; g changes).  The build compiles afresh (an empty numba cache in a child process),
+    so the library holds g as its source is now; built from the cache it held the old g."""
+    import subprocess
+    import sys
+
+    package = tmp_path / "stalepkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "callee.py").write_text("import numba\n\n@numba.njit(cache=True)\ndef g(x):\n    return x + 1\n")
+    (package / "caller.py").write_text("import numba\nfrom .callee import g\n\n"
+                                       "@numba.njit(cache=True)\ndef h(x):\n    return g(x) * 10\n\n"
+                                       "@numba.njit(cache=True)\ndef f(x):\n    return h(x)\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    probe = [sys.executable, "-c", "from stalepkg.caller import f; print(f(1))"]
+    assert subprocess.run(probe, env=env, capture_output=True, text=True, check=True).stdout.strip() == "20"
+    source = (package / "callee.py").read_text().replace("x + 1", "x + 2")
+    (package / "callee.py").write_text(source)                  # caller.py untouched: its cache is "valid"
+    stale = subprocess.run(probe, env=env, capture_output=True, text=True, check=True).stdout.strip()
+    assert stale in ("20", "30")                                # numba's own answer: 20 while it misses the change
+    monkeypatch.setenv("PYTHONPATH", env["PYTHONPATH"])
+    monkeypatch.setenv("INERTIA_CACHE_DIR", str(tmp_path / "cache"))
+    aot._state.clear()
+    try:
+        path = aot_library.build({"stalepkg.caller": {"f": "i8"}})
+        fast = aot.kernels("stalepkg.caller")
+        assert fast is not None and os.path.exists(path)
+        assert fast.f(1) == 30, f"the library holds the old callee (numba's cached caller gives {stale})"
+    finally:
+        aot._state.clear()
+        sys.modules.pop("stalepkg.caller", None)
+        sys.modules.pop("stalepkg.callee", None)
+        sys.modules.pop("stalepkg", None)

@@ -41,13 +41,18 @@ EXPORTS = {
 def build(exports: dict | None = None) -> str:
     """Compile the kernels of ``exports`` (default :data:`EXPORTS`; ``{module: {function:
     argument types}}``) with ``numba.pycc`` into the library of :mod:`inertia._core.aot`
-    (about 15 s); returns its path.  Built in a temporary folder beside it, then moved in
+    (about a minute); returns its path.  Built in a temporary folder beside it, then moved in
     place.  On failure the error is raised, and noted so that it is not retried for the same
-    sources."""
-    import importlib
+    sources.
+
+    The compilation runs in a child process whose numba cache is an empty folder (inside the
+    temporary one).  Numba's on-disk cache is keyed by each function's own source file: a
+    cached kernel keeps the code of the kernels it calls from other modules as they were when
+    it was compiled, so a library built from the cache could hold an earlier version of a
+    kernel whose module changed since (an edited checkout, a checkout of another commit).
+    Compiled afresh, the library holds the sources its digest names."""
     import shutil
     import tempfile
-    import warnings
 
     exports = EXPORTS if exports is None else exports
     folder = os.path.dirname(aot.library_path())
@@ -58,25 +63,7 @@ def build(exports: dict | None = None) -> str:
     _remove_stale_builds(folder)
     tmp = tempfile.mkdtemp(prefix=".build-", dir=folder)
     try:
-        from numba.core.sigutils import _parse_signature_string
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")          # pycc's deprecation notice
-            from numba.pycc import CC
-
-            cc = CC(aot.library_name())
-            cc.output_dir = tmp
-            cc.verbose = False
-            cc.target_cpu = ""                       # generic: safe on any CPU of the architecture
-            for module_name, functions in exports.items():
-                module = importlib.import_module(module_name)
-                for name, spec in functions.items():
-                    dispatcher = getattr(module, name)
-                    args = tuple(_parse_signature_string(f"({spec.replace('!', '')},)"))
-                    dispatcher.compile(args)         # numba infers the return type
-                    sig = dispatcher.overloads[args].signature
-                    cc.export(aot.exported_name(module_name, name), sig)(dispatcher.py_func)
-            cc.compile()
+        _compile_in_child(exports, tmp)
         built = [n for n in os.listdir(tmp) if n.startswith(aot.library_name()) and not n.endswith((".o", ".c"))]
         if len(built) != 1:
             raise InertiaError(f"numba.pycc left {built!r} in {tmp}, not one library", code="internal_error")
@@ -86,6 +73,54 @@ def build(exports: dict | None = None) -> str:
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _compile_in_child(exports: dict, folder: str) -> None:
+    """Run :func:`compile_into` in a new interpreter (this one's, importing this package)
+    with ``NUMBA_CACHE_DIR`` an empty folder in ``folder``; its error, if any, is raised here."""
+    import json
+    import subprocess
+    import sys
+
+    package_parent = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    path = os.environ.get("PYTHONPATH")
+    env = dict(os.environ, NUMBA_CACHE_DIR=os.path.join(folder, "numba-cache"),
+               PYTHONPATH=package_parent + (os.pathsep + path if path else ""))
+    code = "import sys, json; from inertia.geometry.aot_library import compile_into; " \
+           "compile_into(json.loads(sys.stdin.read()), sys.argv[1])"
+    done = subprocess.run([sys.executable, "-c", code, folder], input=json.dumps(exports), text=True,
+                          capture_output=True, env=env)
+    if done.returncode != 0:
+        lines = [line for line in done.stderr.strip().splitlines() if line.strip()]
+        raise InertiaError(f"compiling the ahead-of-time library failed (exit {done.returncode}): "
+                           f"{lines[-1] if lines else 'no message'}", code="internal_error")
+
+
+def compile_into(exports: dict, folder: str) -> None:
+    """Compile the kernels of ``exports`` with ``numba.pycc`` into a library in ``folder``
+    (this process: :func:`build` calls it in a child with an empty numba cache)."""
+    import importlib
+    import warnings
+
+    from numba.core.sigutils import _parse_signature_string
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")          # pycc's deprecation notice
+        from numba.pycc import CC
+
+        cc = CC(aot.library_name())
+        cc.output_dir = folder
+        cc.verbose = False
+        cc.target_cpu = ""                       # generic: safe on any CPU of the architecture
+        for module_name, functions in exports.items():
+            module = importlib.import_module(module_name)
+            for name, spec in functions.items():
+                dispatcher = getattr(module, name)
+                args = tuple(_parse_signature_string(f"({spec.replace('!', '')},)"))
+                dispatcher.compile(args)         # numba infers the return type
+                sig = dispatcher.overloads[args].signature
+                cc.export(aot.exported_name(module_name, name), sig)(dispatcher.py_func)
+        cc.compile()
 
 
 def _remove_stale_builds(folder: str, age_s: float = 3600.0) -> None:
