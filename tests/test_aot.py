@@ -309,3 +309,49 @@ def test_the_library_holds_a_callee_changed_since_numba_cached_its_caller(librar
         sys.modules.pop("stalepkg.caller", None)
         sys.modules.pop("stalepkg.callee", None)
         sys.modules.pop("stalepkg", None)
+
+
+def test_the_library_is_built_for_this_cpu_and_never_loaded_on_another(library, tmp_path):
+    folder, path = library
+    manifest = json.loads(open(path + ".json", encoding="utf-8").read())
+    assert manifest["cpu"] == aot.cpu_key()
+    if aot.cpu_key() != "generic":       # Linux: compiled for this CPU, named by it
+        assert manifest["target"] == "host"
+        assert os.path.basename(path).startswith(aot.library_name()) and aot.library_name().count("_") == 3
+    code = ("import json, sys\nfrom inertia._core import aot\n"
+            "print(json.dumps({'loaded': aot.load() is not None, 'name': aot.library_name()}))\n")
+    here = _fresh(code, folder)
+    assert here["loaded"]
+    # another CPU sharing the cache folder (NUMBA_CPU_NAME makes this one count as another):
+    # it looks for a library of its own name, and a manifest naming another CPU is never loaded
+    other = _fresh(code, folder, NUMBA_CPU_NAME="generic")
+    assert other["name"] != here["name"] and not other["loaded"]
+    copy = tmp_path / "cache"
+    shutil.copytree(folder, copy)
+    meta = dict(manifest, cpu=manifest["cpu"] + " avx9000")
+    (copy / "aot" / (os.path.basename(path) + ".json")).write_text(json.dumps(meta))
+    assert _fresh(code, copy)["loaded"] is False
+
+
+def test_the_cpu_key_names_the_model_and_flags_of_the_first_processor(tmp_path, monkeypatch):
+    monkeypatch.delenv("NUMBA_CPU_NAME", raising=False)
+    if not sys.platform.startswith("linux"):
+        assert aot._cpu_key() == "generic"
+        return
+    block = "processor\t: {n}\nmodel name\t: {model}\nflags\t\t: {flags}\n\n"
+
+    def key(*cpus):
+        info = tmp_path / "cpuinfo"
+        info.write_text("".join(block.format(n=n, model=m, flags=f) for n, (m, f) in enumerate(cpus)))
+        return aot._cpu_key(str(info))
+
+    a = key(("EPYC", "fpu sse2 avx2"), ("EPYC", "fpu"))
+    assert a == key(("EPYC", "avx2 fpu sse2"))               # the first processor, flags in any order
+    assert a != key(("EPYC", "fpu sse2 avx2 avx512f"))      # one more feature: another CPU
+    assert a != key(("Xeon", "fpu sse2 avx2"))
+    assert key(("EPYC", "")) == "generic"                    # nothing to tell CPUs apart by
+    assert aot._cpu_key(str(tmp_path / "absent")) == "generic"
+    monkeypatch.setenv("NUMBA_CPU_NAME", "generic")
+    assert aot._cpu_key() == "generic"
+    monkeypatch.setenv("NUMBA_CPU_NAME", "skylake")
+    assert aot._cpu_key().startswith("numba:skylake:")

@@ -35,6 +35,8 @@ import os
 import sys
 import time
 
+from . import aot
+
 #: one job this large (faces, or body-steps; callers scale it by their NumPy cost) goes
 #: compiled at once: the NumPy path costs ~0.6 us a face, numba's import and a load ~0.25 s
 IMPORT_WORK = 400_000
@@ -96,8 +98,8 @@ def kernels(module_name: str, *, work: int = 0, ahead_of_time: bool = True):
     m = mode()
     if m == "never":
         return None
-    if ahead_of_time:
-        ready = ahead_of_time_kernels(module_name)
+    if ahead_of_time and m == "auto" and numba_available():
+        ready = aot.kernels(module_name)   # no numba to import or load
         if ready is not None:
             return ready
     if m == "auto" and "numba" not in sys.modules and not _expect_much:
@@ -132,8 +134,6 @@ def _library_wanted() -> bool:
     if _library_checked or _warmup_started:
         return False
     _library_checked = True
-    from . import aot
-
     return aot.wanted()
 
 
@@ -143,8 +143,6 @@ def ahead_of_time_kernels(module_name: str):
     goes to it), else None."""
     if mode() != "auto" or not numba_available():
         return None
-    from . import aot
-
     return aot.kernels(module_name)   # no numba to import or load
 
 

@@ -50,7 +50,7 @@ def as_positive_scalar(value, name: str, *, allow_zero: bool = False) -> float:
         x = float(value)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a number, got {value!r}") from None
-    if not np.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
+    if not math.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         rel = "non-negative" if allow_zero else "positive"
         raise InputError(f"{name} must be finite and {rel}, got {x!r}")
     return x
@@ -76,7 +76,7 @@ def resolve_mass(measure: float, density, mass, *, what: str, measure_name: str 
     if (density is None) == (mass is None):
         raise InputError(f"{what}: give exactly one of density= or mass=, got "
                          f"{'both' if density is not None else 'neither'}")
-    if not np.isfinite(measure) or measure <= 0:
+    if not math.isfinite(measure) or measure <= 0:
         raise InputError(f"{what}: {measure_name} must be positive and finite, got {measure!r}")
     if density is not None:
         rho = as_positive_scalar(density, "density")

@@ -87,18 +87,20 @@ def _compile_in_child(exports: dict, folder: str) -> None:
     env = dict(os.environ, NUMBA_CACHE_DIR=os.path.join(folder, "numba-cache"),
                PYTHONPATH=package_parent + (os.pathsep + path if path else ""))
     code = "import sys, json; from inertia.geometry.aot_library import compile_into; " \
-           "compile_into(json.loads(sys.stdin.read()), sys.argv[1])"
-    done = subprocess.run([sys.executable, "-c", code, folder], input=json.dumps(exports), text=True,
-                          capture_output=True, env=env)
+           "compile_into(json.loads(sys.stdin.read()), sys.argv[1], sys.argv[2])"
+    done = subprocess.run([sys.executable, "-c", code, folder, aot.build_target()], input=json.dumps(exports),
+                          text=True, capture_output=True, env=env)
     if done.returncode != 0:
         lines = [line for line in done.stderr.strip().splitlines() if line.strip()]
         raise InertiaError(f"compiling the ahead-of-time library failed (exit {done.returncode}): "
                            f"{lines[-1] if lines else 'no message'}", code="internal_error")
 
 
-def compile_into(exports: dict, folder: str) -> None:
+def compile_into(exports: dict, folder: str, target: str = "") -> None:
     """Compile the kernels of ``exports`` with ``numba.pycc`` into a library in ``folder``
-    (this process: :func:`build` calls it in a child with an empty numba cache)."""
+    (this process: :func:`build` calls it in a child with an empty numba cache), for the CPU
+    ``target`` (:func:`inertia._core.aot.build_target`: "" the architecture's generic CPU,
+    ``host`` this one with the features numba's own compiler uses here, or a CPU name)."""
     import importlib
     import warnings
 
@@ -111,7 +113,7 @@ def compile_into(exports: dict, folder: str) -> None:
         cc = CC(aot.library_name())
         cc.output_dir = folder
         cc.verbose = False
-        cc.target_cpu = ""                       # generic: safe on any CPU of the architecture
+        cc.target_cpu = target if target != "host" or _use_host_features() else ""
         for module_name, functions in exports.items():
             module = importlib.import_module(module_name)
             for name, spec in functions.items():
@@ -121,6 +123,23 @@ def compile_into(exports: dict, folder: str) -> None:
                 sig = dispatcher.overloads[args].signature
                 cc.export(aot.exported_name(module_name, name), sig)(dispatcher.py_func)
         cc.compile()
+
+
+def _use_host_features() -> bool:
+    """Make pycc compile with this CPU's features as numba detects them for its own code (pycc
+    alone names the CPU model, whose features a virtual machine may not all offer); False
+    when this numba lacks the hooks: the caller then compiles for the generic CPU (slower
+    code, never an instruction this CPU lacks)."""
+    try:
+        from numba.core import codegen
+
+        features = codegen.get_host_cpu_features()
+        if not isinstance(features, str) or not hasattr(codegen.AOTCPUCodegen, "_customize_tm_features"):
+            return False
+        codegen.AOTCPUCodegen._customize_tm_features = lambda self: features
+    except Exception:  # noqa: BLE001 - an internal API changed
+        return False
+    return True
 
 
 def _remove_stale_builds(folder: str, age_s: float = 3600.0) -> None:

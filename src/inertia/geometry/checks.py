@@ -149,8 +149,8 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         twins = np.empty((len(fw) if search and len(fw) <= SEARCH_MAX_FACES else 0, 3), dtype=np.int64)
         if kernels.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out, twins):
             volume = out[0] / 6.0
-            com = out[11:14] + (out[1:4] / 24.0) / volume
-            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, com, search, twins)
+            crossing = None if out[14] == 1.0 else _crossing_of(v, fw, out[11:14] + (out[1:4] / 24.0) / volume,
+                                                                search, twins)
             if crossing == "unchecked":
                 defects = (_unchecked_note(len(faces)),)
             elif crossing is None:

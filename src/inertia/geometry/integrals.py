@@ -291,11 +291,16 @@ def _sums(kernel, v, f, p, scale):
 
 def offset_ratio(measure: float, first: np.ndarray, second: np.ndarray) -> float:
     """``kappa = |g|^2 / k^2`` of the error analysis (0 when it is meaningless, e.g. zero measure)."""
+    return _offset_ratio(measure, first.tolist(), float(second[0, 0] + second[1, 1] + second[2, 2]))
+
+
+def _offset_ratio(measure: float, first, trace: float) -> float:
+    """:func:`offset_ratio` from ``first`` (3 floats) and the trace of ``second``."""
     if measure == 0.0:
         return 0.0
-    f0, f1, f2 = first.tolist()
+    f0, f1, f2 = first
     ff = f0 * f0 + f1 * f1 + f2 * f2          # = measure^2 |g|^2
-    tr_C = (second[0, 0] + second[1, 1] + second[2, 2]) - ff / measure
+    tr_C = trace - ff / measure
     if not tr_C * measure > 0.0:              # not a body (open/degenerate mesh): nothing to refine
         return 0.0
     return ff / (measure * tr_C)
@@ -391,10 +396,17 @@ def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, refer
     """
     if not (measure != 0.0 and np.isfinite(measure)):
         raise InputError(f"cannot locate the center of mass: the measure (volume or area) is {measure!r}")
-    c = first / measure
-    # scalar arithmetic: 3 x 3 NumPy operations would cost more than the rest of a small mesh
-    gx, gy, gz = c.tolist()
-    (sxx, sxy, sxz), (syx, syy, syz), (szx, szy, szz) = second.tolist()
+    return central_from_floats(measure, first.tolist(), second.tolist(), np.asarray(reference).tolist(),
+                               float(density))
+
+
+def central_from_floats(measure: float, first, second, reference, rho: float):
+    """:func:`central_inertia` on Python floats (``first``, ``reference``: 3; ``second``: 3 rows
+    of 3; ``measure`` finite, non-zero), the same arithmetic: 3 x 3 NumPy operations would cost
+    more than the rest of a small mesh."""
+    f0, f1, f2 = first
+    gx, gy, gz = f0 / measure, f1 / measure, f2 / measure
+    (sxx, sxy, sxz), (syx, syy, syz), (szx, szy, szz) = second
     # C = second - measure c c^T, symmetrised
     cxx = sxx - measure * gx * gx
     cyy = syy - measure * gy * gy
@@ -402,8 +414,20 @@ def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, refer
     cxy = 0.5 * (sxy + syx) - measure * gx * gy
     cyz = 0.5 * (syz + szy) - measure * gy * gz
     czx = 0.5 * (szx + sxz) - measure * gz * gx
-    rho = float(density)
     inertia = np.array([[rho * (cyy + czz), -rho * cxy, -rho * czx],
                         [-rho * cxy, rho * (czz + cxx), -rho * cyz],
                         [-rho * czx, -rho * cyz, rho * (cxx + cyy)]])
-    return reference + c, inertia
+    return np.array([reference[0] + gx, reference[1] + gy, reference[2] + gz]), inertia
+
+
+def solid_sums_floats(out: np.ndarray):
+    """:func:`solid_sums_moments` as Python floats, with the reference point and the offset
+    ratio: ``(volume, first (3), second (3 rows of 3), reference (3) = out[11:14], kappa)``
+    (the clean-solid kernel's ``out``; see :func:`offset_ratio`)."""
+    s = out.tolist()
+    a, b, c = _SOLID_SCALE
+    volume = s[0] / a
+    first = (s[1] / b, s[2] / b, s[3] / b)
+    xx, yy, zz, yz, xy, xz = s[4] / c, s[5] / c, s[6] / c, s[8] / c, s[7] / c, s[9] / c
+    second = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
+    return volume, first, second, (s[11], s[12], s[13]), _offset_ratio(volume, first, xx + yy + zz)

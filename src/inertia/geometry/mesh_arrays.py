@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._core import compiled as _compiled
 from .._core.errors import InputError
 
 __all__ = ["validate_inputs", "topology_kernels", "weld_map", "weld_map_numpy", "weld_vertices", "compact_vertices"]
@@ -76,9 +77,7 @@ def compiled_kernels(module_name: str, work: int = 0, ahead_of_time: bool = True
     process without numba, a cold cache)."""
     if _topology_state is False:
         return None
-    from .._core.compiled import kernels
-
-    return kernels(module_name, work=work, ahead_of_time=ahead_of_time)
+    return _compiled.kernels(module_name, work=work, ahead_of_time=ahead_of_time)
 
 
 def topology_kernels(work: int = 0):

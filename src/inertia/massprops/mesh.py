@@ -27,11 +27,11 @@ from .._core.validation import resolve_mass
 from ..geometry.checks import analyse_mesh
 from ..geometry.integrals import (
     REFINE_KAPPA,
+    central_from_floats,
     central_inertia,
-    offset_ratio,
     shell_integrals,
     solid_integrals,
-    solid_sums_moments,
+    solid_sums_floats,
 )
 from ..geometry.mesh_arrays import compact_vertices, faces_in_range, validate_inputs
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
@@ -216,13 +216,15 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=())
     integrated again about its COM, as :func:`solid_integrals` does."""
     from .properties import MassProperties
 
-    volume, first, second = solid_sums_moments(sums)
-    r = sums[11:14].copy()
-    if offset_ratio(volume, first, second) > REFINE_KAPPA:
+    volume, first, second, r, kappa = solid_sums_floats(sums)
+    if kappa > REFINE_KAPPA:
         vc, fc = compact_vertices(v, f)
         volume, first, second, r = solid_integrals(vc, fc)
-    m, rho = resolve_mass(volume, density, mass, what=what)
-    com, inertia = central_inertia(volume, first, second, r, rho)
+        m, rho = resolve_mass(volume, density, mass, what=what)
+        com, inertia = central_inertia(volume, first, second, r, rho)
+    else:
+        m, rho = resolve_mass(volume, density, mass, what=what)
+        com, inertia = central_from_floats(volume, first, second, r, rho)
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
 
 

@@ -23,6 +23,8 @@ from .._core.errors import InputError, InvalidInertiaError
 from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 from .._core.validation import as_float_array
 
+_TINY = float(np.finfo(float).tiny)     # the smallest normal float64
+
 
 @dataclass(frozen=True)
 class Violation:
@@ -69,7 +71,7 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
         return out
     scale = max(map(abs, flat))
     asym = max(abs(rows[0][1] - rows[1][0]), abs(rows[0][2] - rows[2][0]), abs(rows[1][2] - rows[2][1]))
-    if asym > symmetry_rtol * max(scale, np.finfo(float).tiny):
+    if asym > symmetry_rtol * max(scale, _TINY):
         i, j = np.unravel_index(np.argmax(np.abs(I - I.T)), I.shape)
         out.append(Violation("not_symmetric",
                              f"inertia is not symmetric: I[{i},{j}] = {I[i, j]:.6g} but I[{j},{i}] = {I[j, i]:.6g} "
@@ -83,7 +85,7 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     unit = np.linalg.eigvalsh(0.5 * (I / s + I.T / s))
     with np.errstate(over="ignore"):
         moments = unit * s
-    tol_unit = rtol * max(abs(float(np.sum(unit))), np.finfo(float).tiny)
+    tol_unit = rtol * max(abs(float(np.sum(unit))), _TINY)
     tol = tol_unit * s
     if unit[0] <= tol_unit:
         out.append(Violation("not_positive_definite",
@@ -150,9 +152,9 @@ def as_principal_moments(moments, name: str = "moments", *, validate: bool = Tru
     I = as_float_array(moments, name, (3,), allow_batch=allow_batch)
     flat = I.reshape(-1, 3)
     # the rules of check_inertia on diag(I), vectorised, scaled so no sum overflows
-    scale = np.maximum(np.abs(flat).max(axis=1), np.finfo(float).tiny)
+    scale = np.maximum(np.abs(flat).max(axis=1), _TINY)
     s = np.sort(flat, axis=1) / scale[:, None]
-    tol = rtol_of_trace = PHYSICAL_RTOL * np.maximum(np.abs(s.sum(axis=1)), np.finfo(float).tiny)
+    tol = rtol_of_trace = PHYSICAL_RTOL * np.maximum(np.abs(s.sum(axis=1)), _TINY)
     bad = s[:, 0] <= tol
     if validate:
         bad |= s[:, 0] + s[:, 1] - s[:, 2] < -rtol_of_trace
