@@ -274,6 +274,79 @@ def test_stl_bytes_kernel_equals_the_soup_route(meshes, tmp_path):
             assert np.array_equal(np.signbit(got_v), np.signbit(expect[0])), name
 
 
+def _near_pair_exists(v, tol):
+    """Brute force: two rows within ``tol`` in every coordinate."""
+    for i in range(len(v) - 1):
+        if np.any(np.all(np.abs(v[i + 1:] - v[i]) <= tol, axis=1)):
+            return True
+    return False
+
+
+def test_float32_apart_never_misses_a_near_pair():
+    """The one-pass proof that float32 rows hold no near pair (the binary STL weld's shortcut
+    past the merge grid) says True only when brute force finds none, and says it for ordinary
+    point sets (else it saves nothing)."""
+    rng = np.random.default_rng(11)
+    proved = 0
+    for trial in range(60):
+        n = 400
+        scale = 10.0 ** rng.uniform(-6, 6)
+        v = rng.uniform(-1, 1, size=(n, 3)) * scale
+        v[rng.random((n, 3)) < 0.1] *= 10.0 ** rng.uniform(-12, -3)     # coordinates near 0 ...
+        v[rng.random((n, 3)) < 0.02] = 0.0                             # ... and on 0
+        v = v.astype(np.float32)
+        tol = float(scale) * 10.0 ** rng.choice([-10, -7, -5, -3])
+        kind = trial % 4
+        if kind == 1:        # a copy one float32 step away in one coordinate
+            i, j, k = rng.integers(n), rng.integers(n), rng.integers(3)
+            v[j] = v[i]
+            v[j, k] = np.nextafter(v[i, k], np.float32(np.inf))
+        elif kind == 2:      # mirror images across a plane near 0 (same large coordinates)
+            i, j = rng.integers(n), rng.integers(n)
+            v[j] = v[i]
+            v[i, 0] = np.float32(0.3 * tol)
+            v[j, 0] = np.float32(-0.3 * tol)
+        elif kind == 3:      # a copy within tol in every coordinate
+            i, j = rng.integers(n), rng.integers(n)
+            v[j] = (v[i].astype(np.float64) + rng.uniform(-0.4, 0.4, 3) * tol).astype(np.float32)
+        v64 = np.unique(v.astype(np.float64), axis=0)                  # distinct rows, as the weld leaves them
+        apart = nbk.float32_apart(np.ascontiguousarray(v64), tol, float(np.abs(v64).max()))
+        if apart:
+            assert not _near_pair_exists(v64, tol), (trial, tol)
+            proved += 1
+        elif kind in (1, 3):
+            assert _near_pair_exists(v64, tol) or tol < 1e-7 * scale   # (a step can exceed a tiny tol)
+    assert proved >= 6                  # most plain sets (a quarter of the trials) and some others
+    # an ordinary mesh: a torus of 5,000 faces centred on 0, as its STL's float32 holds it
+    u, w = np.meshgrid(np.linspace(0, 2 * np.pi, 100, endpoint=False), np.linspace(0, 2 * np.pi, 25, endpoint=False))
+    torus = np.stack([(1 + 0.3 * np.cos(w)) * np.cos(u), (1 + 0.3 * np.cos(w)) * np.sin(u), 0.3 * np.sin(w)], -1)
+    torus = np.ascontiguousarray(torus.reshape(-1, 3).astype(np.float32).astype(np.float64))
+    assert nbk.float32_apart(torus, 1e-10 * 2.6, 1.3)
+    near = torus[:1].copy()
+    near[0, 1:] += float(np.float32(1e-11))          # a float32 copy of vertex 0 = (1.3, 0, 0), 1.4e-11 away
+    assert not nbk.float32_apart(np.concatenate([torus, near]), 1e-10 * 2.6, 1.3)
+
+
+def test_stl_weld_merges_a_split_vertex_near_zero_as_the_soup_route_does(tmp_path):
+    """A binary STL whose vertex on the plane x = 0 is split into copies one float32 step
+    apart (x = +-1e-30): merged, as the float64 soup route merges it."""
+    rng = np.random.default_rng(2)
+    v, f = _box_soup(rng)
+    corners = (v.reshape(-1, 3, 3) - 0.5).astype("<f4")               # centred: coordinates +-0.5
+    hit = np.argwhere(np.all(corners == np.float32(-0.5), axis=2))
+    t, k = hit[0]
+    corners[t, k, 0] = np.float32(1e-30)                               # the corner (-0.5, -0.5, -0.5) moved onto x ~ 0
+    for t2, k2 in hit[1:]:
+        corners[t2, k2, 0] = np.float32(-1e-30)                        # its other copies: a step apart
+    _write_stl(tmp_path / "split.stl", corners)
+    n = mesh_io._stl_kind(tmp_path / "split.stl")
+    records = np.fromfile(tmp_path / "split.stl", dtype=mesh_io._STL_BITS, count=n, offset=84)
+    got_v, got_f, done = nbk.stl_weld_and_merge(records["corners"], mesh_io.MERGE_RTOL)
+    expect = mesh_io._merge_close_vertices(*mesh_io._read_binary_stl(tmp_path / "split.stl", n), mesh_io.MERGE_RTOL)
+    assert done and np.array_equal(got_v, expect[0]) and np.array_equal(got_f, expect[1])
+    assert len(got_v) == 8                                             # the split copies merged
+
+
 # ---------------------------------------------------------------- checks and sums in one pass
 def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
     """The fused check returns the volume sums of the integrals kernel bit for bit (the same
