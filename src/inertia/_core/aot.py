@@ -83,10 +83,10 @@ def build_target() -> str:
     """The CPU the library is compiled for: numba's ``NUMBA_CPU_NAME`` when set (``generic``
     for a build any CPU of the architecture runs), else ``host`` where :func:`cpu_key` can tell
     this CPU from others (Linux), else the architecture's generic CPU ("")."""
-    name = os.environ.get("NUMBA_CPU_NAME", "").strip()
-    if name:
-        return "" if name == "generic" else name
-    return "host" if cpu_key() != "generic" else ""
+    key = cpu_key()
+    if key == "generic":
+        return ""
+    return key.split(":")[1] if key.startswith("numba:") else "host"
 
 
 def cpu_key() -> str:
@@ -207,14 +207,10 @@ def _split(spec: str) -> list[str]:
     return items
 
 
-def _accepts(arg, kind) -> bool:
-    """``arg`` is exactly what the compiled function reads (see the module docstring)."""
-    return _checker(kind)(arg)
-
-
 def _checker(kind):
-    """A one-argument test of :func:`_accepts` for ``kind`` (a :func:`parse_types` item), with
-    the dtype made once: a guarded call then costs a few hundred ns an argument."""
+    """A one-argument test for ``kind`` (a :func:`parse_types` item): the argument is exactly
+    what the compiled function reads (see the module docstring).  The dtype is made once, so
+    a guarded call costs a few hundred ns an argument."""
     import numpy as np
 
     if kind[0] == "scalar":

@@ -98,8 +98,8 @@ def kernels(module_name: str, *, work: int = 0, ahead_of_time: bool = True):
     m = mode()
     if m == "never":
         return None
-    if ahead_of_time and m == "auto" and numba_available():
-        ready = aot.kernels(module_name)   # no numba to import or load
+    if ahead_of_time:
+        ready = _library_kernels(module_name, m)
         if ready is not None:
             return ready
     if m == "auto" and "numba" not in sys.modules and not _expect_much:
@@ -141,7 +141,12 @@ def ahead_of_time_kernels(module_name: str):
     """The kernels of ``module_name`` from the ahead-of-time library (:mod:`.aot`) when
     :func:`kernels` takes them (``auto``, numba installed: a call the library cannot take
     goes to it), else None."""
-    if mode() != "auto" or not numba_available():
+    return _library_kernels(module_name, mode())
+
+
+def _library_kernels(module_name: str, m: str):
+    """:func:`ahead_of_time_kernels` in the mode ``m`` already read."""
+    if m != "auto" or not numba_available():
         return None
     return aot.kernels(module_name)   # no numba to import or load
 

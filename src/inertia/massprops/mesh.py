@@ -220,11 +220,9 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=())
     if kappa > REFINE_KAPPA:
         vc, fc = compact_vertices(v, f)
         volume, first, second, r = solid_integrals(vc, fc)
-        m, rho = resolve_mass(volume, density, mass, what=what)
-        com, inertia = central_inertia(volume, first, second, r, rho)
-    else:
-        m, rho = resolve_mass(volume, density, mass, what=what)
-        com, inertia = central_from_floats(volume, first, second, r, rho)
+        first, second, r = first.tolist(), second.tolist(), r.tolist()
+    m, rho = resolve_mass(volume, density, mass, what=what)   # refuses a volume that is not positive and finite
+    com, inertia = central_from_floats(volume, first, second, r, rho)
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
 
 
