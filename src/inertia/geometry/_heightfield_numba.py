@@ -245,9 +245,11 @@ def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
     # the directions along which every face turns counterclockwise (bits: orientation_bits)
     bits = 63
     for i in range(n):
-        bits &= omask[faces[i]]
+        t = faces[i]
+        bits &= omask[t]
         if bits == 0:
             return 1
+        fstamp[t] = mark                   # (a patch refused here leaves some stamped: mark changes)
     if bits & 1:
         ax = 0
     elif bits & 2:
@@ -273,10 +275,8 @@ def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
         iu, iw = 0, 2
     else:
         iu, iw = 1, 0
-    for i in range(n):
-        t = faces[i]
-        fstamp[t] = mark
     n_border = 0
+    n_vert = 0                             # the patch's vertices, listed in iwork[:n_vert]
     for i in range(n):
         t = faces[i]
         vs = (F[t, 0], F[t, 1], F[t, 2])
@@ -289,6 +289,8 @@ def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
                 vwork[v, 2] = 0
                 vwork[v, 3] = -1
                 vwork[v, 4] = -1
+                iwork[n_vert] = v
+                n_vert += 1
         for k in range(3):
             v = vs[k]
             a = vs[(k + 1) % 3]
@@ -308,22 +310,20 @@ def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
     if n_border < 3:
         return 3
     first = -1
-    for i in range(n):
-        t = faces[i]
-        for k in range(3):
-            v = F[t, k]
-            if vwork[v, 3] < 0:
-                if vwork[v, 4] >= 0 or vwork[v, 1] != 1:
-                    return 4               # a vertex inside the patch whose faces wind not once
-            else:
-                first = v
-                # the wedge turns from the edge out (to bout) to the edge in (from bin_):
-                # theta(in) - theta(out) + 2 pi passes, below 2 pi
-                p = vwork[v, 2]
-                if vwork[v, 4] < 0 or p >= 2:
-                    return 5
-                if p == 1 and not _turns_before(V, iu, iw, v, vwork[v, 4], vwork[v, 3]):
-                    return 5
+    for i in range(n_vert):
+        v = iwork[i]
+        if vwork[v, 3] < 0:
+            if vwork[v, 4] >= 0 or vwork[v, 1] != 1:
+                return 4                   # a vertex inside the patch whose faces wind not once
+        else:
+            first = v
+            # the wedge turns from the edge out (to bout) to the edge in (from bin_):
+            # theta(in) - theta(out) + 2 pi passes, below 2 pi
+            p = vwork[v, 2]
+            if vwork[v, 4] < 0 or p >= 2:
+                return 5
+            if p == 1 and not _turns_before(V, iu, iw, v, vwork[v, 4], vwork[v, 3]):
+                return 5
     v = first
     for i in range(n_border):
         iwork[i] = v
@@ -413,6 +413,10 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
         for c in range(3):
             ilo[t, c] = max(np.int64(np.floor(bl[t, c] - CELL_SLACK)), 0)
             ihi[t, c] = min(np.int64(np.floor(bh[t, c] + CELL_SLACK)), dims[c] - 1)
+        if ilo[t, 0] == ihi[t, 0] and ilo[t, 1] == ihi[t, 1] and ilo[t, 2] == ihi[t, 2]:
+            # most faces (a quarter of a cell long) lie in one cell: no loop nest
+            counts[(ilo[t, 0] * dims[1] + ilo[t, 1]) * dims[2] + ilo[t, 2] + 1] += 1
+            continue
         for x in range(ilo[t, 0], ihi[t, 0] + 1):
             for y in range(ilo[t, 1], ihi[t, 1] + 1):
                 for z in range(ilo[t, 2], ihi[t, 2] + 1):
@@ -422,6 +426,11 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
     fill = counts[:-1].copy()
     entries = np.empty(counts[ncell], dtype=np.int64)
     for t in range(nf):
+        if ilo[t, 0] == ihi[t, 0] and ilo[t, 1] == ihi[t, 1] and ilo[t, 2] == ihi[t, 2]:
+            i = (ilo[t, 0] * dims[1] + ilo[t, 1]) * dims[2] + ilo[t, 2]
+            entries[fill[i]] = t
+            fill[i] += 1
+            continue
         for x in range(ilo[t, 0], ihi[t, 0] + 1):
             for y in range(ilo[t, 1], ihi[t, 1] + 1):
                 for z in range(ilo[t, 2], ihi[t, 2] + 1):
