@@ -523,6 +523,11 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                         y1 = 2 if bh[t, 1] >= my - CELL_SLACK else 1
                         z0 = 0 if bl[t, 2] <= mz + CELL_SLACK else 1
                         z1 = 2 if bh[t, 2] >= mz - CELL_SLACK else 1
+                        if x1 - x0 + y1 - y0 + z1 - z0 == 3:    # in one part (most): no loop nest
+                            part = x0 + 2 * y0 + 4 * z0
+                            stack_faces[base + part * m + st_n[sp + part]] = t
+                            st_n[sp + part] += 1
+                            continue
                         for zb in range(z0, z1):
                             for yb in range(y0, y1):
                                 for xb in range(x0, x1):
