@@ -192,6 +192,60 @@ def test_batch_rows_name_the_mode_in_their_options(tmp_path):
     assert "self_intersecting" in text and "self_crossing_unchecked" not in text   # the default searches
 
 
+def test_fans_walked_across_edges_are_certified_as_fans_sorted_by_vertex():
+    """certified_fans_around (each fan walked across the matched edges) agrees with
+    certified_fans_of (every face sorted by vertex) on smooth and jittered closed shells, and
+    refuses a vertex where two cones of faces touch, though the cone it walks is flat alone."""
+    pytest.importorskip("numba")
+    from inertia.geometry import _heightfield_numba as hf
+    from inertia.geometry import _selfcross_numba as k
+
+    rng = np.random.default_rng(3)
+    n_cert = 0
+    for it in range(40):
+        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=int(rng.integers(6, 30)),
+                                   minor_sections=int(rng.integers(4, 16))) if it % 2 else \
+            trimesh.creation.icosphere(int(rng.integers(1, 4)))
+        f = np.ascontiguousarray(m.faces, dtype=np.int64)
+        v = np.array(m.vertices, float)
+        v = np.ascontiguousarray(v + rng.normal(0, rng.choice([0.0, 0.01, 0.05, 0.1]) * np.ptp(v), v.shape))
+        N = k.face_frames(v, f)[0]
+        adj, closed = hf.face_twins(f, len(v))
+        assert closed
+        wanted = rng.random(len(v)) < 0.5
+        sorted_ = k.certified_fans_of(v, f, N, wanted)
+        np.testing.assert_array_equal(k.certified_fans_around(v, f, N, adj, wanted), sorted_)
+        n_cert += int(sorted_.sum())
+    assert n_cert > 1000
+
+    # two icosahedra touching at one vertex (index 0 of both): the edges all match, vertex 0
+    # has two cones of five faces; one cone alone is flat and would be certified (jittered: a
+    # regular one puts the first sector's bisector on another's edge, which is not certified)
+    ico = trimesh.creation.icosphere(0)
+    a, fa = np.array(ico.vertices), np.array(ico.faces, dtype=np.int64)
+    a = a + np.random.default_rng(1).normal(0, 0.02, a.shape)
+    b = 2.0 * a[0] - a                                  # point-mirrored through vertex 0
+    v = np.vstack([a, b[1:]])
+    fb = np.where(fa == 0, 0, fa + len(a) - 1)[:, ::-1]  # outward again after the mirror
+    f = np.ascontiguousarray(np.vstack([fa, fb]))
+    N = k.face_frames(v, f)[0]
+    adj, closed = hf.face_twins(f, len(v))
+    assert closed
+    wanted = np.ones(len(v), dtype=bool)
+    around = k.certified_fans_around(v, f, N, adj, wanted)
+    assert not around[0] and around[1:].sum() >= 10
+    np.testing.assert_array_equal(around, k.certified_fans_of(v, f, N, wanted))
+    cone = np.flatnonzero((fa == 0).any(axis=1))
+    turned = [np.roll(fa[t], -list(fa[t]).index(0)) for t in cone]
+    order = [0]                                         # the cone's faces in turn around vertex 0
+    while len(order) < len(cone):
+        order.append(next(i for i in range(len(cone)) if turned[i][1] == turned[order[-1]][2]))
+    ts = cone[order]
+    A = np.array([turned[i][1] for i in order])
+    B = np.array([turned[i][2] for i in order])
+    assert k._fan_certified(v, N, 0, ts, A, B, len(ts))
+
+
 def test_a_certified_fan_never_hides_a_crossing():
     """The search skips pairs of faces around a vertex whose fan is certified flat
     (``certified_fans``): on jittered meshes, where thousands of such pairs do cross, no crossing

@@ -28,6 +28,9 @@ _JIT = dict(cache=True, nogil=True, boundscheck=False)
 #: shells of fewer faces are searched whole (the cell proof of :mod:`._heightfield_numba` pays
 #: from about this size)
 HEIGHTFIELD_MIN_FACES = 256
+#: the faces the cell proof leaves are searched without the fans' certificates while they are
+#: fewer than 1 in this many (measured break-even on jittered tori: about 1 in 20)
+KEPT_WITHOUT_FANS = 16
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
 WARM_PROBE = ("star_certificate", "find_crossing")
@@ -221,12 +224,8 @@ def certified_fans_of(V, F, N, wanted):
     """Per vertex: True when no two faces around it meet but at the vertex and along their
     common edges, so no pair of them can cross.  Sufficient: the corners after the vertex
     (a -> b in each face, turned so that the vertex comes first) close into cycles (each
-    corner met as often as an ``a`` as a ``b``), every face is positively oriented seen along
-    the sum of their normals (beyond a 1e-6 relative margin), and a direction inside the first
-    face's sector (its bisector) lies in no other face's sector (beyond a 1e-9 margin).  Then
-    the projected sectors wind around the vertex once, so they are disjoint, and faces whose
-    projections meet only at the vertex meet only there.  Only the vertices ``wanted`` are
-    tried (the others are False)."""
+    corner met as often as an ``a`` as a ``b``), and :func:`_fan_certified`.  Only the
+    vertices ``wanted`` are tried (the others are False)."""
     nv = V.shape[0]
     start, around, _ = vertex_slots(F, nv)
     cert = np.zeros(nv, dtype=np.bool_)
@@ -240,9 +239,6 @@ def certified_fans_of(V, F, N, wanted):
         k = start[v + 1] - s0
         if k < 3 or not wanted[v]:
             continue
-        nx = 0.0
-        ny = 0.0
-        nz = 0.0
         for u in range(k):
             t = around[s0 + u]
             if F[t, 0] == v:
@@ -254,9 +250,6 @@ def certified_fans_of(V, F, N, wanted):
             else:
                 A[u] = F[t, 0]
                 B[u] = F[t, 1]
-            nx += N[t, 0]
-            ny += N[t, 1]
-            nz += N[t, 2]
         ok = True
         for u in range(k):                  # the link closes: each corner as often an a as a b
             ca = 0
@@ -267,62 +260,122 @@ def certified_fans_of(V, F, N, wanted):
             if ca != cb:
                 ok = False
                 break
-        if not ok:
+        if ok:
+            cert[v] = _fan_certified(V, N, v, around[s0:s0 + k], A, B, k)
+    return cert
+
+
+@nb.njit(**_JIT)
+def certified_fans_around(V, F, N, adj, wanted):
+    """:func:`certified_fans_of` of a closed shell whose edges are matched (``adj``: the face
+    across each edge, :func:`._heightfield_numba.face_twins`), for a few vertices: each fan is
+    walked face to face across its edges instead of sorting every face by vertex.  A fan
+    walked is a cycle of corners by construction; it must hold every face at the vertex (a
+    vertex where two cones of faces touch has two cycles: not certified)."""
+    nv = V.shape[0]
+    nf = F.shape[0]
+    valence = np.zeros(nv, dtype=np.int32)
+    seed = np.full(nv, -1, dtype=np.int64)      # a corner 3 t + k at the vertex
+    kmax = 0
+    for t in range(nf):
+        for k in range(3):
+            v = F[t, k]
+            if wanted[v]:
+                valence[v] += 1
+                kmax = max(kmax, valence[v])
+                if seed[v] < 0:
+                    seed[v] = 3 * t + k
+    cert = np.zeros(nv, dtype=np.bool_)
+    ts = np.empty(kmax, dtype=np.int64)
+    A = np.empty(kmax, dtype=np.int64)
+    B = np.empty(kmax, dtype=np.int64)
+    for v in range(nv):
+        if seed[v] < 0 or valence[v] < 3:
             continue
-        nn = np.sqrt(nx * nx + ny * ny + nz * nz)
-        if not (nn > 0.0):
-            continue
-        for u in range(k):
-            t = around[s0 + u]
-            m = np.sqrt(N[t, 0] ** 2 + N[t, 1] ** 2 + N[t, 2] ** 2)
-            if not (N[t, 0] * nx + N[t, 1] * ny + N[t, 2] * nz > 1e-6 * m * nn):
-                ok = False
+        t0 = seed[v] // 3
+        c = seed[v] % 3
+        t = t0
+        n = 0
+        while True:
+            if n == valence[v]:
+                n = -1                           # more faces in the walk than at the vertex
                 break
-        if not ok:
-            continue
-        nx /= nn
-        ny /= nn
-        nz /= nn
-        # the bisector of the first sector: the unit projections of its two edges, added
-        r = np.zeros(3)
-        for c in (A[0], B[0]):
+            ts[n] = t
+            A[n] = F[t, (c + 1) % 3]
+            B[n] = F[t, (c + 2) % 3]
+            n += 1
+            t = adj[t, (c + 2) % 3]             # across the edge b -> v: the face with v -> b
+            if t == t0:
+                break
+            c = 0 if F[t, 0] == v else (1 if F[t, 1] == v else 2)
+        if n == valence[v]:
+            cert[v] = _fan_certified(V, N, v, ts, A, B, n)
+    return cert
+
+
+@nb.njit(**_JIT)
+def _fan_certified(V, N, v, ts, A, B, k):
+    """The fan of faces ``ts[:k]`` around ``v`` (face u turns v -> A[u] -> B[u]; the corners
+    close into cycles) is flat: every face is positively oriented seen along the sum of their
+    normals (beyond a 1e-6 relative margin), and a direction inside the first face's sector
+    (its bisector) lies in no other face's sector (beyond a 1e-9 margin).  Then the projected
+    sectors wind around the vertex once, so they are disjoint, and faces whose projections
+    meet only at the vertex meet only there."""
+    nx = 0.0
+    ny = 0.0
+    nz = 0.0
+    for u in range(k):
+        t = ts[u]
+        nx += N[t, 0]
+        ny += N[t, 1]
+        nz += N[t, 2]
+    nn = np.sqrt(nx * nx + ny * ny + nz * nz)
+    if not (nn > 0.0):
+        return False
+    for u in range(k):
+        t = ts[u]
+        m = np.sqrt(N[t, 0] ** 2 + N[t, 1] ** 2 + N[t, 2] ** 2)
+        if not (N[t, 0] * nx + N[t, 1] * ny + N[t, 2] * nz > 1e-6 * m * nn):
+            return False
+    nx /= nn
+    ny /= nn
+    nz /= nn
+    # the bisector of the first sector: the unit projections of its two edges, added
+    r0 = r1 = r2 = 0.0
+    for c in (A[0], B[0]):
+        ex = V[c, 0] - V[v, 0]
+        ey = V[c, 1] - V[v, 1]
+        ez = V[c, 2] - V[v, 2]
+        h = ex * nx + ey * ny + ez * nz
+        ex -= h * nx
+        ey -= h * ny
+        ez -= h * nz
+        le = np.sqrt(ex * ex + ey * ey + ez * ez)
+        if not (le > 0.0):
+            return False
+        r0 += ex / le
+        r1 += ey / le
+        r2 += ez / le
+    lr = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    if not (lr > 0.0):
+        return False
+    for u in range(1, k):
+        inside = True
+        for c, sgn in ((A[u], 1.0), (B[u], -1.0)):
             ex = V[c, 0] - V[v, 0]
             ey = V[c, 1] - V[v, 1]
             ez = V[c, 2] - V[v, 2]
-            h = ex * nx + ey * ny + ez * nz
-            ex -= h * nx
-            ey -= h * ny
-            ez -= h * nz
-            le = np.sqrt(ex * ex + ey * ey + ez * ez)
-            if not (le > 0.0):
-                ok = False
+            # n . (e x r) for the first edge, n . (r x e) for the second
+            o = sgn * (nx * (ey * r2 - ez * r1) + ny * (ez * r0 - ex * r2) + nz * (ex * r1 - ey * r0))
+            eps = 1e-9 * np.sqrt(ex * ex + ey * ey + ez * ez) * lr
+            if o < -eps:
+                inside = False
                 break
-            r[0] += ex / le
-            r[1] += ey / le
-            r[2] += ez / le
-        lr = np.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
-        if not ok or not (lr > 0.0):
-            continue
-        for u in range(1, k):
-            inside = True
-            for c, sgn in ((A[u], 1.0), (B[u], -1.0)):
-                ex = V[c, 0] - V[v, 0]
-                ey = V[c, 1] - V[v, 1]
-                ez = V[c, 2] - V[v, 2]
-                # n . (e x r) for the first edge, n . (r x e) for the second
-                o = sgn * (nx * (ey * r[2] - ez * r[1]) + ny * (ez * r[0] - ex * r[2]) + nz * (ex * r[1] - ey * r[0]))
-                eps = 1e-9 * np.sqrt(ex * ex + ey * ey + ez * ez) * lr
-                if o < -eps:
-                    inside = False
-                    break
-                if o <= eps:
-                    ok = False               # on the sector's edge, to rounding: no proof
-                    break
-            if not ok or inside:
-                ok = False
-                break
-        cert[v] = ok
-    return cert
+            if o <= eps:
+                return False                 # on the sector's edge, to rounding: no proof
+        if inside:
+            return False
+    return True
 
 
 @nb.njit(**_JIT)
@@ -456,6 +509,7 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
         cell = 1.0
     N, diag = face_frames(V, F)                 # per mesh, not per grid tried
     rows = np.arange(nf)
+    closed = False
     if nf >= HEIGHTFIELD_MIN_FACES:
         closed = adj.shape[0] == nf
         if not closed:
@@ -467,12 +521,16 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
                 return 0                        # every cell proved
             if n_keep < nf:
                 rows = np.nonzero(keep)[0]
-    if rows.shape[0] < nf:
+    if rows.shape[0] * KEPT_WITHOUT_FANS < nf:
+        # a few faces left: the fans' certificates (a pass over every face, then ~100 ns a
+        # vertex) cost more than the pairs they spare (on 1-5 % of a torus's faces: 30 against 4 us)
+        cert = np.zeros(V.shape[0], dtype=np.bool_)
+    elif rows.shape[0] < nf:
         wanted = np.zeros(V.shape[0], dtype=np.bool_)
         for r in rows:
             for k in range(3):
                 wanted[F[r, k]] = True
-        cert = certified_fans_of(V, F, N, wanted)
+        cert = certified_fans_around(V, F, N, adj, wanted) if closed else certified_fans_of(V, F, N, wanted)
     else:
         cert = certified_fans(V, F, N)
     Fs = F
