@@ -84,6 +84,10 @@ MAX_CHUNK_FILES = 256
 #: seconds of work per byte of input (with FILE_COST_BYTES: 0.3 ms + 2.3 ms per MB a file)
 SECONDS_PER_BYTE = 2.3e-3 / 2**20
 
+#: a cluster run in which no task ends for this long asks the scheduler about the tasks it
+#: waits for: one the scheduler no longer holds is lost, not waited for (see _Executor.map)
+STALL_S = 30.0
+
 
 @dataclass
 class BatchSummary:
@@ -280,8 +284,16 @@ class _Executor:
             return self._start_pool()
         Client = require("distributed", "a batch run on a Dask cluster (or use scheduler='synchronous')").Client
         if self.scheduler in ("cluster", "local"):
+            import dask
+
             self.cluster = local_cluster(self.n_workers)
             self.client = Client(self.cluster)
+            # Our nannies restart a worker that a file kills, but SpecCluster closes for good the
+            # nanny of a worker still missing lost-worker-timeout (15 s) after each removal: files
+            # that kill their workers in turn meet that check between a death and the restart,
+            # until no worker is left and the tasks wait forever.  It is read at each removal, so
+            # it is set for the run (a day: a worker lost for that long is gone).
+            self._config = dask.config.set({"distributed.deploy.lost-worker-timeout": "1 day"})
             self.placement = f"on a local Dask cluster of {self.n_workers} workers"
         elif isinstance(self.scheduler, str) and "://" in self.scheduler:
             try:
@@ -344,7 +356,9 @@ class _Executor:
         crash in a compiled library) is split and its files are retried one per task; a file
         whose task is lost again gets one more try, alone on the cluster (Dask also counts
         the tasks queued on a dying worker), and if that fails too it costs one error row
-        (``reason="crashed"``, naming the file), never the run.  ``task`` replaces :func:`process_packed` (tests).
+        (``reason="crashed"``, naming the file), never the run.  No wait is unbounded: after
+        :data:`STALL_S` in which no task ends, a task the scheduler no longer holds counts as
+        lost (:meth:`_stalled`).  ``task`` replaces :func:`process_packed` (tests).
         """
         if self.pool is not None:
             yield from self.pool.map(chunks, options)
@@ -354,75 +368,118 @@ class _Executor:
                 yield i, process_chunk(chunk, options)
             return
         import pickle
-
-        from distributed import as_completed, wait
+        import queue
+        import uuid
 
         task = task or process_packed
-        pending = {}  # future key -> (chunk index, sub-index or None, jobs)
+        # Dask's callback thread puts each future here as it ends (finished, erred or
+        # cancelled); it is read with a timeout.  Not distributed.as_completed: with_results
+        # fetches each result in a coroutine of its own, and when the fetch fails (the result
+        # lost with its worker, then the recomputation lost with another: KilledWorker) that
+        # coroutine dies, the future is never yielded and the loop waits forever.
+        ended = queue.Queue()
+        live = self._live = {}  # key -> (future, chunk index, sub-index or None, jobs, try)
+        alone = []              # (jobs, i, sub) of files whose one-file task was lost once
 
         def submit(jobs, i, sub, attempt=0):
-            key = f"inertia-chunk-{i}-{'all' if sub is None else sub}-{id(self)}"
-            key += f"-again{attempt}" if attempt else ""
+            # a fresh key for every try: a retry never meets an earlier try's task
+            key = f"inertia-chunk-{i}-{'all' if sub is None else sub}-{attempt}-{uuid.uuid4().hex[:16]}"
             fut = self.client.submit(task, pickle.dumps((jobs, options), protocol=pickle.HIGHEST_PROTOCOL),
                                      pure=False, key=key)
-            pending[fut.key] = (i, sub, jobs)
-            return fut
+            live[key] = (fut, i, sub, jobs, attempt)
+            fut.add_done_callback(ended.put)
 
-        futures = [submit(chunk, i, None) for i, chunk in enumerate(chunks)]
-        self._futures = futures
+        for i, chunk in enumerate(chunks):
+            submit(chunk, i, None)
         split_rows: dict[int, dict] = {}
-        again = []     # files alone whose task was lost once
-        # with_results: the client fetches each result as its task finishes, in the background
-        seq = as_completed(futures, with_results=True, raise_errors=False)
-        for fut, result in seq:
-            i, sub, jobs = pending.pop(fut.key)
-            if fut.status == "finished":
-                rows = pickle.loads(result)
-            elif sub is None and len(jobs) > 1:  # isolate: one file per task
-                split_rows[i] = {}
-                for k, job in enumerate(jobs):
-                    new = submit([job], i, k)
-                    self._futures.append(new)
-                    seq.add(new)
-                continue
-            else:
-                # a file alone whose task was lost: the worker may have died of another task
-                # queued with it (Dask counts every task on a lost worker); tried again below,
-                # alone on the cluster, before it is called crashed
-                again.append((i, sub, jobs))
-                continue
-            whole = reassemble(split_rows, chunks, i, sub, rows)
-            if whole is not None:
-                yield i, whole
-        for i, sub, jobs in again:
-            fut = submit(jobs, i, sub, attempt=1)
-            self._futures.append(fut)
-            pending.pop(fut.key, None)
-            wait([fut])
-            if fut.status == "finished":
-                rows = pickle.loads(fut.result())
-            else:
-                try:
-                    error = fut.exception()
-                except Exception as exc:  # noqa: BLE001 - cancelled (a scheduler lost): that is the error
-                    error = exc
-                rows = [crashed_row(jobs[0], error, options)]
-            whole = reassemble(split_rows, chunks, i, sub, rows)
-            if whole is not None:
-                yield i, whole
+        while live or alone:
+            if not live:
+                # a file lost once is tried again alone on the cluster: a worker lost now is
+                # lost to this file, not to another task queued beside it
+                submit(*alone.pop(0), attempt=1)
+            try:
+                settled = [(ended.get(timeout=STALL_S), None)]
+            except queue.Empty:
+                settled = [(live[key][0], error) for key, error in self._stalled(live).items()]
+            for fut, error in settled:
+                if fut.key not in live:
+                    continue  # settled already (given up as stalled, then released)
+                _, i, sub, jobs, attempt = live.pop(fut.key)
+                rows, error = self._outcome(fut) if error is None else (None, error)
+                # released now: a result left on a worker would be computed again each time a
+                # worker dies, and a task given up is forgotten rather than run on by Dask
+                fut.release()
+                if rows is None:
+                    if sub is None and len(jobs) > 1:  # isolate: one file per task
+                        split_rows[i] = {}
+                        for k, job in enumerate(jobs):
+                            submit([job], i, k)
+                        continue
+                    if attempt == 0:
+                        alone.append((jobs, i, sub))
+                        continue
+                    rows = [crashed_row(jobs[0], error, options)]
+                whole = reassemble(split_rows, chunks, i, sub, rows)
+                if whole is not None:
+                    yield i, whole
+
+    @staticmethod
+    def _outcome(fut):
+        """``(rows, None)`` of a task that ended, or ``(None, error)`` if it was lost: erred (a
+        worker died running it), cancelled (a scheduler lost), or its result lost with its
+        worker and not computed again within :data:`STALL_S`."""
+        import pickle
+        from asyncio import CancelledError
+
+        try:
+            return pickle.loads(fut.result(timeout=STALL_S)), None
+        except (Exception, CancelledError) as exc:  # noqa: BLE001 - whatever the cause, the task is lost
+            return None, exc
+
+    def _stalled(self, live: dict) -> dict:
+        """After :data:`STALL_S` in which no task ended: ``{key: error}`` of the tasks of ``live``
+        given up (``error`` None for one that ended but whose notice never came).  A task the
+        scheduler no longer holds (its report lost on the way, or the task lost by the
+        scheduler, e.g. on a worker it removed) is given up; one it queues or runs on a worker
+        it knows is waited for (a large file can take long), and so is every task when the
+        scheduler cannot be asked (the client cancels them all if it loses the scheduler)."""
+
+        def states(keys, dask_scheduler=None):  # runs on the scheduler (nested: sent by value)
+            tasks, workers, out = dask_scheduler.tasks, dask_scheduler.workers, {}
+            for key in keys:
+                ts = tasks.get(key)
+                state = "forgotten" if ts is None else ts.state
+                if state == "processing" and getattr(ts.processing_on, "address", None) not in workers:
+                    state = "processing on a removed worker"
+                out[key] = state
+            return out
+
+        ended = {key: None for key, (fut, *_) in live.items() if fut.done()}
+        try:
+            held = self.client.run_on_scheduler(states, keys=[key for key in live if key not in ended])
+        except Exception:  # noqa: BLE001 - no answer: keep waiting
+            held = {}
+        return {**ended, **{key: TimeoutError(f"no task end reported for {STALL_S:g} s; the scheduler has it {state}")
+                            for key, state in held.items() if state not in ("processing", "queued", "waiting",
+                                                                             "no-worker")}}
 
     def __exit__(self, *exc):
         if self.pool is not None:
             self.pool.__exit__(*exc)
-        futures = getattr(self, "_futures", None)
-        if futures and self.client is not None:
+        live = getattr(self, "_live", None)
+        if live and self.client is not None:
             try:
-                self.client.cancel(futures)
+                self.client.cancel([fut for fut, *_ in live.values()])
             except Exception:  # noqa: BLE001 - shutting down anyway
                 pass
         if self.cluster is not None:  # we own client and cluster
-            self.client.close()
-            self.cluster.close()
+            try:
+                self.client.close()
+                self.cluster.close()
+            except AssertionError:  # a nanny restarting its worker as it is closed (a Dask race): the run is done
+                pass
+            finally:
+                self._config.__exit__(None, None, None)
         return False
 
 
