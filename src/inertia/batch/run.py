@@ -454,14 +454,15 @@ class _Executor:
                 out[key] = state
             return out
 
-        ended = {key: None for key, (fut, *_) in live.items() if fut.done()}
+        lost = {key: None for key, (fut, *_) in live.items() if fut.done()}
         try:
-            held = self.client.run_on_scheduler(states, keys=[key for key in live if key not in ended])
+            held = self.client.run_on_scheduler(states, keys=[key for key in live if key not in lost])
         except Exception:  # noqa: BLE001 - no answer: keep waiting
             held = {}
-        return {**ended, **{key: TimeoutError(f"no task end reported for {STALL_S:g} s; the scheduler has it {state}")
-                            for key, state in held.items() if state not in ("processing", "queued", "waiting",
-                                                                             "no-worker")}}
+        for key, state in held.items():
+            if state not in ("processing", "queued", "waiting", "no-worker"):
+                lost[key] = TimeoutError(f"no task end reported for {STALL_S:g} s; the scheduler has it {state}")
+        return lost
 
     def __exit__(self, *exc):
         if self.pool is not None:

@@ -509,7 +509,6 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
         cell = 1.0
     N, diag = face_frames(V, F)                 # per mesh, not per grid tried
     rows = np.arange(nf)
-    closed = False
     if nf >= HEIGHTFIELD_MIN_FACES:
         closed = adj.shape[0] == nf
         if not closed:
@@ -530,7 +529,7 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
         for r in rows:
             for k in range(3):
                 wanted[F[r, k]] = True
-        cert = certified_fans_around(V, F, N, adj, wanted) if closed else certified_fans_of(V, F, N, wanted)
+        cert = certified_fans_around(V, F, N, adj, wanted)   # rows < nf: the cell proof ran, adj matched
     else:
         cert = certified_fans(V, F, N)
     Fs = F
