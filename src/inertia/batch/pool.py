@@ -112,15 +112,11 @@ class ProcessPool:
         """Yield ``(i, rows of chunks[i])`` as chunks finish (a crash isolates, see the module)."""
         queue = deque((i, None, chunk) for i, chunk in enumerate(chunks))
         split: dict[int, dict] = {}
-        while queue or any(w["busy"] for w in self.workers):
-            for w in list(self.workers):
-                if w["busy"] is None and queue:
-                    if not w["proc"].is_alive():   # ended between tasks: a fresh one takes the task
-                        w = self._replace(w)
-                    w["busy"] = queue.popleft()
-                    w["conn"].send_bytes(pickle.dumps((w["busy"][2], options), protocol=pickle.HIGHEST_PROTOCOL))
+        self._dispatch(queue, options)
+        while any(w["busy"] for w in self.workers):
             busy = [w for w in self.workers if w["busy"] is not None]
             ready = set(wait([w["conn"] for w in busy] + [w["proc"].sentinel for w in busy]))
+            finished = []
             for w in busy:
                 i, sub, jobs = w["busy"]
                 rows = self._collect(w, ready)
@@ -134,7 +130,20 @@ class ProcessPool:
                     rows = [crashed_row(jobs[0], rows, options)]
                 whole = reassemble(split, chunks, i, sub, rows)
                 if whole is not None:
-                    yield i, whole
+                    finished.append((i, whole))
+            # the idle workers get their next chunk before the caller handles the finished ones
+            # (writing a part takes milliseconds, the first one tens: Arrow's import)
+            self._dispatch(queue, options)
+            yield from finished
+
+    def _dispatch(self, queue: deque, options) -> None:
+        """Send the next tasks of ``queue`` to the idle workers."""
+        for w in list(self.workers):
+            if w["busy"] is None and queue:
+                if not w["proc"].is_alive():   # ended between tasks: a fresh one takes the task
+                    w = self._replace(w)
+                w["busy"] = queue.popleft()
+                w["conn"].send_bytes(pickle.dumps((w["busy"][2], options), protocol=pickle.HIGHEST_PROTOCOL))
 
     def _collect(self, w: dict, ready: set):
         """The rows of ``w``'s task if it answered; if it died, the error (and a new worker in
