@@ -146,8 +146,8 @@ def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[
     jobs: list[Job] = []
     seen: set[str] = set()
 
-    def add(job: Job, size: int | None = None) -> None:
-        key = os.path.abspath(job.path)
+    def add(job: Job, size: int | None = None, key: str | None = None) -> None:
+        key = key or os.path.abspath(job.path)   # key given: the path is absolute and normal already
         if key not in seen:
             seen.add(key)
             jobs.append(Job(key, job.density, job.mass, job.units, size))
@@ -160,11 +160,11 @@ def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[
         except OSError:
             mode, size = 0, None
         if stat.S_ISDIR(mode):
-            found = _mesh_files_under(text)
+            found = _mesh_files_under(os.path.abspath(text))   # names joined to a normal path stay normal
             if not found:
                 raise InputError(f"{text}: folder holds no mesh files ({', '.join(SUPPORTED_EXTENSIONS)})")
             for f, fsize in found:
-                add(Job(f, density, mass, units), fsize)
+                add(default, fsize, f)
         elif stat.S_ISREG(mode) and os.path.splitext(text)[1].lower() in MANIFEST_EXTENSIONS:
             for job in read_manifest(Path(text), default=default):
                 add(job)

@@ -24,8 +24,12 @@ COMMANDS = (
     "warmup",
 )
 
+#: the module of each command name typed
+_MODULE_OF = {name.replace("warmup", "warm-up"): name for name in COMMANDS}
 
-def build_parser() -> argparse.ArgumentParser:
+
+def build_parser(commands=COMMANDS) -> argparse.ArgumentParser:
+    """The parser of ``inertia`` with the sub-commands ``commands`` (all by default)."""
     from .._core.version import __version__
 
     parser = argparse.ArgumentParser(
@@ -36,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"inertia {__version__}")
     parser.add_argument("--debug", action="store_true", help="show Python tracebacks for errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMANDS:
+    for name in commands:
         importlib.import_module(f"inertia.cli.{name}").register(sub)
     return parser
 
@@ -49,8 +53,11 @@ def _pop_debug(argv: list[str]) -> tuple[list[str], bool]:
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
     argv, debug = _pop_debug(list(sys.argv[1:] if argv is None else argv))
+    # a line that names its command first needs that command's parser only (the others'
+    # modules cost ~10 ms to import); anything else (--help, a typo) gets them all
+    named = _MODULE_OF.get(argv[0]) if argv else None
+    parser = build_parser((named,) if named else COMMANDS)
     args = parser.parse_args(argv)
     args.debug = debug
     if not getattr(args, "func", None):

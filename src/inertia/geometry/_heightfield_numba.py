@@ -11,20 +11,29 @@ no rounding):
 
 1. every face is positively oriented seen along d (the d-component of its normal beyond a
    margin of 1e-12 of its box diagonal squared: the normal's own rounding is below 1e-15);
-2. the projection is locally one-to-one: around each vertex inside the patch (every face
-   around it in the patch) the projected faces wind once (counted exactly: the sectors, each
-   turning counterclockwise by less than a half turn, that pass the +u ray from the vertex,
-   by comparisons of coordinates alone); around each vertex on the patch's border the faces
-   form one wedge (one border edge out, one in) turning by less than a full turn;
-3. the patch's border edges form one closed loop, whose projection is a simple polygon (every
-   pair of non-adjacent border edges apart, by boxes or by orientation signs beyond their
-   rounding bound).
+2. the patch's *border* (its edges whose face across is not in the patch) is one closed loop
+   that leaves and enters each vertex at most once, and its projection is a simple polygon
+   (every pair of border edges that are not neighbours in the loop apart, by boxes or by
+   orientation signs beyond their rounding bound).
 
-Then the projection is a local homeomorphism of the patch whose border goes one-to-one onto a
-Jordan curve: it covers the inside of the curve exactly once, so the patch is a surface (a
-disk) that the projection maps one-to-one, and no two of its faces share a point they do not
-share in the mesh.  A patch that fails is cut into 8 and each part tried again (twice); the
-faces of the parts still unproved go to the face-pair search (:func:`._selfcross_numba.first_crossing`).
+Why that is enough.  Take a point y of the plane on no projected edge and count the faces
+whose projections hold y.  A face turning counterclockwise holds y exactly when its border
+winds once around y, so the count is how often the sum of the faces' borders winds around y.
+In that sum an edge inside the patch comes twice, once each way (the shell is closed and
+consistently wound: the face across runs it the other way), and cancels; what is left is the
+border loop, which, simple, winds at most once around any point.  So no two projected faces
+overlap on an open set.  Two faces that met at a point they do not share would: where the
+point is inside either projection at once; on a side inside the patch, the face across covers
+the other side of it (and meets the first only along that side); at a vertex inside the
+patch, its fan covers a whole neighbourhood (once: more would count two); and two points of
+the border are apart unless neighbours in the loop share them (a loop folding onto itself
+meets a third border edge, or, of three edges, winds around nothing, which positive faces
+cannot be).  So no two faces of a proved patch meet but along the edges and vertices they
+share; no test of the fans around the vertices is needed (a fan that winds twice, or turns
+more than once on the border, makes the border loop cross itself).
+
+A patch that fails is cut into 8 and each part tried again (twice); the faces of the parts
+still unproved go to the face-pair search (:func:`._selfcross_numba.first_crossing`).
 
 Every test that rounding could decide is made with a margin, and the doubtful side is
 "not proved": the proof is never wrong, at worst it leaves a cell to the search.  Cells are
@@ -123,27 +132,6 @@ def _orient_sign(pu, pw, qu, qw, ru, rw):
 
 
 @nb.njit(**_JIT)
-def _upper(du, dw):
-    """The direction (du, dw) has its angle in (0, pi] (else in (-pi, 0]); exact."""
-    return dw > 0.0 or (dw == 0.0 and du < 0.0)
-
-
-@nb.njit(**_JIT)
-def _turns_before(V, iu, iw, v, u, w):
-    """The angle of u - v is below that of w - v, both in (-pi, pi] (projected on iu, iw);
-    False when rounding could decide it."""
-    uu = V[u, iu] - V[v, iu]
-    uw = V[u, iw] - V[v, iw]
-    wu = V[w, iu] - V[v, iu]
-    ww = V[w, iw] - V[v, iw]
-    hu = _upper(uu, uw)
-    hw = _upper(wu, ww)
-    if hu != hw:
-        return hw                       # u in the lower half, w in the upper
-    return _orient_sign(0.0, 0.0, uu, uw, wu, ww) > 0
-
-
-@nb.njit(**_JIT)
 def _simple_loop(V, iu, iw, loop, m, fwork, order):
     """The closed polygon ``loop[:m]`` (vertex numbers, projected on iu, iw) is simple: every
     pair of edges that are not neighbours in the loop proved apart.  The edges are sorted by
@@ -233,13 +221,12 @@ def orientation_bits(N, diag):
 def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
     """0 when the faces ``faces[:n]`` form a height field along one axis (see the module
     docstring): then no two of them meet but where they share edges and vertices.  Else the
-    first test failed: 1 a face not turned along the axis, 2 two wedges at a vertex, 3 a
-    closed patch, 4 an inner vertex not wound once, 5 a border wedge turning a full turn, 6
-    more than one border loop, 7 a border loop not simple.  ``omask``: :func:`orientation_bits`
-    of the faces.  ``mark`` is a number not used by
-    an earlier call with the same work arrays: ``fstamp`` (F,) and ``vwork`` (V, 5) int64
-    (per vertex: stamp, winding, passes of the -u ray, border edge out and in), ``iwork``
-    int64 and ``fwork`` float64 of 6 n and 9 n."""
+    first test failed: 1 a face not turned along the axis, 2 two border edges out of (or into)
+    a vertex, 3 fewer than three border edges, 4 more than one border loop, 5 a border loop
+    not simple.  ``omask``: :func:`orientation_bits` of the faces.  ``mark`` is a number not
+    used by an earlier call with the same work arrays: ``fstamp`` (F,) and ``vwork`` (V, 3)
+    int64 (per vertex: stamp, border edge out and in), ``iwork`` int64 and ``fwork``
+    float64 of 6 n and 9 n."""
     if n < 2:
         return 0
     # the directions along which every face turns counterclockwise (bits: orientation_bits)
@@ -275,64 +262,43 @@ def patch_check(V, F, omask, adj, faces, n, mark, fstamp, vwork, iwork, fwork):
         iu, iw = 0, 2
     else:
         iu, iw = 1, 0
+    # the border: the edges whose face across is not in the patch, each vertex's out and in
+    # (vwork[v, 1] and vwork[v, 2], valid while vwork[v, 0] is mark)
     n_border = 0
-    n_vert = 0                             # the patch's vertices, listed in iwork[:n_vert]
+    first = -1
     for i in range(n):
         t = faces[i]
-        vs = (F[t, 0], F[t, 1], F[t, 2])
-        ws = (V[vs[0], iw], V[vs[1], iw], V[vs[2], iw])
         for k in range(3):
-            v = vs[k]
-            if vwork[v, 0] != mark:
-                vwork[v, 0] = mark
-                vwork[v, 1] = 0
-                vwork[v, 2] = 0
-                vwork[v, 3] = -1
-                vwork[v, 4] = -1
-                iwork[n_vert] = v
-                n_vert += 1
-        for k in range(3):
-            v = vs[k]
-            a = vs[(k + 1) % 3]
-            vw = ws[k]
-            aw = ws[(k + 1) % 3]
-            bw = ws[(k + 2) % 3]
-            if aw < vw and vw <= bw:
-                vwork[v, 1] += 1              # the sector a -> b around v passes the +u ray
-            elif aw >= vw and vw > bw:
-                vwork[v, 2] += 1            # ... or the -u ray
             if fstamp[adj[t, k]] != mark:  # the edge v -> a is on the patch's border
-                if vwork[v, 3] >= 0 or vwork[a, 4] >= 0:
-                    return 2               # two wedges meet at a vertex
-                vwork[v, 3] = a
-                vwork[a, 4] = v
+                v = F[t, k]
+                a = F[t, (k + 1) % 3]
+                if vwork[v, 0] != mark:
+                    vwork[v, 0] = mark
+                    vwork[v, 1] = -1
+                    vwork[v, 2] = -1
+                if vwork[a, 0] != mark:
+                    vwork[a, 0] = mark
+                    vwork[a, 1] = -1
+                    vwork[a, 2] = -1
+                if vwork[v, 1] >= 0 or vwork[a, 2] >= 0:
+                    return 2               # two border edges out of v, or into a
+                vwork[v, 1] = a
+                vwork[a, 2] = v
                 n_border += 1
+                first = v
     if n_border < 3:
         return 3
-    first = -1
-    for i in range(n_vert):
-        v = iwork[i]
-        if vwork[v, 3] < 0:
-            if vwork[v, 4] >= 0 or vwork[v, 1] != 1:
-                return 4                   # a vertex inside the patch whose faces wind not once
-        else:
-            first = v
-            # the wedge turns from the edge out (to bout) to the edge in (from bin_):
-            # theta(in) - theta(out) + 2 pi passes, below 2 pi
-            p = vwork[v, 2]
-            if vwork[v, 4] < 0 or p >= 2:
-                return 5
-            if p == 1 and not _turns_before(V, iu, iw, v, vwork[v, 4], vwork[v, 3]):
-                return 5
+    # one loop: from a border vertex, n_border steps along the edges out come back to it, and
+    # not before (no edge is met twice: a vertex has one edge in)
     v = first
     for i in range(n_border):
         iwork[i] = v
-        v = vwork[v, 3]
-        if v < 0 or vwork[v, 0] != mark or (v == first and i < n_border - 1):
-            return 6                       # more than one loop
+        v = vwork[v, 1]
+        if v < 0 or (v == first and i < n_border - 1):
+            return 4
     if v != first:
-        return 6
-    return 0 if _simple_loop(V, iu, iw, iwork, n_border, fwork, iwork[n_border:]) else 7
+        return 4
+    return 0 if _simple_loop(V, iu, iw, iwork, n_border, fwork, iwork[n_border:]) else 5
 
 
 @nb.njit(**_JIT)
@@ -439,7 +405,7 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                     fill[i] += 1
     fstamp = np.full(nf, -1, dtype=np.int64)
     omask = orientation_bits(N, diag)
-    vwork = np.full((nv, 5), -1, dtype=np.int64)
+    vwork = np.full((nv, 3), -1, dtype=np.int64)
     biggest = 1
     for i in range(ncell):
         biggest = max(biggest, counts[i + 1] - counts[i])

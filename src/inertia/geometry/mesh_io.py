@@ -336,9 +336,11 @@ def prepare_text_readers(formats) -> None:
     its format has been used in the process (loading it costs about 0.15 s, more than reading
     a small file); a process about to read many small files calls this first.
     """
-    from ._text_readers import prepare
+    formats = [fmt for fmt in formats if fmt in ("obj", "ascii_stl")]
+    if formats:   # a run of binary files does not import the text readers (8 ms)
+        from ._text_readers import prepare
 
-    prepare(formats)
+        prepare(formats)
 
 
 def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
