@@ -37,8 +37,8 @@ still unproved go to the face-pair search (:func:`._selfcross_numba.first_crossi
 
 Every test that rounding could decide is made with a margin, and the doubtful side is
 "not proved": the proof is never wrong, at worst it leaves a cell to the search.  Cells are
-filed in scaled coordinates ``(x - origin) / h`` widened by :data:`CELL_SLACK` cells (the
-rounding of that division is 1e-11 cells at most on the grid sizes used), so a face is filed in
+filed in scaled coordinates ``(x - origin) (1 / h)`` widened by :data:`CELL_SLACK` cells (the
+rounding of that product is 1e-10 cells at most on the grid sizes used), so a face is filed in
 every cell its box meets.
 """
 
@@ -52,7 +52,7 @@ _JIT = dict(cache=True, nogil=True, boundscheck=False)
 #: a face is positively oriented along the axis when its normal's component there is above
 #: this times its box diagonal squared (the component's rounding is below 1e-15 of that)
 ORIENT_MARGIN = 1e-12
-#: cells (scaled units) by which a face's box is widened when filed (rounding is < 1e-11)
+#: cells (scaled units) by which a face's box is widened when filed (rounding is < 1e-10)
 CELL_SLACK = 1e-9
 #: the rounding bound of a 2-D orientation, relative to |t1| + |t2| (Shewchuk's is 3.3e-16)
 _CCW_BOUND = 1e-15
@@ -365,12 +365,13 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
         if cells <= MAX_CELLS_PER_FACE * nf + 64 and dims.max() < 100000:
             break
         h *= 2.0
+    inv = 1.0 / h                          # a product for each division: 5 % of the proof's time
     for t in range(nf):
         for c in range(3):
             lo = min(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
             hi = max(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
-            bl[t, c] = (lo - origin[c]) / h
-            bh[t, c] = (hi - origin[c]) / h
+            bl[t, c] = (lo - origin[c]) * inv
+            bh[t, c] = (hi - origin[c]) * inv
     ncell = dims[0] * dims[1] * dims[2]
     counts = np.zeros(ncell + 1, dtype=np.int64)
     ilo = np.empty((nf, 3), dtype=np.int64)
