@@ -52,7 +52,7 @@ def cli_command() -> list[str]:
     script = Path(sys.executable).parent / "inertia"
     if script.is_file():
         return [sys.executable, str(script)]
-    return [sys.executable, "-c", "import sys; from inertia.cli.main import main; sys.exit(main())"]
+    return [sys.executable, "-m", "inertia.cli.main"]
 
 
 def inertia_of_points(m, r):
@@ -314,6 +314,22 @@ def test_subprocess_props_and_error():
     assert json.loads(ok.stdout)["inertia_com"][0][0] == pytest.approx(2 / 12 * (0.04 + 0.16), rel=1e-14)
     bad = subprocess.run(cmd + ["props", "box:1,2"], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr and "box" in bad.stderr
+
+
+def test_a_process_ends_with_its_whole_output_and_exit_code():
+    """The command skips the interpreter's teardown (os._exit): what it printed must still
+    arrive whole, beyond a pipe's buffer, and its exit code be the command's."""
+    cmd = cli_command()
+    argv = ["simulate", "--moments", "1,2,3", "--omega", "0.1,2,0.1", "--duration", "200", "--step", "0.01",
+            "--every", "2", "--method", "exact", "--format", "csv"]
+    out = subprocess.run(cmd + argv, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert len(out.stdout) > 2**16 and len(lines) == 1 + 200 / 0.02 + 1   # header, t = 0 .. 200
+    assert lines[-1].split(",")[0] in ("200", "200.0") and out.stdout.endswith("\n")
+    bad = subprocess.run(cmd + ["simulate", "--moments", "1,2", "--omega", "1,0,0"], capture_output=True,
+                         text=True, timeout=60)
+    assert bad.returncode == 1 and "moments" in bad.stderr and "Traceback" not in bad.stderr
 
 
 def test_help_does_not_import_numerical_libraries():
