@@ -25,6 +25,7 @@ pytest.importorskip("pyarrow")
 distributed = pytest.importorskip("distributed")
 
 import inertia  # noqa: E402
+from inertia.batch import run as batch_run  # noqa: E402
 from inertia.batch import collect_jobs, mass_properties_dask, mass_properties_table, read_frame, run_batch  # noqa: E402
 from inertia.errors import InertiaError, InputError  # noqa: E402
 
@@ -150,7 +151,8 @@ def test_cluster_run_matches_single_file_api_and_names_every_error(dataset, clie
     assert not (tmp_path / "results.parquet.parts").exists()  # parts folded into the output
 
 
-def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path):
+def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path, monkeypatch):
+    monkeypatch.setattr(batch_run, "PART_S", 0.0)     # a part for every chunk
     full = tmp_path / "full.parquet"
     run_batch([dataset], full, scheduler="synchronous", chunk_files=2, progress=False)
     out = tmp_path / "resumed.parquet"
@@ -171,6 +173,44 @@ def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path):
     a, b = _strip(read_frame(full)), _strip(read_frame(out))
     assert b["path"].is_unique
     pd.testing.assert_frame_equal(a, b)
+
+
+def test_rows_not_yet_in_a_part_are_saved_by_a_ctrl_c(dataset, tmp_path, monkeypatch):
+    """Parts are written at most every PART_S seconds (the first chunk's at once): the rows
+    finished since the last part are written when the run is interrupted, so a resume does
+    only the files not done."""
+    from inertia.batch import record
+
+    monkeypatch.setattr(batch_run, "PART_S", 3600.0)
+    full = tmp_path / "full.parquet"
+    run_batch([dataset], full, scheduler="synchronous", chunk_files=1, progress=False)
+    n_files = len(read_frame(full))
+    parts_seen = []
+    fast = tmp_path / "fast.parquet"                   # a run faster than PART_S: one part, the first chunk's
+    run_batch([dataset], fast, scheduler="synchronous", chunk_files=1, progress=False,
+              on_part=lambda path, rows: parts_seen.append(len(rows)))
+    assert parts_seen == [1]
+    pd.testing.assert_frame_equal(_strip(read_frame(full)), _strip(read_frame(fast)))
+
+    real, calls = record.process_file, []
+
+    def interrupted_at_the_sixth(job, **options):
+        calls.append(job.path)
+        if len(calls) == 6:
+            raise KeyboardInterrupt
+        return real(job, **options)
+
+    monkeypatch.setattr(record, "process_file", interrupted_at_the_sixth)
+    out = tmp_path / "resumed.parquet"
+    with pytest.raises(KeyboardInterrupt):
+        run_batch([dataset], out, scheduler="synchronous", chunk_files=1, progress=False)
+    parts = sorted((tmp_path / "resumed.parquet.parts").glob("part-*.parquet"))
+    assert len(parts) == 2                               # the first chunk, then the four since
+    assert sum(len(pd.read_parquet(p)) for p in parts) == 5
+    monkeypatch.setattr(record, "process_file", real)
+    summary = run_batch([dataset], out, scheduler="synchronous", chunk_files=1, progress=False, resume=True)
+    assert summary.skipped == 5 and summary.processed == n_files - 5
+    pd.testing.assert_frame_equal(_strip(read_frame(full)), _strip(read_frame(out)))
 
 
 @pytest.mark.parametrize("ext", ["csv", "parquet"])
