@@ -26,8 +26,9 @@ Without --density/--mass (and no manifest value) the density of water, 1000 kg/m
 and recorded in the density column.
 
 Finished rows are saved atomically in OUTPUT.parts/ as the run goes (the first chunk's at
-once, then at most every 2 s; Ctrl-C saves the rest); the output file is assembled at the end.  --resume skips files already done (same path, size, mtime and options);
-a resume with other options is refused unless --force recomputes those rows.
+once, then at most every 2 s; Ctrl-C saves the rest); the output file is assembled at the
+end.  --resume skips files already done (same path, size, mtime and options); a resume with
+other options is refused unless --force recomputes those rows.
 
 where it runs (the summary says): by default on worker processes of this machine,
 one for a small job and one per core when the estimated work pays for them (forked on Linux: a
