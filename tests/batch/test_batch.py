@@ -25,8 +25,8 @@ pytest.importorskip("pyarrow")
 distributed = pytest.importorskip("distributed")
 
 import inertia  # noqa: E402
-from inertia.batch import run as batch_run  # noqa: E402
 from inertia.batch import collect_jobs, mass_properties_dask, mass_properties_table, read_frame, run_batch  # noqa: E402
+from inertia.batch import run as batch_run  # noqa: E402
 from inertia.errors import InertiaError, InputError  # noqa: E402
 
 GOOD = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "tray_bottom_ascii.stl"]
