@@ -325,6 +325,12 @@ def test_float32_apart_never_misses_a_near_pair():
     near = torus[:1].copy()
     near[0, 1:] += float(np.float32(1e-11))          # a float32 copy of vertex 0 = (1.3, 0, 0), 1.4e-11 away
     assert not nbk.float32_apart(np.concatenate([torus, near]), 1e-10 * 2.6, 1.3)
+    # mirror images across x = 0 whose x is below 2^26 tol (the same key): apart by 0.02, proved
+    # apart by comparing them; mirror images 0.6 tol apart are a near pair
+    mirrored = np.array([[0.01, 0.5, 0.2], [-0.01, 0.5, 0.2]], dtype=np.float32).astype(np.float64)
+    assert nbk.float32_apart(np.concatenate([torus, mirrored]), 1e-10 * 2.6, 1.3)
+    mirrored[:, 0] = np.float32([0.3e-10 * 2.6, -0.3e-10 * 2.6])
+    assert not nbk.float32_apart(np.concatenate([torus, mirrored]), 1e-10 * 2.6, 1.3)
 
 
 def test_stl_weld_merges_a_split_vertex_near_zero_as_the_soup_route_does(tmp_path):
