@@ -11,25 +11,22 @@ import importlib
 import os
 import sys
 
-# sub-command modules, in the order --help lists them
-COMMANDS = (
-    "props",
-    "particles",
-    "demo",
-    "simulate",
-    "flip",
-    "lagrangian",
-    "batch",
-    "check",
-    "fix",
-    "warmup",
-)
-
-#: the module of each command name typed
-_MODULE_OF = {name.replace("warmup", "warm-up"): name for name in COMMANDS}
+#: each command as typed -> the module of this package that registers it, in --help's order
+COMMANDS = {
+    "props": "props",
+    "particles": "particles",
+    "demo": "demo",
+    "simulate": "simulate",
+    "flip": "flip",
+    "lagrangian": "lagrangian",
+    "batch": "batch",
+    "check": "check",
+    "fix": "fix",
+    "warm-up": "warmup",
+}
 
 
-def build_parser(commands=COMMANDS) -> argparse.ArgumentParser:
+def build_parser(commands=tuple(COMMANDS)) -> argparse.ArgumentParser:
     """The parser of ``inertia`` with the sub-commands ``commands`` (all by default)."""
     from .._core.version import __version__
 
@@ -42,7 +39,7 @@ def build_parser(commands=COMMANDS) -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show Python tracebacks for errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in commands:
-        importlib.import_module(f"inertia.cli.{name}").register(sub)
+        importlib.import_module(f"inertia.cli.{COMMANDS[name]}").register(sub)
     return parser
 
 
@@ -57,8 +54,8 @@ def main(argv=None) -> int:
     argv, debug = _pop_debug(list(sys.argv[1:] if argv is None else argv))
     # a line that names its command first needs that command's parser only (the others'
     # modules cost ~10 ms to import); anything else (--help, a typo) gets them all
-    named = _MODULE_OF.get(argv[0]) if argv else None
-    parser = build_parser((named,) if named else COMMANDS)
+    named = argv[0] if argv and argv[0] in COMMANDS else None
+    parser = build_parser((named,) if named else tuple(COMMANDS))
     args = parser.parse_args(argv)
     args.debug = debug
     if not getattr(args, "func", None):

@@ -474,8 +474,8 @@ def float32_apart(v, tol, maxabs):
             r = v[j, 2]
             if (p if abs(p) >= big else 0.0) == a and (q if abs(q) >= big else 0.0) == b \
                     and (r if abs(r) >= big else 0.0) == c:
-                # the same key: apart if a coordinate differs by more than tol (the difference
-                # of two float32 values is exact in float64)
+                # the same key: apart if a coordinate differs by more than tol (the difference,
+                # rounded to nearest, exceeds tol only if the exact one does: tol is a float)
                 compares += 1
                 if compares > F32_APART_COMPARES * n or not (
                         abs(p - v[i, 0]) > tol or abs(q - v[i, 1]) > tol or abs(r - v[i, 2]) > tol):
