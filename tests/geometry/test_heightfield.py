@@ -35,9 +35,8 @@ def _check(v, f, adj=None):
         for t, row in enumerate(f):
             for k in range(3):
                 adj[t, k] = where.get((row[(k + 1) % 3], row[k]), len(f))
-    N, diag = sc.face_frames(v, f)
     n = len(f)
-    return hf.patch_check(v, f, hf.orientation_bits(N, diag), adj, np.arange(n), n, 0, np.full(n + 1, -1),
+    return hf.patch_check(v, f, hf.orientation_bits(v, f), adj, np.arange(n), n, 0, np.full(n + 1, -1),
                           np.full((len(v), 3), -1), np.empty(6 * n, dtype=np.int64), np.empty(9 * n))
 
 
@@ -146,7 +145,7 @@ def test_a_proved_patch_never_holds_a_crossing_pair():
         adj, closed = hf.face_twins(f, len(v))
         assert closed
         fstamp, vwork = np.full(len(f), -1), np.full((len(v), 3), -1)
-        omask = hf.orientation_bits(N, diag)
+        omask = hf.orientation_bits(v, f)
         for mark, faces in enumerate(_cells(v, f, rng.choice([2.0, 4.0, 8.0]))):
             n = len(faces)
             code = hf.patch_check(v, f, omask, adj, faces, n, mark, fstamp, vwork,
@@ -222,10 +221,9 @@ def test_the_proof_leaves_both_faces_of_every_crossing_pair_to_the_search():
             v, f = np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(f, dtype=np.int64)
         adj, closed = hf.face_twins(f, len(v))
         assert closed
-        N, diag = sc.face_frames(v, f)
         origin, top, edge = hf.box_and_median_edge(v, f)
         keep = np.zeros(len(f), dtype=bool)
-        n_keep = hf.unproved_faces(v, f, N, diag, adj, origin, top, rng.choice([2.0, 4.0, 8.0]) * edge, keep)
+        n_keep = hf.unproved_faces(v, f, adj, origin, top, rng.choice([2.0, 4.0, 8.0]) * edge, keep)
         assert n_keep == keep.sum()
         proved_some += n_keep < len(f)
         for a, b in _crossing_pairs(v, f):
@@ -243,9 +241,8 @@ def test_a_wall_pushed_through_a_torus_is_found():
     out = np.zeros(2, dtype=np.int64)
     assert sc.find_crossing(v, f, _NO_TWINS, 64, CROSS_RTOL, out) == 0
     keep = np.zeros(len(f), dtype=bool)
-    N, diag = sc.face_frames(v, f)
     origin, top, edge = hf.box_and_median_edge(v, f)
-    assert hf.unproved_faces(v, f, N, diag, hf.face_twins(f, len(v))[0], origin, top, hf.CELL_EDGES * edge,
+    assert hf.unproved_faces(v, f, hf.face_twins(f, len(v))[0], origin, top, hf.CELL_EDGES * edge,
                              keep) < len(f) // 10
     ring = np.hypot(v[:, 0], v[:, 1])
     for angle in np.linspace(0, 2 * np.pi, 7)[:-1]:

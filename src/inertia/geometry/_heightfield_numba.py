@@ -189,31 +189,56 @@ def _simple_loop(V, iu, iw, loop, m, fwork, order):
 
 
 @nb.njit(**_JIT)
-def orientation_bits(N, diag):
+def _turn_bits(nx, ny, nz, m):
+    """The orientation bits of a face of normal ``n`` (margin ``m``): see :func:`orientation_bits`."""
+    bits = 0
+    if nx > m:
+        bits |= 1
+    elif nx < -m:
+        bits |= 8
+    if ny > m:
+        bits |= 2
+    elif ny < -m:
+        bits |= 16
+    if nz > m:
+        bits |= 4
+    elif nz < -m:
+        bits |= 32
+    return bits
+
+
+@nb.njit(**_JIT)
+def _face_normal(V, a, b, c):
+    """``(b - a) x (c - a)`` (the same arithmetic as :func:`._selfcross_numba.face_frames`)."""
+    ux = V[b, 0] - V[a, 0]
+    uy = V[b, 1] - V[a, 1]
+    uz = V[b, 2] - V[a, 2]
+    vx = V[c, 0] - V[a, 0]
+    vy = V[c, 1] - V[a, 1]
+    vz = V[c, 2] - V[a, 2]
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
+@nb.njit(**_JIT)
+def orientation_bits(V, F):
     """Per face, the axis directions along which it turns counterclockwise (test 1 of the
-    module docstring, with :data:`ORIENT_MARGIN`): bits 1, 2, 4 for +x, +y, +z and 8, 16, 32
-    for -x, -y, -z (uint8).  A patch is oriented along the directions of all its faces' bits."""
-    nf = N.shape[0]
+    module docstring): bits 1, 2, 4 for +x, +y, +z and 8, 16, 32 for -x, -y, -z (uint8), set
+    where the normal's component is beyond :data:`ORIENT_MARGIN` times the face's box
+    diagonal squared.  A patch is oriented along the directions of all its faces' bits.
+    (:func:`unproved_faces` computes the same bits in its pass over the faces' boxes.)"""
+    nf = F.shape[0]
     out = np.empty(nf, dtype=np.uint8)
     for t in range(nf):
-        m = ORIENT_MARGIN * diag[t] * diag[t]
-        a = N[t, 0]
-        b = N[t, 1]
-        c = N[t, 2]
-        bits = 0
-        if a > m:
-            bits |= 1
-        elif a < -m:
-            bits |= 8
-        if b > m:
-            bits |= 2
-        elif b < -m:
-            bits |= 16
-        if c > m:
-            bits |= 4
-        elif c < -m:
-            bits |= 32
-        out[t] = bits
+        a = F[t, 0]
+        b = F[t, 1]
+        c = F[t, 2]
+        dd = 0.0
+        for k in range(3):
+            lo = min(V[a, k], V[b, k], V[c, k])
+            hi = max(V[a, k], V[b, k], V[c, k])
+            dd += (hi - lo) * (hi - lo)
+        nx, ny, nz = _face_normal(V, a, b, c)
+        out[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
     return out
 
 
@@ -340,10 +365,10 @@ def box_and_median_edge(V, F):
 
 
 @nb.njit(**_JIT)
-def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
+def unproved_faces(V, F, adj, origin, top, h, keep):
     """Set ``keep[t]`` for the faces of the patches that :func:`patch_check` does
     not prove, cutting each failed cell into 8 up to :data:`MAX_DEPTH` times; returns how many.
-    ``N``, ``diag``: :func:`._selfcross_numba.face_frames`; ``adj``: :func:`face_twins`;
+    ``adj``: :func:`face_twins`;
     ``origin``, ``top``, and ``h`` (the cell, :data:`CELL_EDGES` median longest edges):
     :func:`box_and_median_edge`."""
     nf = F.shape[0]
@@ -366,12 +391,23 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
             break
         h *= 2.0
     inv = 1.0 / h                          # a product for each division: 5 % of the proof's time
+    # one pass over the faces' corners: their scaled boxes and orientation_bits (the normals
+    # and box diagonals of every face are not needed: the search computes those of the faces
+    # it keeps)
+    omask = np.empty(nf, dtype=np.uint8)
     for t in range(nf):
-        for c in range(3):
-            lo = min(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
-            hi = max(V[F[t, 0], c], V[F[t, 1], c], V[F[t, 2], c])
-            bl[t, c] = (lo - origin[c]) * inv
-            bh[t, c] = (hi - origin[c]) * inv
+        a = F[t, 0]
+        b = F[t, 1]
+        c = F[t, 2]
+        dd = 0.0
+        for k in range(3):
+            lo = min(V[a, k], V[b, k], V[c, k])
+            hi = max(V[a, k], V[b, k], V[c, k])
+            bl[t, k] = (lo - origin[k]) * inv
+            bh[t, k] = (hi - origin[k]) * inv
+            dd += (hi - lo) * (hi - lo)
+        nx, ny, nz = _face_normal(V, a, b, c)
+        omask[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
     ncell = dims[0] * dims[1] * dims[2]
     counts = np.zeros(ncell + 1, dtype=np.int64)
     ilo = np.empty((nf, 3), dtype=np.int64)
@@ -405,7 +441,6 @@ def unproved_faces(V, F, N, diag, adj, origin, top, h, keep):
                     entries[fill[i]] = t
                     fill[i] += 1
     fstamp = np.full(nf, -1, dtype=np.int64)
-    omask = orientation_bits(N, diag)
     vwork = np.full((nv, 3), -1, dtype=np.int64)
     biggest = 1
     for i in range(ncell):

@@ -507,7 +507,6 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
     h = CELL_EDGES * cell                       # the cell proof's grid (it proves nothing if h is not finite)
     if not (cell > 0.0 and cell < np.inf):
         cell = 1.0
-    N, diag = face_frames(V, F)                 # per mesh, not per grid tried
     rows = np.arange(nf)
     if nf >= HEIGHTFIELD_MIN_FACES:
         closed = adj.shape[0] == nf
@@ -515,30 +514,34 @@ def _find_crossing(V, F, adj, max_per_face, rtol, out):
             adj, closed = face_twins(F, V.shape[0])
         if closed:
             keep = np.zeros(nf, dtype=np.bool_)
-            n_keep = unproved_faces(V, F, N, diag, adj, origin, top, h, keep)
+            n_keep = unproved_faces(V, F, adj, origin, top, h, keep)
             if n_keep == 0:
                 return 0                        # every cell proved
             if n_keep < nf:
                 rows = np.nonzero(keep)[0]
     if rows.shape[0] * KEPT_WITHOUT_FANS < nf:
         # a few faces left: the fans' certificates (a pass over every face, then ~100 ns a
-        # vertex) cost more than the pairs they spare (on 1-5 % of a torus's faces: 30 against 4 us)
+        # vertex) cost more than the pairs they spare (on 1-5 % of a torus's faces: 30 against
+        # 4 us); the search needs the frames of those faces only
         cert = np.zeros(V.shape[0], dtype=np.bool_)
-    elif rows.shape[0] < nf:
-        wanted = np.zeros(V.shape[0], dtype=np.bool_)
-        for r in rows:
-            for k in range(3):
-                wanted[F[r, k]] = True
-        cert = certified_fans_around(V, F, N, adj, wanted)   # rows < nf: the cell proof ran, adj matched
-    else:
-        cert = certified_fans(V, F, N)
-    Fs = F
-    Ns = N
-    diags = diag
-    if rows.shape[0] < nf:                      # search the faces of the cells not proved
         Fs = np.ascontiguousarray(F[rows])
-        Ns = np.ascontiguousarray(N[rows])
-        diags = diag[rows]
+        Ns, diags = face_frames(V, Fs)
+    else:
+        N, diag = face_frames(V, F)             # per mesh, not per grid tried
+        if rows.shape[0] < nf:
+            wanted = np.zeros(V.shape[0], dtype=np.bool_)
+            for r in rows:
+                for k in range(3):
+                    wanted[F[r, k]] = True
+            cert = certified_fans_around(V, F, N, adj, wanted)   # rows < nf: the cell proof ran, adj matched
+            Fs = np.ascontiguousarray(F[rows])  # search the faces of the cells not proved
+            Ns = np.ascontiguousarray(N[rows])
+            diags = diag[rows]
+        else:
+            cert = certified_fans(V, F, N)
+            Fs = F
+            Ns = N
+            diags = diag
     while True:
         found = first_crossing(V, Fs, Ns, diags, cert, origin, cell, max_per_face, rtol, out)
         if found >= 0:
