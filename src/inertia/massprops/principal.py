@@ -68,10 +68,12 @@ def _cross(a: list, b: list) -> list:
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
-def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float) -> np.ndarray:
+def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float, groups=None) -> np.ndarray:
     # one 3x3 at a time, in Python floats: the same arithmetic as the vectorised helpers,
-    # without NumPy's per-call overhead on 3-vectors (this runs once per mesh in batch runs)
-    groups = degenerate_groups(moments, rtol)
+    # without NumPy's per-call overhead on 3-vectors (this runs once per mesh in batch runs);
+    # ``groups``: degenerate_groups(moments, rtol), when known
+    if groups is None:
+        groups = degenerate_groups(moments, rtol)
     if groups == ((0, 1, 2),):
         return np.eye(3)  # sphere-like: every frame is principal; choose F itself
     cols = vecs.T.tolist()
@@ -106,16 +108,24 @@ def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.
         ``inertia = R_body_principal @ diag(moments) @ R_body_principal.T``.
     """
     I = as_float_array(inertia, "inertia", (3, 3))
+    if I.ndim == 2:
+        moments, R, _ = _principal_single(I, rtol)
+        return moments, R
     I = 0.5 * (I + np.swapaxes(I, -1, -2))
     moments, vecs = np.linalg.eigh(I)
-    if moments.ndim == 1:
-        return moments, _canonical_axes_single(moments, vecs, rtol)
     flat_m = moments.reshape(-1, 3)
     flat_v = vecs.reshape(-1, 3, 3)
     out = np.empty_like(flat_v)
     for k in range(flat_m.shape[0]):
         out[k] = _canonical_axes_single(flat_m[k], flat_v[k], rtol)
     return moments, out.reshape(vecs.shape)
+
+
+def _principal_single(I: np.ndarray, rtol: float):
+    """``(moments, R_body_principal, degenerate groups)`` of one checked (3, 3) float64 matrix."""
+    moments, vecs = np.linalg.eigh(0.5 * (I + I.T))
+    groups = degenerate_groups(moments, rtol)
+    return moments, _canonical_axes_single(moments, vecs, rtol, groups), groups
 
 
 @dataclass(frozen=True)
@@ -141,10 +151,10 @@ class PrincipalFrame:
 
 def principal_frame(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> PrincipalFrame:
     """Single-body version of :func:`principal_axes` that also reports degeneracy."""
-    moments, R = principal_axes(as_float_array(inertia, "inertia", (3, 3), allow_batch=False), rtol=rtol)
+    moments, R, groups = _principal_single(as_float_array(inertia, "inertia", (3, 3), allow_batch=False), rtol)
     moments.setflags(write=False)
     R.setflags(write=False)
-    return PrincipalFrame(moments, R, degenerate_groups(moments, rtol), rtol)
+    return PrincipalFrame(moments, R, groups, rtol)
 
 
 def principal_axes_batch(inertia) -> tuple[np.ndarray, np.ndarray, bool]:
