@@ -7,6 +7,7 @@ boundaries cheaply and go to Parquet, CSV or JSON Lines unchanged.  The numbers 
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 import warnings
@@ -58,14 +59,24 @@ def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False,
     A resumed run keeps an earlier row only when this key is the same (a run in other
     units, density, ... must not keep stale rows).
     """
+    def num(x):
+        return None if x is None else float(x)
+
+    return _options_text(str(job.units), num(job.density), num(job.mass), bool(shell), bool(fix_orientation),
+                         on_defect, bool(robust), float(robust_tol) if robust else None, self_crossing)
+
+
+@functools.lru_cache(maxsize=256)
+def _options_text(units, density, mass, shell, fix_orientation, on_defect, robust, robust_tol, self_crossing) -> str:
+    """:func:`options_key`'s text (the same for every file of a run: made once)."""
     from .._core.version import __version__
 
     def num(x):
-        return "" if x is None else repr(float(x))
+        return "" if x is None else repr(x)
 
-    return (f"units={job.units} density={num(job.density)} mass={num(job.mass)} shell={int(bool(shell))} "
-            f"fix_orientation={int(bool(fix_orientation))} on_defect={on_defect} robust={int(bool(robust))} "
-            + (f"robust_tol={float(robust_tol)!r} " if robust else "") +
+    return (f"units={units} density={num(density)} mass={num(mass)} shell={int(shell)} "
+            f"fix_orientation={int(fix_orientation)} on_defect={on_defect} robust={int(robust)} "
+            + (f"robust_tol={robust_tol!r} " if robust else "") +
             f"self_crossing={self_crossing} version={__version__}")
 
 
