@@ -7,6 +7,7 @@ so an interrupted run leaves only whole part files behind.
 from __future__ import annotations
 
 import json
+import operator
 import os
 from pathlib import Path
 
@@ -88,8 +89,13 @@ def rows_to_table(rows):
 
     schema = arrow_schema()
     arrays = []
-    for field in schema:
-        values = [row.get(field.name) for row in rows]
+    names = schema.names
+    try:   # rows fresh from the workers hold every column: one pass, transposed
+        by_column = list(zip(*map(operator.itemgetter(*names), rows))) if rows else [()] * len(names)
+    except KeyError:
+        by_column = [[row.get(name) for row in rows] for name in names]
+    for field, values in zip(schema, by_column):
+        values = list(values)
         built = column(values, field.type)
         if built is not None:
             arrays.append(built)
