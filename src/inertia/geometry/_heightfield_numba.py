@@ -224,10 +224,19 @@ def orientation_bits(V, F):
     """Per face, the axis directions along which it turns counterclockwise (test 1 of the
     module docstring): bits 1, 2, 4 for +x, +y, +z and 8, 16, 32 for -x, -y, -z (uint8), set
     where the normal's component is beyond :data:`ORIENT_MARGIN` times the face's box
-    diagonal squared.  A patch is oriented along the directions of all its faces' bits.
-    (:func:`unproved_faces` computes the same bits in its pass over the faces' boxes.)"""
+    diagonal squared.  A patch is oriented along the directions of all its faces' bits."""
+    return boxes_and_bits(V, F, np.zeros(3), 1.0)[2]
+
+
+@nb.njit(**_JIT)
+def boxes_and_bits(V, F, origin, inv):
+    """``(lo, hi, bits)``: each face's box in scaled coordinates ``(x - origin) inv`` (F, 3)
+    twice, and its :func:`orientation_bits`, in one pass over the corners (the normals and box
+    diagonals of every face are not kept: the search computes those of the faces it keeps)."""
     nf = F.shape[0]
-    out = np.empty(nf, dtype=np.uint8)
+    bl = np.empty((nf, 3))
+    bh = np.empty((nf, 3))
+    bits = np.empty(nf, dtype=np.uint8)
     for t in range(nf):
         a = F[t, 0]
         b = F[t, 1]
@@ -236,10 +245,12 @@ def orientation_bits(V, F):
         for k in range(3):
             lo = min(V[a, k], V[b, k], V[c, k])
             hi = max(V[a, k], V[b, k], V[c, k])
+            bl[t, k] = (lo - origin[k]) * inv
+            bh[t, k] = (hi - origin[k]) * inv
             dd += (hi - lo) * (hi - lo)
         nx, ny, nz = _face_normal(V, a, b, c)
-        out[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
-    return out
+        bits[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
+    return bl, bh, bits
 
 
 @nb.njit(**_JIT)
@@ -368,18 +379,15 @@ def box_and_median_edge(V, F):
 def unproved_faces(V, F, adj, origin, top, h, keep):
     """Set ``keep[t]`` for the faces of the patches that :func:`patch_check` does
     not prove, cutting each failed cell into 8 up to :data:`MAX_DEPTH` times; returns how many.
-    ``adj``: :func:`face_twins`;
-    ``origin``, ``top``, and ``h`` (the cell, :data:`CELL_EDGES` median longest edges):
-    :func:`box_and_median_edge`."""
+    ``adj``: :func:`face_twins`; ``origin``, ``top``, and ``h`` (the cell, :data:`CELL_EDGES`
+    median longest edges): :func:`box_and_median_edge`."""
     nf = F.shape[0]
     nv = V.shape[0]
     if not (h > 0.0 and h < np.inf):
         for t in range(nf):
             keep[t] = True
         return nf
-    # scaled boxes; the grid's cells at most MAX_CELLS_PER_FACE per face, and 1e5 per axis
-    bl = np.empty((nf, 3))
-    bh = np.empty((nf, 3))
+    # the grid's cells at most MAX_CELLS_PER_FACE per face, and 1e5 per axis
     while True:
         dims = np.empty(3, dtype=np.int64)
         cells = 1.0
@@ -391,23 +399,7 @@ def unproved_faces(V, F, adj, origin, top, h, keep):
             break
         h *= 2.0
     inv = 1.0 / h                          # a product for each division: 5 % of the proof's time
-    # one pass over the faces' corners: their scaled boxes and orientation_bits (the normals
-    # and box diagonals of every face are not needed: the search computes those of the faces
-    # it keeps)
-    omask = np.empty(nf, dtype=np.uint8)
-    for t in range(nf):
-        a = F[t, 0]
-        b = F[t, 1]
-        c = F[t, 2]
-        dd = 0.0
-        for k in range(3):
-            lo = min(V[a, k], V[b, k], V[c, k])
-            hi = max(V[a, k], V[b, k], V[c, k])
-            bl[t, k] = (lo - origin[k]) * inv
-            bh[t, k] = (hi - origin[k]) * inv
-            dd += (hi - lo) * (hi - lo)
-        nx, ny, nz = _face_normal(V, a, b, c)
-        omask[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
+    bl, bh, omask = boxes_and_bits(V, F, origin, inv)
     ncell = dims[0] * dims[1] * dims[2]
     counts = np.zeros(ncell + 1, dtype=np.int64)
     ilo = np.empty((nf, 3), dtype=np.int64)
