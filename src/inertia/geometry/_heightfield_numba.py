@@ -208,8 +208,8 @@ def _turn_bits(nx, ny, nz, m):
 
 
 @nb.njit(**_JIT)
-def _face_normal(V, a, b, c):
-    """``(b - a) x (c - a)`` (the same arithmetic as :func:`._selfcross_numba.face_frames`)."""
+def face_normal(V, a, b, c):
+    """``(b - a) x (c - a)``, the normal of face ``a, b, c`` (:func:`._selfcross_numba.face_frames` too)."""
     ux = V[b, 0] - V[a, 0]
     uy = V[b, 1] - V[a, 1]
     uz = V[b, 2] - V[a, 2]
@@ -248,7 +248,7 @@ def boxes_and_bits(V, F, origin, inv):
             bl[t, k] = (lo - origin[k]) * inv
             bh[t, k] = (hi - origin[k]) * inv
             dd += (hi - lo) * (hi - lo)
-        nx, ny, nz = _face_normal(V, a, b, c)
+        nx, ny, nz = face_normal(V, a, b, c)
         bits[t] = _turn_bits(nx, ny, nz, ORIENT_MARGIN * dd)
     return bl, bh, bits
 

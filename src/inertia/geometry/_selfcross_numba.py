@@ -20,7 +20,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_twins, unproved_faces, vertex_slots
+from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_normal, face_twins, unproved_faces, vertex_slots
 from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
@@ -158,15 +158,7 @@ def face_frames(V, F):
         a = F[t, 0]
         b = F[t, 1]
         c = F[t, 2]
-        ux = V[b, 0] - V[a, 0]
-        uy = V[b, 1] - V[a, 1]
-        uz = V[b, 2] - V[a, 2]
-        vx = V[c, 0] - V[a, 0]
-        vy = V[c, 1] - V[a, 1]
-        vz = V[c, 2] - V[a, 2]
-        N[t, 0] = uy * vz - uz * vy
-        N[t, 1] = uz * vx - ux * vz
-        N[t, 2] = ux * vy - uy * vx
+        N[t, 0], N[t, 1], N[t, 2] = face_normal(V, a, b, c)
         d0 = max(V[a, 0], V[b, 0], V[c, 0]) - min(V[a, 0], V[b, 0], V[c, 0])
         d1 = max(V[a, 1], V[b, 1], V[c, 1]) - min(V[a, 1], V[b, 1], V[c, 1])
         d2 = max(V[a, 2], V[b, 2], V[c, 2]) - min(V[a, 2], V[b, 2], V[c, 2])
