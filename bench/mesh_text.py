@@ -17,7 +17,12 @@ small file of the same format (the interpreter, NumPy, the compiled kernels); pr
 the file size, whose double is the goal.  ``--digits 17`` writes every coordinate with 17
 significant digits (``repr`` of doubles: the slow path of the number reader).
 
+``--startup N``: instead, the whole process of ``inertia props small.stl`` (5,120 faces, binary
+and ASCII STL) against trimesh's one-shot (``python -c`` loading the file and its
+``mass_properties``), N runs each, interleaved; the goal is half trimesh's time or less.
+
     python bench/mesh_text.py [--subdivisions 8] [--repeat 3] [--formats stl obj] [--digits 7] [--keep DIR]
+    python bench/mesh_text.py --startup 20
 """
 
 from __future__ import annotations
@@ -118,6 +123,38 @@ def peak_mb(warm: str, path: str, who: str) -> tuple[float, float]:
     return peak - base, peak
 
 
+_ONE_SHOT = "import sys, trimesh; trimesh.load(sys.argv[1]).mass_properties"
+
+
+def startup(folder: str, runs: int) -> None:
+    """Wall seconds of whole processes: ``inertia props small.stl`` against trimesh's one-shot."""
+    v, f = sphere(4)
+    binary = os.path.join(folder, "small.stl")
+    tri = v[f].astype("<f4")
+    rec = np.zeros(len(f), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["v"] = tri
+    with open(binary, "wb") as fh:
+        fh.write(b"bench".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes())
+    ascii_ = os.path.join(folder, "small_ascii.stl")
+    write_ascii_stl(ascii_, tri.astype(float).reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3))
+    script = os.path.join(os.path.dirname(sys.executable), "inertia")
+    ours = [sys.executable, script] if os.path.exists(script) else [sys.executable, "-m", "inertia.cli.main"]
+    for path in (binary, ascii_):
+        commands = {"inertia props": ours + ["props", path], "trimesh one-shot": [sys.executable, "-c", _ONE_SHOT, path]}
+        times = {k: [] for k in commands}
+        for cmd in commands.values():   # file cache, bytecode
+            subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+        for _ in range(runs):
+            for k, cmd in commands.items():
+                t0 = time.perf_counter()
+                subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+                times[k].append(time.perf_counter() - t0)
+        a, b = times["inertia props"], times["trimesh one-shot"]
+        print(f"{os.path.basename(path)} ({len(f):,} faces): inertia props best {min(a):.3f} s, median "
+              f"{statistics.median(a):.3f} s; trimesh one-shot best {min(b):.3f} s, median {statistics.median(b):.3f} s; "
+              f"ratio {min(a) / min(b):.2f} best, {statistics.median(a) / statistics.median(b):.2f} median")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--subdivisions", type=int, default=8, help="icosphere subdivisions (8: 1,310,720 faces)")
@@ -126,10 +163,13 @@ def main() -> None:
     ap.add_argument("--digits", type=int, default=7, help="significant digits of the coordinates (17: repr)")
     ap.add_argument("--no-memory", action="store_true", help="skip the subprocess memory runs")
     ap.add_argument("--keep", metavar="DIR", help="write the files into DIR and keep them (reused if present)")
+    ap.add_argument("--startup", type=int, metavar="N", help="time whole processes on a small STL instead")
     args = ap.parse_args()
     folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-text-")
     os.makedirs(folder, exist_ok=True)
     try:
+        if args.startup:
+            return startup(folder, args.startup)
         v, f = sphere(args.subdivisions)
         small_v, small_f = sphere(2)
         writers = {"stl": write_ascii_stl, "obj": write_obj}

@@ -120,19 +120,6 @@ def test_the_library_gives_the_numba_kernels_answers(library):
         _close(topo_fast.stl_weld_and_merge(arg, 1e-9), topo_nb.stl_weld_and_merge(arg, 1e-9))
 
 
-def test_the_text_readers_from_the_library_read_what_numba_reads(library):
-    fast, nb = _both("inertia.geometry._text_numba")
-    v, f = _torus(12, 6)
-    v = np.round(v, 6)
-    obj = ("".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in v) + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f))
-    raw = np.frombuffer(obj.encode(), dtype=np.uint8)
-    got, ref = fast.read_obj(raw, -1), nb.read_obj(raw, -1)
-    _close(got, ref)
-    assert len(got[2]) == 0                           # no number left to the slow path
-    np.testing.assert_allclose(got[0], v, rtol=1e-15, atol=1e-15)   # both read the numbers written
-    np.testing.assert_array_equal(got[1], f)
-
-
 def test_other_argument_types_go_to_numba_not_to_the_library(library):
     fast, nb = _both("inertia.geometry._selfcross_numba")
     v, f = _torus()
@@ -176,12 +163,9 @@ def test_a_fresh_process_reads_a_mesh_file_without_numba(library, tmp_path):
         code = ("import json, sys\nimport inertia\nfrom inertia._core import compiled\n"
                 "compiled.start_warmup = lambda: False\n"
                 f"p = inertia.mesh_file_properties({str(path)!r}, density=1000.0)\n"
-                "print(json.dumps({'numba': 'numba' in sys.modules, 'mass': p.mass, 'I': p.inertia_com.tolist(),\n"
-                "                  'used': sorted(getattr(sys.modules.get('inertia.geometry._text_readers'), '_compiled_used', ()))}))\n")
+                "print(json.dumps({'numba': 'numba' in sys.modules, 'mass': p.mass, 'I': p.inertia_com.tolist()}))\n")
         got = _fresh(code, library[0])
         assert not got["numba"], path.name
-        # a text file small as this one is read by the compiled reader: the library costs nothing to load
-        assert got["used"] == {"torus.stl": [], "torus.obj": ["obj"], "torus_ascii.stl": ["ascii_stl"]}[path.name]
         ref = inertia.mesh_file_properties(path, density=1000.0)     # numba (the suite runs with always)
         assert got["mass"] == pytest.approx(ref.mass, rel=1e-12)
         np.testing.assert_allclose(got["I"], ref.inertia_com, rtol=1e-12, atol=1e-12 * np.abs(ref.inertia_com).max())
@@ -199,7 +183,6 @@ def test_a_stale_or_broken_library_is_never_loaded(library, tmp_path):
     manifest = copy / "aot" / os.path.basename(aot._manifest_path())
     good = json.loads(manifest.read_text())
     assert "geometry/aot_library.py" in good["sources"]     # the table too: a change to it rebuilds
-    assert "geometry/_text_reference.py" in good["sources"]  # and what the kernels import
     meta = json.loads(manifest.read_text())
     meta["sources"]["geometry/_selfcross_numba.py"][1] += 1   # a source touched since ...
     manifest.write_text(json.dumps(meta))
@@ -255,7 +238,7 @@ def test_threaded_callers_and_a_missing_numba_do_not_take_the_library(library, t
     from inertia._core import compiled
 
     monkeypatch.setenv("INERTIA_COMPILED", "auto")
-    name = "inertia.geometry._text_numba"
+    name = "inertia.geometry._selfcross_numba"
     assert getattr(compiled.kernels(name), "holds_gil", False)            # the library's, holding the GIL
     assert not getattr(compiled.kernels(name, ahead_of_time=False), "holds_gil", False)   # numba's
     # numba gone after the build: the library is not used (a call it cannot take would need

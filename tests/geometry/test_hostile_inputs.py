@@ -159,3 +159,68 @@ def test_two_micrometre_cubes_twenty_kilometres_apart_load_as_two_cubes(tmp_path
     report = check_mesh(vv, ff)
     assert (len(vv), len(ff), report.codes) == (16, 24, ())
     assert report.volume == pytest.approx(2e-18, rel=1e-6)
+
+
+# ---------------------------------------------------------------- text in other encodings (issue 34)
+LEGS, OFFSET = np.array([0.2, 0.3, 0.5]), np.array([1.0, 2.0, 3.0])
+
+
+def _tet_text(fmt: str, comment: str) -> str:
+    """A right tetrahedron (legs LEGS at OFFSET, outward wound) as ``fmt`` text, with ``comment``
+    (non-ASCII) where the format holds one: a comment, or the STL solid's name."""
+    v = (TET_V * LEGS + OFFSET).tolist()
+    if fmt == "stl":
+        facets = "".join(" facet normal 0 0 0\n  outer loop\n" + "".join(f"   vertex {x!r} {y!r} {z!r}\n"
+                                                                       for x, y, z in (v[i] for i in t))
+                         + "  endloop\n endfacet\n" for t in TET_F.tolist())
+        return f"solid {comment}\n{facets}endsolid {comment}\n"
+    rows = "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in v)
+    if fmt == "obj":
+        # a vertex first (a mark must not hide it) and one unused last: a lost line shifts faces silently
+        vs = [f"v {r}" for r in rows.splitlines(True)] + ["v 9 9 9\n"]
+        return vs[0] + f"# {comment}\n" + "".join(vs[1:]) + f"o {comment}\n" + "".join(f"f {a + 1} {b + 1} {c + 1} # {comment}\n" for a, b, c in TET_F.tolist())
+    if fmt == "off":
+        return f"OFF\n# {comment}\n4 4 0\n{rows}" + "".join(f"3 {a} {b} {c}\n" for a, b, c in TET_F.tolist())
+    return ("ply\nformat ascii 1.0\ncomment " + comment + "\nelement vertex 4\nproperty double x\nproperty double y\n"
+            "property double z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n" + rows
+            + "".join(f"3 {a} {b} {c}\n" for a, b, c in TET_F.tolist()))
+
+
+ENCODINGS = {   # name -> (codec of the text, byte-order mark written before it)
+    "utf-8 with BOM": ("utf-8", b"\xef\xbb\xbf"), "utf-16 LE with BOM": ("utf-16-le", b"\xff\xfe"),
+    "utf-16 BE with BOM": ("utf-16-be", b"\xfe\xff"), "utf-16 LE": ("utf-16-le", b""), "utf-16 BE": ("utf-16-be", b""),
+    "utf-32 LE with BOM": ("utf-32-le", b"\xff\xfe\x00\x00"), "utf-32 BE with BOM": ("utf-32-be", b"\x00\x00\xfe\xff"),
+    "utf-32 LE": ("utf-32-le", b""), "utf-32 BE": ("utf-32-be", b""), "latin-1 comment": ("latin-1", b""),
+}
+
+
+@pytest.mark.parametrize("encoding", ENCODINGS)
+@pytest.mark.parametrize("fmt", ["stl", "obj", "ply", "off"])
+def test_text_meshes_read_the_same_in_every_encoding(tmp_path, fmt, encoding):
+    # truth: the tetrahedron the test wrote, volume legs/6 and centroid OFFSET + legs/4, and the
+    # same file in plain UTF-8 (an OBJ with a byte-order mark lost its first vertex line, every
+    # face shifted; UTF-16 read as "holds no triangles"; Latin-1 broke trimesh's PLY and OFF)
+    if fmt in ("ply", "off"):
+        pytest.importorskip("trimesh")
+    codec, bom = ENCODINGS[encoding]
+    text = _tet_text(fmt, "pièce café")
+    (tmp_path / f"plain.{fmt}").write_bytes(text.encode("utf-8"))
+    (tmp_path / f"t.{fmt}").write_bytes(bom + text.encode(codec))
+    p = inertia.mesh_file_properties(tmp_path / f"t.{fmt}", density=1.0)
+    assert p.volume == pytest.approx(np.prod(LEGS) / 6, rel=1e-14)
+    np.testing.assert_allclose(p.com, OFFSET + LEGS / 4, rtol=1e-14)
+    plain = inertia.mesh_file_properties(tmp_path / f"plain.{fmt}", density=1.0)
+    assert (p.mass, p.com.tolist(), p.inertia_com.tolist()) == (plain.mass, plain.com.tolist(), plain.inertia_com.tolist())
+
+
+@pytest.mark.parametrize("fmt", ["stl", "obj", "ply", "off"])
+@pytest.mark.parametrize("codec, bom", [("utf-16-le", b"\xff\xfe"), ("utf-32-be", b"")])
+def test_text_that_does_not_decode_in_its_encoding_is_refused_naming_it(tmp_path, fmt, codec, bom):
+    if fmt in ("ply", "off"):
+        pytest.importorskip("trimesh")
+    path = tmp_path / f"t.{fmt}"
+    path.write_bytes(bom + _tet_text(fmt, "x").encode(codec) + b"\x00")   # a stray byte: a character cut short
+    with pytest.raises(MeshFileError) as ei:
+        inertia.mesh_file_properties(path, density=1.0)
+    assert ei.value.code == "malformed" and str(ei.value).startswith(f"{path}: malformed ")
+    assert f"the file starts as {codec.upper()} text but byte" in str(ei.value)

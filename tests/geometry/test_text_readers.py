@@ -1,41 +1,59 @@
-"""The native ASCII STL and OBJ readers (geometry._text_readers).
+"""The ASCII STL and OBJ readers (inertia._ext.text, through geometry._text_readers).
 
 Truths: Python's ``float()`` (correctly rounded, as strtod) for every number; trimesh's own
 parsers for the triangles of made and real files; closed-form volumes for polygons, solids
-and relative indices; and the plain-Python reference reader (``_text_reference``), which the
-compiled reader must match array for array, and error for error, on mutated files.
+and relative indices; MuJoCo for quadrilaterals split along their shorter diagonal; and a
+line-by-line reading of the grammar in plain Python (``tests/geometry/_text_oracle.py``:
+``bytes.split`` and ``float()``), which the compiled readers must match array for array, and
+error for error, on valid and mutated files.
 """
 
 from __future__ import annotations
 
-import os
+import hashlib
+import json
 import random
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import inertia
 from inertia.errors import MeshFileError
-from inertia.geometry._text_readers import read_ascii_stl, read_obj, text_kernels
+from inertia.geometry._text_readers import error_message, read_ascii_stl, read_obj
 from inertia.geometry.mesh_io import load_mesh
 from tests.fuzzing import mutate_any, seed_obj, seed_stl_ascii
-
-needs_numba = pytest.mark.skipif(text_kernels() is None, reason="numba (inertia[fast]) is not installed")
-COMPILED = [pytest.param(True, id="compiled", marks=needs_numba), pytest.param(False, id="reference")]
+from tests.geometry import _text_oracle as oracle
 
 
-def _read(reader, text: bytes, compiled: bool):
-    return reader(np.frombuffer(text, dtype=np.uint8), "t", compiled=compiled)
+def _read(reader, text: bytes, **kw):
+    return reader(np.frombuffer(text, dtype=np.uint8), "t", **kw)
 
 
-def _outcome(reader, text: bytes, compiled: bool):
-    """The arrays read (for ASCII STL its facets' corners: the compiled reader stores a
-    repeated corner once), or the error's code and message."""
+def _outcome(reader, text: bytes):
+    """The arrays read (for ASCII STL its facets' corners: a repeated corner is stored once),
+    or the error's code and message."""
     try:
-        v, f = _read(reader, text, compiled)
+        v, f = _read(reader, text)
     except MeshFileError as exc:
         return exc.code, str(exc)
-    return (v[f],) if reader is read_ascii_stl else (v, f)
+    return (v[f].reshape(-1, 3),) if reader is read_ascii_stl else (v, f)
+
+
+def _oracle(reader, text: bytes):
+    """:func:`_outcome` by the oracle, its error worded by the readers' message table."""
+    if reader is read_ascii_stl:
+        corners, err = oracle.read_ascii_stl(text)
+        arrays, fmt = (corners,), "ASCII STL"
+    else:
+        v, f, largest, err, _ = oracle.read_obj(text)
+        if err is None and largest > len(v):   # a positive index beyond the last vertex: its line
+            err = oracle.read_obj(text, len(v))[3]
+        arrays, fmt = (v, f), "OBJ"
+    if err is None:
+        return arrays
+    return "malformed", error_message("t", fmt, err.kind, err.line, err.text, err.token, err.count)
 
 
 def _same(a, b) -> bool:
@@ -55,13 +73,17 @@ def _random_number(rng: random.Random) -> str:
     return s
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_numbers_are_read_as_strtod_reads_them(compiled):
+def test_numbers_are_read_as_strtod_reads_them():
     rng = random.Random(7)
     words = [_random_number(rng) for _ in range(6000)] + [
         "0", "-0", ".5", "5.", "+.5e-3", "1e22", "1e23", "9007199254740993", "0.1", "1e-22", "4.9e-324",
         "1.7976931348623157e308", "1e309", "1e-400", "nan", "-inf", "Infinity", "NaN", "123456789012345678901234",
-        "0.000000000000000000000000000001", "2.2250738585072011e-308", "1" + "0" * 30]
+        "0.000000000000000000000000000001", "2.2250738585072011e-308", "1" + "0" * 30,
+        # beyond the fast path: exponents past 1e+-22, 19 digits and more, overflow and underflow by a hair
+        "1e0000000000000000000000005", "1e-99999999999999999999", "-1e99999999999999999999", "9007199254740993e-3",
+        "1.7976931348623158e308", "1.7976931348623159e308", "2.4703282292062327e-324", "-2.4703282292062328e-324",
+        "0.0e99999", "-0e-99999", "1.e5", "-.5E-3", "+iNfInItY", "-NAN", "0" * 400 + "1", "0." + "0" * 400 + "1e400",
+        "1" * 800, "." + "9" * 800 + "e-5", "1234567890123456789", "12345678901234567890", "9007199254740992e22"]
     words += [repr(x) for x in (np.random.default_rng(3).normal(size=1000) * 10.0 ** np.arange(-150, 150, 0.3)).tolist()]
     words += [f"{x:.6e}" for x in np.random.default_rng(4).normal(size=1000)]
     # 17 digits and more near halfway between two doubles: Eisel-Lemire's hard cases
@@ -69,7 +91,7 @@ def test_numbers_are_read_as_strtod_reads_them(compiled):
     words += [f"{2 * rng.randint(1, 2**53) + 1}e{rng.randint(-40, 40)}" for _ in range(3000)]
     words += [repr(float(rng.randint(1, 2**53)) * 2.0 ** rng.randint(-1070, 960)) for _ in range(3000)]
     text = "".join(f"v {a} {b} {c}\n" for a, b, c in zip(words[::3], words[1::3], words[2::3])).encode()
-    v, f = _read(read_obj, text, compiled)
+    v, f = _read(read_obj, text)
     truth = np.array([float(w) for w in words[:3 * (len(words) // 3)]]).reshape(-1, 3)
     assert f.shape == (0, 3) and v.shape == truth.shape
     nan = np.isnan(truth)
@@ -93,12 +115,11 @@ def test_text_files_give_trimesh_triangles(meshes, name):
     trimesh = pytest.importorskip("trimesh")
     path = meshes.path(name)
     data = np.fromfile(path, dtype=np.uint8)
-    for compiled in (True, False):
-        v, f = (read_obj if name.endswith(".obj") else read_ascii_stl)(data, path, compiled=compiled)
-        m = trimesh.load(str(path), process=False, force="mesh")
-        if name.endswith(".stl"):   # ASCII STL: the same corners, face for face
-            assert np.array_equal(v[f], m.vertices[m.faces])
-        assert _triangles(v, f) == _triangles(m.vertices, m.faces)
+    v, f = (read_obj if name.endswith(".obj") else read_ascii_stl)(data, path)
+    m = trimesh.load(str(path), process=False, force="mesh")
+    if name.endswith(".stl"):   # ASCII STL: the same corners, face for face
+        assert np.array_equal(v[f], m.vertices[m.faces])
+    assert _triangles(v, f) == _triangles(m.vertices, m.faces)
 
 
 def test_large_real_obj_gives_trimesh_triangles(shared_data):
@@ -145,32 +166,29 @@ def test_polygons_are_fanned_from_their_first_vertex(tmp_path):
     assert p.volume == pytest.approx(n / 2 * r * r * np.sin(2 * np.pi / n) * h, rel=1e-13)
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_negative_indices_count_back_from_their_line(tmp_path, compiled):
+def test_negative_indices_count_back_from_their_line(tmp_path):
     # two unit tetrahedra, each written as its vertices then faces with -4..-1: the OBJ
     # specification counts from the line (trimesh counts from the end of the file instead)
     tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -2 -3\nf -4 -3 -1\nf -4 -1 -2\nf -3 -2 -1\n"
     text = (tet + tet.replace("v 0 0 0", "v 5 0 0", 1).replace("v 1 0 0", "v 6 0 0").replace(
         "v 0 1 0", "v 5 1 0").replace("v 0 0 1", "v 5 0 1")).encode()
-    v, f = _read(read_obj, text, compiled)
+    v, f = _read(read_obj, text)
     assert f.tolist()[:4] == [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] and f.min() == 0 and f[4:].min() == 4
     assert _props(tmp_path, text).volume == pytest.approx(2 / 6, rel=1e-14)
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_obj_references_comments_groups_and_continuations(compiled):
+def test_obj_references_comments_groups_and_continuations():
     text = (b"# a comment\nmtllib x.mtl\no part\ng side\nusemtl steel\ns 1\n"
             b"v 0 0 0 1.0\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\n\tv  0 0 1 \r\nvt 0 0\nvn 0 0 1\n"
             b"f 1/1 3/1 2/1 # comment\nf 1//1 2//1 \\\n 4//1\nf 1/1/1 4/1/1 3/1/1\nf 2 3 4\n"
             b"l 1 2\nvp 0.5\n")
-    v, f = _read(read_obj, text, compiled)
+    v, f = _read(read_obj, text)
     assert v.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
     assert f.tolist() == [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_faces_may_name_vertices_defined_below_them(compiled):
-    v, f = _read(read_obj, b"f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", compiled)
+def test_faces_may_name_vertices_defined_below_them():
+    v, f = _read(read_obj, b"f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n")
     assert len(v) == 3 and f.tolist() == [[0, 1, 2]]
 
 
@@ -202,25 +220,18 @@ def test_several_solids_in_one_file(tmp_path):
     assert len(scene.geometry) == 2 and _triangles(v, f) == _triangles(tris.reshape(-1, 3), np.arange(72).reshape(-1, 3))
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_stl_keywords_in_any_case_with_crlf_lines(compiled):
+def test_stl_keywords_in_any_case_with_crlf_lines():
     text = _stl_solid("X", _cube_triangles([0, 0, 0]), "FACET NORMAL 1 0 0", "Outer Loop")
     text = text.replace("vertex", "VERTEX").replace("endloop", "ENDLOOP").replace("\n", "\r\n").encode()
-    v, f = _read(read_ascii_stl, text, compiled)
+    v, f = _read(read_ascii_stl, text)
     assert np.array_equal(v[f], np.array(_cube_triangles([0, 0, 0]))) and f.shape == (12, 3)
-    assert len(v) == (8 if compiled else 36)   # the compiled reader stores a repeated corner once
+    assert len(v) == 8   # a repeated corner is stored once
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_stl_corners_are_welded_like_binary_stl(tmp_path, compiled, monkeypatch):
-    # truth: the cube's 8 corners once welded, whichever reader; and the binary STL path's arrays
-    from inertia.geometry import _text_readers
+def test_stl_corners_are_welded_like_binary_stl(tmp_path):
+    # truth: the cube's 8 corners once welded; and the binary STL path's arrays
     from tests._make import write_binary_stl
 
-    if not compiled:
-        monkeypatch.setattr(_text_readers, "text_kernels", lambda size=0: None)
-    else:
-        _text_readers.prepare({"ascii_stl"})   # small files too: the compiled reader is loaded
     text = _stl_solid("c", _cube_triangles([0, 0, 0])).encode()
     (tmp_path / "a.stl").write_bytes(text)
     write_binary_stl(tmp_path / "b.stl", np.array(_cube_triangles([0, 0, 0])))
@@ -258,12 +269,11 @@ MALFORMED = [
 ]
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
 @pytest.mark.parametrize("name, text, line, fragment", MALFORMED)
-def test_malformed_files_are_named_with_their_line(name, text, line, fragment, compiled):
+def test_malformed_files_are_named_with_their_line(name, text, line, fragment):
     reader = read_obj if name.endswith(".obj") else read_ascii_stl
     with pytest.raises(MeshFileError) as ei:
-        _read(reader, text.encode(), compiled)
+        _read(reader, text.encode())
     msg = str(ei.value)
     assert ei.value.code == "malformed" and fragment in msg, msg
     if line is not None:
@@ -277,95 +287,81 @@ def test_malformed_file_error_names_the_file(tmp_path):
         inertia.mesh_file_properties(p, density=1.0)
 
 
-# ---------------------------------------------------------------- compiled = reference
+# ---------------------------------------------------------------- the oracle's grammar
 def _seeds():
     stl = seed_stl_ascii()
     obj = seed_obj()
     return [(read_obj, obj), (read_obj, CUBE_QUADS), (read_obj, obj.replace(b"f ", b"f  ").replace(b"\n", b" # c\r\n")),
             (read_obj, b"v 1e-3 -2.5E+2 .5\nv 1 1 1\nv -0 0 1.00000000000000000001\nf 1/1/1 2//2 -1/3\n"
                        b"f 1 2 \\\n 3\n"),
+            (read_obj, b"v 0 0 0 # \xe9t\xe9\nv\\\r\n 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2 4 # quad\nf -4 -3 -1\n"),
             (read_ascii_stl, stl), (read_ascii_stl, stl + stl.replace(b"cube", b"two")),
-            (read_ascii_stl, stl.upper().replace(b"\n", b"\r\n"))]
+            (read_ascii_stl, stl.upper().replace(b"\n", b"\r\n")),
+            (read_ascii_stl, stl.replace(b"solid cube", b"solid pi\xe8ce \x00\x01").replace(b"  outer", b"\t\v\f outer"))]
 
 
-@needs_numba
-def test_compiled_reader_matches_the_reference_on_mutated_files():
+def test_readers_match_the_oracle_on_mutated_files():
     rng = random.Random(11)
     seeds = _seeds()
     kinds = {"arrays": 0, "errors": 0}
-    for k in range(1500):
+    for k in range(3000):
         reader, seed = seeds[k % len(seeds)]
         text = mutate_any(seed, rng)
-        got, want = _outcome(reader, text, True), _outcome(reader, text, False)
+        got, want = _outcome(reader, text), _oracle(reader, text)
         assert _same(got, want), (text, got, want)
         kinds["errors" if isinstance(want[0], str) else "arrays"] += 1
-    assert min(kinds.values()) > 200   # both outcomes exercised
+    assert min(kinds.values()) > 400   # both outcomes exercised
 
 
-@needs_numba
 @pytest.mark.parametrize("k", range(len(_seeds())))
-def test_compiled_reader_matches_the_reference_on_valid_files(k):
+def test_readers_match_the_oracle_on_valid_files(k):
     reader, text = _seeds()[k]
-    got, want = _outcome(reader, text, True), _outcome(reader, text, False)
+    got, want = _outcome(reader, text), _oracle(reader, text)
     assert not isinstance(want[0], str) and _same(got, want)
 
 
-@needs_numba
-def test_large_stl_read_in_chunks_by_threads_matches_one_pass(monkeypatch):
-    from inertia.geometry import _text_readers
-
-    # made "large" by lowering the threshold: four chunks, each starting at a facet line
-    rng = np.random.default_rng(5)
-    pool = rng.normal(size=(12, 3))   # facets share their corners, as in a mesh
-    tris = [[[f"{x:.6e}" for x in p] for p in t] for t in pool[rng.integers(0, 12, size=(60, 3))].tolist()]
-    tris[7][1][2] = "1.00000000000000000000001"    # a slow number (left for strtod), in chunk 1 or 2
-    solid = "solid a\n" + "".join("facet normal 0 0 1\nouter loop\n" + "".join(f" vertex {' '.join(p)}\n" for p in t)
-                                  + "endloop\nendfacet\n" for t in tris) + "endsolid a\n"
-    text = (solid + solid.replace("solid a", "solid b")).encode()
-    data = np.frombuffer(text, dtype=np.uint8)
-    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4)), raising=False)
-    monkeypatch.setattr(_text_readers, "PARALLEL_BYTES", len(text) // 4)
-    assert len(_text_readers._stl_chunks(data, 4)) == 5
-    kernels = text_kernels()
-    v, f, err = _text_readers._parallel_stl(data, kernels)
-    one_pass = _text_readers._sequential_stl(data, kernels)
-    assert err is None and np.array_equal(v[f], one_pass[0][one_pass[1]])   # (each chunk remembers its own corners)
-    from inertia.geometry.mesh_io import _merge_close_vertices
-
-    welded, welded_one_pass = _merge_close_vertices(v, f, 1e-10), _merge_close_vertices(*one_pass[:2], 1e-10)
-    assert all(np.array_equal(a, b) for a, b in zip(welded, welded_one_pass))
-    assert np.array_equal(v[f].reshape(-1, 3), np.array([[float(x) for x in p] for t in tris for p in t] * 2))
-    assert len(v) < 100   # of 360 corners: the repeated ones are stored once per chunk
-    rng2 = random.Random(3)
-    for _ in range(200):   # mutated: the threads give the one pass's arrays or leave it the file
-        mutated = np.frombuffer(mutate_any(text, rng2), dtype=np.uint8)
-        got = _text_readers._parallel_stl(mutated, kernels)
-        if got is not None:
-            one_pass = _text_readers._sequential_stl(mutated, kernels)
-            assert one_pass[2] is None and np.array_equal(got[0][got[1]], one_pass[0][one_pass[1]], equal_nan=True)
+# ---------------------------------------------------------------- the same bits
+def _digest(reader, text: bytes) -> str:
+    v, f = _read(reader, text)
+    return hashlib.sha256(v.tobytes() + f.tobytes() + repr((v.shape, f.shape)).encode()).hexdigest()
 
 
-def test_a_small_file_alone_is_read_without_loading_the_compiled_reader(tmp_path):
-    # loading the compiled reader costs more than reading a small file with the reference;
-    # once loaded (prepare, or a large file) it reads every file; the results are the same
-    import subprocess
-    import sys
-
-    path = tmp_path / "cube.obj"
-    path.write_bytes(CUBE_QUADS)
-    code = ("import sys, inertia; from inertia.geometry import mesh_io\n"
-            f"a = inertia.load_mesh({str(path)!r})\n"
-            "before = 'inertia.geometry._text_numba' in sys.modules\n"
-            "mesh_io.prepare_text_readers({'obj'})\n"
-            f"b = inertia.load_mesh({str(path)!r})\n"
-            "after = 'inertia.geometry._text_numba' in sys.modules\n"
-            "print(before, after, (a[0] == b[0]).all() and (a[1] == b[1]).all())")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.split() == ["False", str(text_kernels() is not None), "True"]
+def _big_texts():
+    """An ASCII STL and an OBJ of 20,000 facets with 17-digit coordinates (both number paths)."""
+    rng = np.random.default_rng(8)
+    pool = rng.normal(size=(3000, 3)) * 10.0 ** rng.integers(-30, 30, size=(3000, 1))
+    faces = rng.integers(0, len(pool), size=(20000, 3))
+    pool = pool.tolist()
+    stl = "solid s\n" + "".join("facet normal 0 0 1\nouter loop\n" + "".join(
+        "vertex %r %r %r\n" % tuple(pool[i]) for i in t) + "endloop\nendfacet\n" for t in faces.tolist()) + "endsolid s\n"
+    obj = "".join("v %r %r %r\n" % tuple(p) for p in pool) + "".join(
+        "f %d %d %d %d\n" % (a + 1, b + 1, c + 1, -1) for a, b, c in faces.tolist())
+    return {"stl": stl.encode(), "obj": obj.encode()}
 
 
-@pytest.mark.parametrize("compiled", COMPILED)
-def test_quads_split_along_the_shorter_diagonal_as_mujoco_does(tmp_path, compiled):
+def test_readers_give_the_same_bits_twice_and_in_a_fresh_process():
+    texts = _big_texts()
+    readers = {"stl": read_ascii_stl, "obj": read_obj}
+    here = {k: _digest(readers[k], t) for k, t in texts.items()}
+    assert here == {k: _digest(readers[k], t) for k, t in texts.items()}
+    code = ("import json\nfrom tests.geometry import test_text_readers as t\n"
+            "r = {'stl': t.read_ascii_stl, 'obj': t.read_obj}\n"
+            "print(json.dumps({k: t._digest(r[k], x) for k, x in t._big_texts().items()}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=300)
+    assert json.loads(out.stdout) == here
+
+
+def test_readers_release_the_gil_and_give_the_same_arrays_on_threads():
+    from concurrent.futures import ThreadPoolExecutor
+
+    texts = _big_texts()
+    alone = [_digest(read_ascii_stl, texts["stl"]), _digest(read_obj, texts["obj"])]
+    with ThreadPoolExecutor(4) as pool:
+        jobs = [pool.submit(_digest, r, texts[k]) for _ in range(3) for r, k in ((read_ascii_stl, "stl"), (read_obj, "obj"))]
+        assert [j.result() for j in jobs] == alone * 3
+
+
+def test_quads_split_along_the_shorter_diagonal_as_mujoco_does(tmp_path):
     """A box whose top quad is twisted (one corner raised): fanned from its first vertex the
     volume depends on where the quad starts; split along its shorter diagonal it does not, and
     equals MuJoCo's compiled mass of the same OBJ (its float32 vertices aside)."""
@@ -378,7 +374,7 @@ def test_quads_split_along_the_shorter_diagonal_as_mujoco_does(tmp_path, compile
         path = tmp_path / f"{name}.obj"
         path.write_text(text)
         for quads in ("fan", "shorter"):
-            v, f = read_obj(np.frombuffer(text.encode(), dtype=np.uint8), path, compiled=compiled, quads=quads)
+            v, f = read_obj(np.frombuffer(text.encode(), dtype=np.uint8), path, quads=quads)
             t = v[f]
             volumes[name, quads] = float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6)
     assert volumes["a", "shorter"] == pytest.approx(1.1, abs=1e-14) == volumes["b", "shorter"]

@@ -1,4 +1,59 @@
-// Bindings of the text family (inertia._ext.text).
-#include "common/arrays.hpp"
+// Bindings of the text family (inertia._ext.text): ASCII STL and OBJ readers over a file's bytes.
+#include <algorithm>
 
-void bind_text(nb::module_ &m) { (void)m; }
+#include "common/arrays.hpp"
+#include "text/ascii_stl.hpp"
+#include "text/obj.hpp"
+
+using namespace nb::literals;
+using inertia::text::Mesh;
+
+namespace {
+
+// A (rows, 3) NumPy array owning `rows` (no copy).
+template <class T>
+nb::ndarray<nb::numpy, T, nb::shape<-1, 3>> rows3(std::vector<T> &&rows) {
+    auto *owned = new std::vector<T>(std::move(rows));
+    nb::capsule owner(owned, [](void *p) noexcept { delete static_cast<std::vector<T> *>(p); });
+    return nb::ndarray<nb::numpy, T, nb::shape<-1, 3>>(owned->data(), {owned->size() / 3, 3}, owner);
+}
+
+// (vertices, faces, None), or (None, None, error) with error (kind, line number, line start, line end, token start,
+// token end, count) with offsets into the text.
+nb::tuple result(Mesh &&m, const uint8_t *d, size_t n) {
+    if (const auto &e = m.error; e.kind != inertia::text::OK) {
+        const size_t line = 1 + size_t(std::count(d, d + e.line, '\n'));
+        const size_t end = size_t(std::find(d + e.line, d + n, '\n') - d);
+        return nb::make_tuple(nb::none(), nb::none(), nb::make_tuple(e.kind, line, e.line, end, e.token, e.token_end,
+                                                                     e.count));
+    }
+    return nb::make_tuple(rows3(std::move(m.vertices)), rows3(std::move(m.faces)), nb::none());
+}
+
+template <class Read>
+nb::tuple read(inertia::In1<uint8_t> data, Read read) {
+    Mesh m;
+    {
+        nb::gil_scoped_release nogil;
+        m = read(data.data(), data.shape(0));
+    }
+    return result(std::move(m), data.data(), data.shape(0));
+}
+
+}  // namespace
+
+void bind_text(nb::module_ &m) {
+    m.def(
+        "read_ascii_stl",
+        [](inertia::In1<uint8_t> data) { return read(data, inertia::text::read_ascii_stl); }, "data"_a,
+        "(vertices (V, 3) float64, faces (F, 3) int64, None) of ASCII STL bytes, or (None, None, error); vertices[faces] are the "
+        "file's corners (a repeated corner stored once).");
+    m.def(
+        "read_obj",
+        [](inertia::In1<uint8_t> data, bool shorter) {
+            return read(data, [shorter](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, shorter); });
+        },
+        "data"_a, "shorter"_a = false,
+        "(vertices (V, 3) float64, triangles (F, 3) int64, None) of OBJ bytes, or (None, None, error); polygons fanned from their first "
+        "vertex, quadrilaterals split along their shorter diagonal with shorter=True.");
+}

@@ -197,8 +197,8 @@ def warm_up(formats=("binary_stl",)) -> None:
     A worker's first file otherwise pays for importing numba and loading the compiled
     kernels (a fraction of a second); a process pool warms up its parent once before forking
     its workers, benchmarks call this on every worker of a cluster.  ``formats``: those to
-    come, among ``binary_stl``, ``ascii_stl``, ``obj`` and ``trimesh`` (PLY, OFF, glTF): the
-    text readers' kernels and trimesh load only when needed.
+    come, among ``binary_stl``, ``ascii_stl``, ``obj`` and ``trimesh`` (PLY, OFF, glTF): trimesh
+    loads only when needed.
     """
     import importlib.util
     import tempfile
@@ -222,9 +222,6 @@ def warm_up(formats=("binary_stl",)) -> None:
             + "endloop\nendfacet\n" for t in f) + "endsolid w\n").encode()
     if "trimesh" in formats and importlib.util.find_spec("trimesh") is not None:
         import trimesh  # noqa: F401 - read through trimesh: imported once, before the workers fork
-    from ..geometry.mesh_io import prepare_text_readers
-
-    prepare_text_readers(formats)   # small files are read by the compiled readers from now on
     with tempfile.TemporaryDirectory(prefix="inertia-warm-") as folder:
         for name, data in files.items():
             path = os.path.join(folder, name)

@@ -30,11 +30,6 @@ EXPORTS = {
         "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
         "find_crossing": "f8[:,::1], i8[:,::1], i8[:,::1], i8, f8, i8[::1]!",
     },
-    "inertia.geometry._text_numba": {
-        "read_ascii_stl": "u1[::1], f8[:,::1]!, i8[:,::1]!, i8",
-        "read_obj": "u1[::1], i8",
-        "gather_tokens": "u1[::1], i8[:,::1]",
-    },
 }
 
 

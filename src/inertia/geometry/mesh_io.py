@@ -6,10 +6,10 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
 dependency; with numba, its per-face vertex copies are welded in one compiled pass over
 the records, with the same result as the general route).  ASCII STL and OBJ are read by
-the native text readers of :mod:`._text_readers` (no dependency; one compiled pass with
-numba, a plain-Python reference reader without), which name the file, line and text of
-anything malformed.  PLY, OFF and glTF go through the optional dependency trimesh, with
-``process=False`` (trimesh changes nothing).  Then
+the compiled text readers of :mod:`._text_readers` (no dependency), which name the file,
+line and text of anything malformed.  PLY, OFF and glTF go through the optional dependency
+trimesh, with ``process=False`` (trimesh changes nothing).  Text in UTF-8 with or without a
+byte-order mark, UTF-16 or UTF-32 is read alike (``_text_readers.text_encoding``).  Then
 vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
 files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
@@ -32,7 +32,7 @@ from .._core.optional import require
 from .._core.units import LENGTH_UNITS
 from .mesh_arrays import faces_in_range, validate_inputs
 
-__all__ = ["load_mesh", "prepare_text_readers", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
+__all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
 
 #: Length units accepted by ``units=``: metres per unit.
 UNITS = LENGTH_UNITS  # name -> metres (one table: inertia._core.units)
@@ -184,13 +184,15 @@ _stl_kind = stl_kind   # the name tests and older callers use
 
 def _stl_kind_of(head: bytes, size: int, p) -> int:
     """:func:`stl_kind` from the file's first 1024 bytes and its size (``p`` names it in errors)."""
+    from ._text_readers import utf8_head
+
     if size == 0:
         raise MeshFileError(f"{p}: mesh file holds no triangles (empty file)", code="empty")
-    text = head.lstrip().lower()
+    text = utf8_head(head).lstrip().lower()
     ascii_like = text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text or size < 1024)
     if size >= 84:
         n = int.from_bytes(head[80:84], "little")
-        if 84 + 50 * n == size and not (ascii_like and head.isascii()):
+        if 84 + 50 * n == size and not (ascii_like and text.isascii()):
             return n
     if ascii_like:
         return -1
@@ -298,6 +300,8 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
         a PLY, OFF or glTF file and trimesh is not installed (``pip install "inertia[mesh]"``).
     """
     factor = _unit_factor(units)
+    if quads not in ("fan", "shorter"):
+        raise InputError(f"quads must be 'fan' or 'shorter', got {quads!r}")
     p = Path(path)
     try:
         return _load_mesh(p, factor, merge_rtol, quads)
@@ -329,20 +333,6 @@ def _file_bytes(p: Path, size: int) -> np.ndarray:
         return np.frombuffer(fh.read(), dtype=np.uint8)
 
 
-def prepare_text_readers(formats) -> None:
-    """Load the compiled readers of ``formats`` ("obj", "ascii_stl") now.
-
-    A small OBJ or ASCII STL is read by the plain-Python reader until the compiled reader of
-    its format has been used in the process (loading it costs about 0.15 s, more than reading
-    a small file); a process about to read many small files calls this first.
-    """
-    formats = [fmt for fmt in formats if fmt in ("obj", "ascii_stl")]
-    if formats:   # a run of binary files does not import the text readers (8 ms)
-        from ._text_readers import prepare
-
-        prepare(formats)
-
-
 def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
@@ -372,22 +362,27 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
         vertices, faces = _read_binary_stl(p, n_binary, data)
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: native text readers
-        from ._text_readers import read_ascii_stl, read_obj
+    elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: compiled text readers
+        from ._text_readers import read_text_mesh
 
-        vertices, faces = read_obj(data, p, quads=quads) if ext == ".obj" else read_ascii_stl(data, p)
+        vertices, faces = read_text_mesh(data, p, ext, quads)
     else:
         trimesh = _import_trimesh()
         if ext == ".dae":  # trimesh reads COLLADA through pycollada
             require("collada", "reading COLLADA (.dae) meshes")
             factor *= _collada_unit(p)
         try:
+            source = str(p)
+            if ext in (".ply", ".off"):  # text in UTF-16/32 or with Latin-1 comments: made UTF-8 for trimesh
+                from ._text_readers import trimesh_source
+
+                source = trimesh_source(p, ext)
             # trimesh's parsers cast and scale without guarding against overflow or NaN; what
             # they return is checked here (shapes, indices) and by the mesh checks (non-finite
             # and out-of-range coordinates), so their NumPy warnings are noise to the caller
             with warnings.catch_warnings(), np.errstate(all="ignore"):
                 warnings.simplefilter("ignore", RuntimeWarning)
-                loaded = trimesh.load(str(p), file_type=SUPPORTED_EXTENSIONS[ext], process=False)
+                loaded = trimesh.load(source, file_type=SUPPORTED_EXTENSIONS[ext], process=False)
                 vertices, faces = _scene_triangles(trimesh, loaded, p)
         except MeshFileError:
             raise

@@ -1,9 +1,9 @@
-"""The grammar of ASCII STL and OBJ as we read them, line by line in plain Python.
+"""The grammar of ASCII STL and OBJ, read line by line in plain Python: a test oracle.
 
-This is the reference the compiled reader (:mod:`._text_numba`) is tested against, and the
-reader used without numba.  Both return the same arrays for a valid file and the same
-:class:`TextError` (kind, line, token) for an invalid one; ``_text_readers`` turns that
-into a :class:`~inertia.errors.MeshFileError`.
+The compiled readers (``src/ext/text/``) scan bytes and read numbers by Clinger's fast path
+or ``std::from_chars``; this reads the same grammar with ``bytes.split`` and Python's
+``float()``, a second method.  The tests compare the two on valid and mutated files: the
+same arrays, or the same :class:`TextError` (kind, line, token, count).
 
 Lines end at LF (a CR before it is a separator like space, tab, VT and FF).  Numbers are
 decimal (``[+-]digits[.digits][e[+-]digits]``, ``.5`` and ``5.`` included) or ``nan``,
@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# error kinds (the compiled kernels return the same codes)
+# error kinds (src/ext/text/lexer.hpp numbers them alike)
 OK, BAD_NUMBER, FEW_COORDS, EXTRA_TOKENS, UNEXPECTED, FACET_SIZE, TRUNCATED = 0, 1, 2, 3, 4, 5, 6
 BAD_REF, ZERO_INDEX, FEW_REFS, INDEX_RANGE = 7, 8, 9, 10
 
