@@ -8,7 +8,8 @@ OBJ by material, we keep the file's order) and refuse a malformed file with a
 
 A text file starting with a byte-order mark, or written in UTF-16 or UTF-32 (told by its mark
 or by the zero bytes of its first character), is read as the same text in UTF-8; any other
-byte (Latin-1 in a comment or a name) is read as it is: the grammars are ASCII.
+byte (Latin-1 in a comment or a name) is read as it is: the grammars are ASCII.  PLY, OFF and
+glTF, read by trimesh, are given to it in UTF-8 (:func:`trimesh_source`).
 """
 
 from __future__ import annotations
@@ -130,17 +131,27 @@ def utf8_text(data, path, fmt: str):
 
 
 def trimesh_source(path, ext: str):
-    """What trimesh should read for a PLY or OFF file: its path, or the file's text made UTF-8
-    (a file object) when trimesh could not read it as it is: in UTF-16 or UTF-32, or with bytes
-    that are not UTF-8 (Latin-1 in a comment) in its text part (a PLY's header, all of an OFF)."""
+    """What trimesh should read for a PLY, OFF or glTF file: its path, or the file's text made
+    UTF-8 (a file object) when trimesh could not read it as it is: in UTF-16 or UTF-32, or with
+    bytes that are not UTF-8 (Latin-1 in a comment or a name) in its text part (a PLY's header,
+    all of an OFF or a glTF)."""
     with open(path, "rb") as fh:
-        data = fh.read()
-    fmt = "PLY" if ext == ".ply" else "OFF"
-    text = utf8_text(data, path, fmt)
+        data = fh.read(1 << 16)
+        if ext == ".ply" and text_encoding(data) == ("utf-8", 0) and data.find(b"end_header") >= 0 \
+                and _utf8_for_trimesh(data, path, ext) == data:
+            return str(path)   # a PLY's text is its header, all in UTF-8: the usual case, read no further
+        data += fh.read()
+    text = _utf8_for_trimesh(data, path, ext)
+    return str(path) if text == data else io.BytesIO(text)
+
+
+def _utf8_for_trimesh(data: bytes, path, ext: str) -> bytes:
+    """``data`` in UTF-8 (:func:`utf8_text`), its text part decoded as Latin-1 when it is not UTF-8."""
+    text = utf8_text(data, path, ext[1:].upper().replace("GLTF", "glTF"))
     end = text.find(b"end_header") if ext == ".ply" else -1
-    head, body = (text[:end], text[end:]) if end >= 0 else (text, b"")
+    head = text[:end] if end >= 0 else text
     try:
         head.decode("utf-8")
-    except UnicodeDecodeError:   # not UTF-8: Latin-1 (every byte is a character), which trimesh's parsers refuse
-        head = head.decode("latin-1").encode("utf-8")
-    return str(path) if head + body == data else io.BytesIO(head + body)
+    except UnicodeDecodeError:   # Latin-1 (every byte is a character), which trimesh's parsers refuse
+        return head.decode("latin-1").encode("utf-8") + text[len(head):]
+    return text

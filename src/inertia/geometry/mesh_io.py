@@ -8,8 +8,8 @@ dependency; with numba, its per-face vertex copies are welded in one compiled pa
 the records, with the same result as the general route).  ASCII STL and OBJ are read by
 the compiled text readers of :mod:`._text_readers` (no dependency), which name the file,
 line and text of anything malformed.  PLY, OFF and glTF go through the optional dependency
-trimesh, with ``process=False`` (trimesh changes nothing).  Text in UTF-8 with or without a
-byte-order mark, UTF-16 or UTF-32 is read alike (``_text_readers.text_encoding``).  Then
+trimesh, with ``process=False`` (trimesh changes nothing).  Text (STL, OBJ, PLY, OFF, glTF) in
+UTF-8 with or without a byte-order mark, UTF-16 or UTF-32 is read alike.  Then
 vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
 files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
@@ -372,17 +372,19 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
             require("collada", "reading COLLADA (.dae) meshes")
             factor *= _collada_unit(p)
         try:
-            source = str(p)
-            if ext in (".ply", ".off"):  # text in UTF-16/32 or with Latin-1 comments: made UTF-8 for trimesh
+            source, resolver = str(p), None
+            if ext in (".ply", ".off", ".gltf"):  # text in UTF-16/32 or with Latin-1 bytes: made UTF-8 for trimesh
                 from ._text_readers import trimesh_source
 
                 source = trimesh_source(p, ext)
+                if not isinstance(source, str):   # (a glTF's buffers are found beside the file)
+                    resolver = trimesh.resolvers.FilePathResolver(str(p))
             # trimesh's parsers cast and scale without guarding against overflow or NaN; what
             # they return is checked here (shapes, indices) and by the mesh checks (non-finite
             # and out-of-range coordinates), so their NumPy warnings are noise to the caller
             with warnings.catch_warnings(), np.errstate(all="ignore"):
                 warnings.simplefilter("ignore", RuntimeWarning)
-                loaded = trimesh.load(source, file_type=SUPPORTED_EXTENSIONS[ext], process=False)
+                loaded = trimesh.load(source, file_type=SUPPORTED_EXTENSIONS[ext], process=False, resolver=resolver)
                 vertices, faces = _scene_triangles(trimesh, loaded, p)
         except MeshFileError:
             raise
