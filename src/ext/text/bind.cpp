@@ -44,16 +44,16 @@ nb::tuple read(inertia::In1<uint8_t> data, Read read) {
 
 void bind_text(nb::module_ &m) {
     m.def(
-        "read_ascii_stl",
-        [](inertia::In1<uint8_t> data) { return read(data, inertia::text::read_ascii_stl); }, "data"_a,
-        "(vertices (V, 3) float64, faces (F, 3) int64, None) of ASCII STL bytes, or (None, None, error); vertices[faces] are the "
-        "file's corners (a repeated corner stored once).");
+        "read_ascii_stl", [](inertia::In1<uint8_t> data) { return read(data, inertia::text::read_ascii_stl); },
+        "data"_a,
+        "(vertices (V, 3) float64, faces (F, 3) int64, None) of ASCII STL bytes, or (None, None, error); "
+        "vertices[faces] are the file's corners (a repeated corner stored once).");
     m.def(
         "read_obj",
         [](inertia::In1<uint8_t> data, bool shorter) {
             return read(data, [shorter](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, shorter); });
         },
         "data"_a, "shorter"_a = false,
-        "(vertices (V, 3) float64, triangles (F, 3) int64, None) of OBJ bytes, or (None, None, error); polygons fanned from their first "
-        "vertex, quadrilaterals split along their shorter diagonal with shorter=True.");
+        "(vertices (V, 3) float64, triangles (F, 3) int64, None) of OBJ bytes, or (None, None, error); polygons "
+        "fanned from their first vertex, quadrilaterals split along their shorter diagonal with shorter=True.");
 }
