@@ -137,6 +137,9 @@ def startup(folder: str, runs: int) -> None:
         fh.write(b"bench".ljust(80) + len(f).to_bytes(4, "little") + rec.tobytes())
     ascii_ = os.path.join(folder, "small_ascii.stl")
     write_ascii_stl(ascii_, tri.astype(float).reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3))
+    from startup import ensure_bytecode  # (bench/startup.py: .pyc files as an installed package has them)
+
+    ensure_bytecode("inertia", "trimesh")
     script = os.path.join(os.path.dirname(sys.executable), "inertia")
     ours = [sys.executable, script] if os.path.exists(script) else [sys.executable, "-m", "inertia.cli.main"]
     for path in (binary, ascii_):
