@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import os
 import sys
 
 #: each command as typed -> the module of this package that registers it, in --help's order
@@ -83,18 +82,8 @@ def main(argv=None) -> int:
 
 
 def entry() -> None:
-    """The ``inertia`` command: :func:`main`, then the process ends without the interpreter's
-    teardown (freeing every loaded module's objects, 20-30 ms after a batch run: the work of
-    some 50 files).  Every command has closed and renamed what it writes when it returns;
-    the output streams are flushed here.  An exception, ``--help`` and argparse's errors exit
-    the usual way."""
-    code = main()
-    try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except (OSError, ValueError):   # a closed pipe: let the interpreter report it as usual
-        sys.exit(code)
-    os._exit(code)
+    """The ``inertia`` command."""
+    sys.exit(main())
 
 
 if __name__ == "__main__":
