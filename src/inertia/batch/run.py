@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.atomic import output_folder, remove_stale_temps
-from .._core.errors import InertiaError, InputError
+from .._core.errors import InputError
 from .._core.optional import require
 from .._core.progress import Progress
 from .output import (
