@@ -34,6 +34,7 @@ done, keyed by path, size and modification time.  A file that changed since is d
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import sys
@@ -190,9 +191,88 @@ def _part_files(parts_dir: Path) -> list[Path]:
 
 def _previous_tables(output: Path, fmt: str, parts_dir: Path) -> list:
     """Arrow tables of an earlier run: the final table (if any), then the parts (newer)."""
-    tables = [read_table(output, fmt)] if output.exists() else []
+    tables = [_previous_output(output, fmt)] if output.exists() else []
     tables += [read_table(part, "parquet") for part in _part_files(parts_dir)]
     return tables
+
+
+def _previous_output(output: Path, fmt: str):
+    """The table in ``output`` to resume from.  A JSON Lines file cut short keeps its whole
+    lines (the cut row is done again); a file that is not a batch table, or a Parquet or CSV
+    file that cannot be read, is refused by name (``--force`` starts again)."""
+    again = "move it away, or add --force (force=True) to start again"
+    if fmt == "jsonl":
+        rows, cut = [], 0
+        with open(output, "rb") as fh:
+            for line in fh:
+                try:
+                    row = json.loads(line)
+                except ValueError:
+                    cut += 1
+                    continue
+                if isinstance(row, dict):
+                    rows.append(row)
+        if cut:
+            sys.stderr.write(f"inertia batch: {output}: {cut} line{'s' if cut > 1 else ''} cut short or unreadable; "
+                             "those files are done again\n")
+        if rows and not all(_BATCH_KEYS <= row.keys() for row in rows):
+            raise InputError(f"{output}: is not a table of inertia batch (rows without {sorted(_BATCH_KEYS)}); {again}")
+        return rows_to_table(rows)
+    if fmt == "csv":
+        with open(output, encoding="utf-8", errors="replace") as fh:
+            header = set(fh.readline().strip().split(","))
+        if not _BATCH_KEYS <= header:
+            raise InputError(f"{output}: is not a table of inertia batch (no {sorted(_BATCH_KEYS)} columns); {again}")
+    try:
+        table = read_table(output, fmt)
+    except InputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - whatever the reader's complaint, the file cannot be resumed
+        raise InputError(f"{output}: cannot be read as a {fmt} table to resume ({type(exc).__name__}: {exc}); "
+                         f"{again}") from None
+    if len(table) and any(table.column(c).null_count == len(table) for c in _BATCH_KEYS):
+        raise InputError(f"{output}: is not a table of inertia batch (no {sorted(_BATCH_KEYS)} columns); {again}")
+    return table
+
+
+#: the columns without which a row cannot be resumed
+_BATCH_KEYS = frozenset({"path", "size_bytes", "mtime_ns", "status"})
+
+
+class _OutputLock:
+    """One run at a time per output: an exclusive lock on ``OUTPUT.lock`` (released by the
+    system when the process ends, however it ends)."""
+
+    def __init__(self, output: Path):
+        self.path = output.with_name(output.name + ".lock")
+
+    def __enter__(self):
+        import fcntl
+
+        try:
+            self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise InputError(f"{self.path}: cannot write the output's lock there ({exc.strerror or exc})",
+                             code="unwritable") from None
+        try:
+            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(self.fd, 32, 0).decode(errors="replace").strip()
+            os.close(self.fd)
+            raise InputError(f"{self.path.with_suffix('')}: another inertia batch run is writing this output"
+                             + (f" (process {holder})" if holder else "") + "; wait for it to end, or choose "
+                             "another output", code="output_busy") from None
+        os.ftruncate(self.fd, 0)
+        os.pwrite(self.fd, str(os.getpid()).encode(), 0)
+        return self
+
+    def __exit__(self, *exc):
+        try:
+            os.unlink(self.path)
+        except OSError:
+            pass
+        os.close(self.fd)
+        return False
 
 
 def local_cluster(n_workers: int, threads: int):
@@ -479,8 +559,7 @@ def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None
 
 def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=None, units: str = "m",
               shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3, self_crossing: str = "search",
-              scheduler=None,
+              robust_tol: float = 1e-3, self_crossing: str = "search", scheduler=None,
               n_workers: int | None = None, chunk_files: int | None = None, resume: bool = False,
               overwrite: bool = False, progress: bool = True, on_part=None) -> BatchSummary:
     """Mass properties of every mesh in ``sources``, written to ``output`` (see the module docstring).
@@ -499,80 +578,81 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
     jobs = sources if sources and all(isinstance(j, Job) for j in sources) else \
         collect_jobs(sources, density=density, mass=mass, units=units)
-    parts_dir = output.with_name(output.name + ".parts")
-    if not resume:
-        if output.exists() and not overwrite:
-            raise InputError(f"{output} exists: pass resume=True (--resume) to continue it or "
-                             "overwrite=True (--force) to start again")
-        if parts_dir.exists():
-            _remove_parts_dir(parts_dir)
-    remove_stale_temps(output)  # left by a killed run (kill -9 gives no chance to clean up)
-    if parts_dir.is_dir():
-        for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
-            tmp.unlink(missing_ok=True)
-    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol, "self_crossing": self_crossing}
-    previous = _previous_tables(output, fmt, parts_dir) if resume else []
-    todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
-    try:
-        parts_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{output}: cannot write the output there: cannot make {parts_dir} "
-                         f"({exc.strerror or exc})", code="unwritable") from None
-    first_part = len(_part_files(parts_dir))
-    bar = Progress(len(todo), enabled=progress)
-    written = [first_part]
-    # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
-    # longer than PART_S
-    tables = []
-    pending: list[dict] = []      # rows of finished chunks not yet in a part
-    last_part = [None]            # when the last part was written (None: none yet)
+    with _OutputLock(output):   # a second run on this output is refused, by name
+        parts_dir = output.with_name(output.name + ".parts")
+        if not resume:
+            if output.exists() and not overwrite:
+                raise InputError(f"{output} exists: pass resume=True (--resume) to continue it or "
+                                 "overwrite=True (--force) to start again")
+            if parts_dir.exists():
+                _remove_parts_dir(parts_dir)
+        remove_stale_temps(output)  # left by a killed run (kill -9 gives no chance to clean up)
+        if parts_dir.is_dir():
+            for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
+                tmp.unlink(missing_ok=True)
+        options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
+                   "robust_tol": robust_tol, "self_crossing": self_crossing}
+        previous = _previous_tables(output, fmt, parts_dir) if resume else []
+        todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
+        try:
+            parts_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"{output}: cannot write the output there: cannot make {parts_dir} "
+                             f"({exc.strerror or exc})", code="unwritable") from None
+        first_part = len(_part_files(parts_dir))
+        bar = Progress(len(todo), enabled=progress)
+        written = [first_part]
+        # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
+        # longer than PART_S
+        tables = []
+        pending: list[dict] = []      # rows of finished chunks not yet in a part
+        last_part = [None]            # when the last part was written (None: none yet)
 
-    def write_part():
-        rows = pending[:]
-        pending.clear()
-        path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
-        written[0] += 1
-        tables.append(write_rows_parquet(rows, path))
-        last_part[0] = time.perf_counter()
-        if on_part is not None:
-            on_part(path, rows)
+        def write_part():
+            rows = pending[:]
+            pending.clear()
+            path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
+            written[0] += 1
+            tables.append(write_rows_parquet(rows, path))
+            last_part[0] = time.perf_counter()
+            if on_part is not None:
+                on_part(path, rows)
 
-    def take_rows(_, rows):
-        pending.extend(rows)
-        if last_part[0] is None or time.perf_counter() - last_part[0] >= PART_S:
-            write_part()
+        def take_rows(_, rows):
+            pending.extend(rows)
+            if last_part[0] is None or time.perf_counter() - last_part[0] >= PART_S:
+                write_part()
 
-    placement = [""]
-    try:
-        execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
-                on_rows=take_rows, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
-    except KeyboardInterrupt:
-        if pending:               # the rows finished since the last part: saved, not lost
-            write_part()
-        n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
-        sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
-                         f"run again with --resume to finish\n")
-        raise
+        placement = [""]
+        try:
+            execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
+                    on_rows=take_rows, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
+        except KeyboardInterrupt:
+            if pending:               # the rows finished since the last part: saved, not lost
+                write_part()
+            n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
+            sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
+                             f"run again with --resume to finish\n")
+            raise
 
-    if pending:                   # the rows since the last part go straight into the output
-        tables.append(rows_to_table(pending))
-        pending.clear()
-    final = _latest_rows(previous + tables, jobs)
-    if fmt == "parquet":
-        write_table_parquet(final, output)
-    else:
-        write_frame(table_to_frame(final), output, fmt)
-    _remove_parts_dir(parts_dir)
+        if pending:                   # the rows since the last part go straight into the output
+            tables.append(rows_to_table(pending))
+            pending.clear()
+        final = _latest_rows(previous + tables, jobs)
+        if fmt == "parquet":
+            write_table_parquet(final, output)
+        else:
+            write_frame(table_to_frame(final), output, fmt)
+        _remove_parts_dir(parts_dir)
 
-    # the counts describe the whole table written (after a resume: earlier rows too)
-    statuses = final.column("status").to_pylist()
-    counts = Counter(statuses)
-    reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
-    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
-                        ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
-                        errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output),
-                        placement=placement[-1])
+        # the counts describe the whole table written (after a resume: earlier rows too)
+        statuses = final.column("status").to_pylist()
+        counts = Counter(statuses)
+        reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
+        return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
+                            ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
+                            errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output),
+                            placement=placement[-1])
 
 
 def _available(module: str, needed_for: str) -> None:
