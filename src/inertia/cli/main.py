@@ -106,18 +106,16 @@ def main(argv=None) -> int:
     except BrokenPipeError:       # the reader went away (inertia ... | head): nothing more to say
         _stdout_to_devnull()
         return 0
-    except OSError as exc:
-        if exc.errno not in _OUTPUT_ERRNOS:
-            raise
-        _stdout_to_devnull()
-        print(f"inertia {args.command}: error: cannot write the output ({exc.strerror}); it is incomplete",
-              file=sys.stderr)
-        return 1
     except Exception as exc:  # noqa: BLE001 - the CLI turns every failure into a message
-        if args.debug:
-            raise
         from .._core.errors import InertiaError
 
+        if isinstance(exc, OSError) and not isinstance(exc, InertiaError) and exc.errno in _OUTPUT_ERRNOS:
+            _stdout_to_devnull()
+            print(f"inertia {args.command}: error: cannot write the output ({exc.strerror}); it is incomplete",
+                  file=sys.stderr)
+            return 1
+        if args.debug:
+            raise
         if isinstance(exc, InertiaError):
             print(f"inertia {args.command}: error: {exc}", file=sys.stderr)
             return 1
