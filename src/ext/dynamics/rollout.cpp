@@ -16,11 +16,12 @@ namespace inertia::dynamics {
 
 namespace {
 
-constexpr size_t CHUNK = 64;  // bodies per chunk: the buffer (26 x 64 doubles, 13 kB) stays in L1
+constexpr size_t CHUNK = 64;  // bodies per chunk: the buffer (29 x 64 doubles, 15 kB) stays in L1
 constexpr size_t LANES = 8;   // the widest SIMD vector of doubles (AVX-512)
 
-// rows of the chunk buffer, each CHUNK long
-enum Row : size_t { P = 0, V = 3, Q = 6, MOM = 10, I_ = 13, W_ = 16, F_ = 19, TAU = 22, MASS = 25, ROWS = 26 };
+// rows of the chunk buffer, each CHUNK long; F_ holds a h and AHH a h^2/2 (a = F / mass + g) under a
+// world force, F in P under a body force
+enum Row : size_t { P = 0, V = 3, Q = 6, MOM = 10, I_ = 13, W_ = 16, F_ = 19, AHH = 22, TAU = 25, MASS = 28, ROWS = 29 };
 
 struct Job {
     const double *x0, *u, *moments, *mass, *frame, *g;
@@ -41,13 +42,12 @@ INERTIA_INLINE void rotate(const double q[4], const double v[3], double r[3]) {
 }
 
 // One time step of `lanes` bodies of the buffer, in place; the first failed lane or SIZE_MAX.
-// Translation, world force: exact for the held force (p += v h + a h^2/2, v += a h, a = F/m + g,
-// kept in the F rows).  Body force (F rows in the principal frame, turning with the body):
+// Translation, world force: exact for the held force (p += v h + a h^2/2, v += a h).  Body force (F rows in the principal frame, turning with the body):
 // Simpson on a(0), a(h/2), a(h), the attitude at h/2 from a half step.
 template <Method M, bool BodyForce>
 __attribute__((noinline)) size_t chunk_step(double *__restrict b, size_t lanes, double h, const double *g) {
     size_t bad = SIZE_MAX;
-    const double hh = 0.5 * h * h, hs = h * h / 6.0, h6 = h / 6.0;
+    const double hs = h * h / 6.0, h6 = h / 6.0;
     for (size_t i = 0; i < lanes; ++i) {
         auto at = [&](size_t row) -> double & { return b[row * CHUNK + i]; };
         State s;
@@ -65,9 +65,9 @@ __attribute__((noinline)) size_t chunk_step(double *__restrict b, size_t lanes, 
         bool ok = step<M>(s, in, t, h, resid);
         if constexpr (!BodyForce) {
             for (size_t k = 0; k < 3; ++k) {
-                const double a = at(F_ + k), v = at(V + k);
-                at(P + k) = at(P + k) + v * h + a * hh;
-                at(V + k) = v + a * h;
+                const double v = at(V + k);
+                at(P + k) = at(P + k) + v * h + at(AHH + k);
+                at(V + k) = v + at(F_ + k);
             }
         } else {
             State sh = s0;
@@ -118,7 +118,8 @@ void load_states(double *b, const Job &J, size_t b0, size_t active, size_t lanes
     }
 }
 
-// Inputs of step t: the world acceleration F / mass + g (or the body-frame force), the torque.
+// Inputs of step t: the world acceleration a = F / mass + g as a h and a h^2/2 (or the body-frame
+// force), the torque.
 template <bool BodyForce>
 void load_inputs(double *b, const Job &J, size_t b0, size_t active, size_t lanes, int64_t t) {
     const double *ut = J.u + 6 * J.Nu * (J.T > 1 ? static_cast<size_t>(t) : 0);
@@ -127,7 +128,9 @@ void load_inputs(double *b, const Job &J, size_t b0, size_t active, size_t lanes
         const double *u = ut + 6 * (J.Nu > 1 ? bi : 0);
         const double mass = b[MASS * CHUNK + i];
         for (size_t k = 0; k < 3; ++k) {
-            b[(F_ + k) * CHUNK + i] = BodyForce ? u[k] : u[k] / mass + J.g[k];
+            const double a = u[k] / mass + J.g[k];
+            b[(F_ + k) * CHUNK + i] = BodyForce ? u[k] : a * J.h;
+            b[(AHH + k) * CHUNK + i] = a * (0.5 * J.h * J.h);
             b[(TAU + k) * CHUNK + i] = u[3 + k];
         }
     }

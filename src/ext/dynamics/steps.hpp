@@ -4,6 +4,8 @@
 // on either path.  Formulas and references: inertia/dynamics/integrators.py.
 #pragma once
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #define INERTIA_INLINE inline __attribute__((always_inline))
@@ -30,41 +32,38 @@ struct Inertia {
 };
 
 // ---------------------------------------------------------------------------- sin and cos
-constexpr double fact(int n) { return n <= 1 ? 1.0 : n * fact(n - 1); }
-constexpr double sin_c(int k) { return (k % 2 ? -1.0 : 1.0) / fact(2 * k + 1); }
-constexpr double cos_c(int k) { return (k % 2 ? -1.0 : 1.0) / fact(2 * k); }
-
-// floor(v) by the round-to-nearest of v + 1.5 2^52 (exact for |v| < 2^51; beyond, v itself, off by
-// at most 1/2 where only an angle without a digit gets there): libm's floor does not vectorise
-// while floating-point traps are kept (no -fno-trapping-math).
-INERTIA_INLINE double floor_exact(double v) {
-    constexpr double M = 0x1.8p52;
-    const double r = (v + M) - M, f = r > v ? r - 1.0 : r;
-    return std::fabs(v) < 0x1p51 ? f : v;
-}
-
-// (sin x, cos x) without a branch or a call, so a loop over bodies vectorises; about one ulp.
-// x = n pi/2 + r, |r| <= pi/4, pi/2 = HI + LO with HI of 33 bits (n HI exact for |n| < 2^20);
-// Taylor polynomials of degree 17 and 16 in r (truncation below 1e-19), Estrin's scheme.
-// Beyond 2^50 the rounding of x exceeds pi/4: the angle carries no digit and r is set to 0.
+// (sin x, cos x) without a branch or a call, so a loop over bodies vectorises; within an ulp or two.
+// x = n pi/2 + r, |r| <= pi/4: n is x 2/pi rounded to nearest by adding 1.5 2^52, whose low
+// mantissa bits then hold n mod 4; pi/2 = HI + LO with HI of 33 bits, so n HI is exact for
+// |n| < 2^20.  Beyond |x| = 2^50 the rounding of x exceeds pi/4: the angle carries no digit and
+// r is set to 0.  Polynomials: fdlibm's __kernel_sin and __kernel_cos (minimax on |r| <= pi/4,
+// error below 2^-58), by Estrin's scheme (short dependency chains).
 INERTIA_INLINE void sincos_poly(double x, double &sin_x, double &cos_x) {
     constexpr double TWO_OVER_PI = 0.63661977236758134308, PIO2_HI = 1.57079632673412561417e+00,
-                     PIO2_LO = 6.07710050650619224932e-11, NOISE = 0x1p50;
-    const double fn = floor_exact(x * TWO_OVER_PI + 0.5);
+                     PIO2_LO = 6.07710050650619224932e-11, SHIFT = 0x1.8p52, NOISE = 0x1p50;
+    constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
+                     S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
+                     S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+    constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
+                     C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
+                     C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+    const double shifted = x * TWO_OVER_PI + SHIFT, fn = shifted - SHIFT;
     double r = (x - fn * PIO2_HI) - fn * PIO2_LO;
-    r = std::fabs(x) > NOISE ? 0.0 * r : r;
+    r = std::fabs(x) > NOISE ? 0.0 : r;
     const double z = r * r, z2 = z * z, z4 = z2 * z2;
-    const double ps = ((sin_c(1) + z * sin_c(2)) + z2 * (sin_c(3) + z * sin_c(4))) +
-                      z4 * ((sin_c(5) + z * sin_c(6)) + z2 * (sin_c(7) + z * sin_c(8)));
-    const double pc = ((cos_c(1) + z * cos_c(2)) + z2 * (cos_c(3) + z * cos_c(4))) +
-                      z4 * ((cos_c(5) + z * cos_c(6)) + z2 * (cos_c(7) + z * cos_c(8)));
-    const double s = r + (r * z) * ps, c = 1.0 + z * pc;
-    const double half = fn * 0.5, quarter = fn * 0.25;
-    const bool odd = half - floor_exact(half) != 0.0;  // n odd: sin and cos swap
-    const double k4 = quarter - floor_exact(quarter);  // (n mod 4) / 4
+    const double ps = ((S1 + z * S2) + z2 * (S3 + z * S4)) + z4 * (S5 + z * S6);
+    const double pc = ((C1 + z * C2) + z2 * (C3 + z * C4)) + z4 * (C5 + z * C6);
+    const double s = r + (r * z) * ps, c = (1.0 - 0.5 * z) + z2 * pc;
+    uint64_t n, sb, cb;
+    std::memcpy(&n, &shifted, 8);
+    const bool odd = n & 1;  // sin and cos swap
     const double sn = odd ? c : s, cs = odd ? s : c;
-    sin_x = k4 >= 0.5 ? -sn : sn;                       // n = 2, 3
-    cos_x = ((0.125 < k4) & (k4 < 0.625)) ? -cs : cs;   // n = 1, 2
+    std::memcpy(&sb, &sn, 8);
+    std::memcpy(&cb, &cs, 8);
+    sb ^= (n << 62) & (uint64_t(1) << 63);        // n = 2, 3 (mod 4): sin negative
+    cb ^= ((n + 1) << 62) & (uint64_t(1) << 63);  // n = 1, 2: cos negative
+    std::memcpy(&sin_x, &sb, 8);
+    std::memcpy(&cos_x, &cb, 8);
 }
 
 // ---------------------------------------------------------------------------- helpers
@@ -115,7 +114,8 @@ INERTIA_INLINE double max3(double a, double b, double c) { return max2(max2(a, b
 
 // Newton on c_j = beta(c) chat_j + f_j c_k c_l (j, k, l cyclic), beta = 1 + |c|^2 (DMV) or 1
 // (implicit midpoint).  False when it did not converge; `resid` is then the relative residual.
-inline bool solve_quadratic(const double ch[3], const double f[3], bool dmv, double c[3], double &resid) {
+template <bool dmv>
+INERTIA_INLINE bool solve_quadratic(const double ch[3], const double f[3], double c[3], double &resid) {
     c[0] = ch[0] + f[0] * ch[1] * ch[2];  // explicit first guess, exact to O(h^3)
     c[1] = ch[1] + f[1] * ch[2] * ch[0];
     c[2] = ch[2] + f[2] * ch[0] * ch[1];
@@ -167,8 +167,8 @@ template <int j>
 INERTIA_INLINE void rotor(State &s, const Inertia &b, double dt) {
     constexpr int k = (j + 1) % 3, l = (j + 2) % 3;
     double sh, ch;
-    sincos_poly((0.5 * dt) * s.m[j] * b.W[j], sh, ch);
-    const double sn = 2.0 * sh * ch, cs = 1.0 - 2.0 * sh * sh;  // sin, cos of theta
+    sincos_poly(s.m[j] * ((0.5 * dt) * b.W[j]), sh, ch);  // (0.5 dt) W_j: hoisted by a one-body loop
+    const double sh2 = sh + sh, sn = sh2 * ch, cs = 1.0 - sh2 * sh;  // sin, cos of theta (sh + sh = 2 sh)
     const double mk = s.m[k], ml = s.m[l];
     s.m[k] = cs * mk + sn * ml;
     s.m[l] = cs * ml - sn * mk;
@@ -181,12 +181,12 @@ INERTIA_INLINE void rotor(State &s, const Inertia &b, double dt) {
 
 // One free DMV step with inverse moments W: solve for the body increment (1, c)/|.|, then
 // q+ = q (x) (1, c)/|.|, m+ = F^T m.
-inline bool dmv_core(State &s, const double W[3], double h, double &resid) {
+INERTIA_INLINE bool dmv_core(State &s, const double W[3], double h, double &resid) {
     const double I[3] = {1.0 / W[0], 1.0 / W[1], 1.0 / W[2]}, hh = 0.5 * h;
     const double ch[3] = {hh * s.m[0] * W[0], hh * s.m[1] * W[1], hh * s.m[2] * W[2]};
     const double f[3] = {(I[1] - I[2]) * W[0], (I[2] - I[0]) * W[1], (I[0] - I[1]) * W[2]};
     double c[3];
-    const bool ok = solve_quadratic(ch, f, true, c, resid);
+    const bool ok = solve_quadratic<true>(ch, f, c, resid);
     const double sc = 1.0 / std::sqrt(1.0 + (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]));
     const double p[4] = {sc, sc * c[0], sc * c[1], sc * c[2]}, q0[4] = {s.q[0], s.q[1], s.q[2], s.q[3]};
     quat_mul(q0, p, s.q);
@@ -250,8 +250,15 @@ INERTIA_INLINE bool step(State &s, const Inertia &b, const double t[3], double h
         for (int k = 0; k < 4; ++k) q[k] = s.q[k] + hq * k3q[k];
         for (int k = 0; k < 3; ++k) mm[k] = m[k] + h * k3m[k];
         rk4_rate(q, mm, b, t, k4q, k4m);
-        for (int k = 0; k < 4; ++k) s.q[k] = s.q[k] + hq6 * (k1q[k] + 2.0 * (k2q[k] + k3q[k]) + k4q[k]);
-        for (int k = 0; k < 3; ++k) m[k] = m[k] + h6 * (k1m[k] + 2.0 * (k2m[k] + k3m[k]) + k4m[k]);
+        // k1 + 2 (k2 + k3) + k4, the doubling as an addition (exact, and off the multiplier)
+        for (int k = 0; k < 4; ++k) {
+            const double mid = k2q[k] + k3q[k];
+            s.q[k] = s.q[k] + hq6 * (k1q[k] + (mid + mid) + k4q[k]);
+        }
+        for (int k = 0; k < 3; ++k) {
+            const double mid = k2m[k] + k3m[k];
+            m[k] = m[k] + h6 * (k1m[k] + (mid + mid) + k4m[k]);
+        }
         normalize(s.q);
         return true;
     } else if constexpr (M == Splitting) {
@@ -288,7 +295,7 @@ INERTIA_INLINE bool step(State &s, const Inertia &b, const double t[3], double h
         const double bq[3] = {m[0] + hh * t[0], m[1] + hh * t[1], m[2] + hh * t[2]};
         const double f[3] = {hh * (W[2] - W[1]), hh * (W[0] - W[2]), hh * (W[1] - W[0])};
         double y[3];
-        const bool ok = solve_quadratic(bq, f, false, y, resid);
+        const bool ok = solve_quadratic<false>(bq, f, y, resid);
         const double wy[3] = {W[0] * y[0], W[1] * y[1], W[2] * y[2]};
         exp_step(s.q, wy, h);
         for (int k = 0; k < 3; ++k) m[k] = 2.0 * y[k] - m[k];
