@@ -242,3 +242,31 @@ def test_newton_failure_names_step_and_body(n_bodies):
         rollout(x0, None, 0.5, 3, body=body, method="dmv")
     with pytest.raises(IntegrationError, match=r"dmv: the implicit step equation did not converge"):
         rollout(x0, None, 0.5, 3, body=body, method=step_dmv)
+
+
+def test_the_kernels_check_every_size_and_index_they_are_given():
+    """The compiled core's own guards (the Python layer never sends these): InputError, no crash."""
+    from inertia._ext import dynamics as kernels
+
+    q, m, I = np.array([[1.0, 0, 0, 0]]), np.ones((1, 3)), np.ones((1, 3))
+    qs, ws = np.empty((1, 1, 4)), np.empty((1, 1, 3))
+    one = np.array([1], dtype=np.int64)
+    with pytest.raises(InputError, match=r"^slots\[0\] = 1 names no row of qs \(1\)$"):
+        kernels.advance(2, q, m, I, np.zeros((0, 3)), one, np.array([0.1]), one, qs, ws, True)
+    with pytest.raises(InputError, match=r"^counts\[0\] = -1 < 0$"):
+        kernels.advance(2, q, m, I, np.zeros((0, 3)), -one, np.array([0.1]), 0 * one, qs, ws, True)
+    with pytest.raises(InputError, match=r"^method index 7 names no integrator \(0\.\.6\)$"):
+        kernels.advance(7, q, m, I, np.zeros((0, 3)), one, np.array([0.1]), 0 * one, qs, ws, True)
+    x0 = np.zeros((3, 13))
+    x0[:, 6] = 1.0
+    args = dict(u=np.zeros((1, 1, 6)), moments=np.ones((1, 3)), mass=np.ones(1), frame=np.zeros((0, 13)),
+                gravity=np.zeros(3), h=0.01, n_steps=4, save_every=2, body_force=False, threads=1,
+                out=np.empty((3, 3, 13)), status=np.empty(3, dtype=np.int64))
+    kernels.rollout(3, x0, **args)
+    for key, bad, message in (("moments", np.ones((2, 3)), r"^moments has 2 rows, expected 1 or 3$"),
+                              ("u", np.zeros((3, 1, 6)), r"^u must hold 1 or n_steps inputs$"),
+                              ("out", np.empty((2, 3, 13)), r"^out has length 2, expected 3$"),
+                              ("save_every", 3, r"^n_steps must be a multiple of save_every$"),
+                              ("threads", 0, r"^threads must be >= 1, got 0$")):
+        with pytest.raises(InputError, match=message):
+            kernels.rollout(3, x0, **{**args, key: bad})
