@@ -29,7 +29,7 @@ ALLOWED = {
     "geometry": {"_core"},
     "massprops": {"geometry", "_core"},
     "particles": {"massprops", "geometry", "_core"},
-    "dynamics": {"massprops", "geometry", "_core"},
+    "dynamics": {"massprops", "geometry", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
     "symbolic": {"massprops", "geometry", "_core"},
     "robots": {"massprops", "geometry", "_core"},
     "viz": {"particles", "dynamics", "massprops", "geometry", "_core"},
