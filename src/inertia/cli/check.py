@@ -110,6 +110,9 @@ def report_lines(report, model, *, detail: str = "default") -> list:
     if detail == "quiet":
         return lines
     lines += [f"  error {e.code}: {e.message}" for e in report.errors]
+    if detail != "errors":
+        lines += [f"  warning {w.code}: {w.message}" for w in report.warnings]
+        lines += [f"  note {n.code}: {n.message}" for n in report.notes]
     if report.massless_frames and detail != "errors":
         names = report.massless_frames
         shown = ", ".join(names[:8]) + (f", ... ({len(names) - 8} more)" if len(names) > 8 else "")

@@ -21,12 +21,10 @@ universal, revolute2, screw and gearbox stay at their default.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .model import Joint
-from .urdf_sdf import floats, rpy_matrix
+from .urdf_sdf import floats, rpy_matrix, sdf_models, sdf_pose, sdf_version
 from .xmlsafe import RobotFileError
 
 #: URDF joint type -> what it does (see :class:`~inertia.robots.model.Joint`)
@@ -74,6 +72,7 @@ def _name_index(model) -> dict:
 def _urdf_tree(model) -> None:
     doc = model.document
     index = _name_index(model)
+    model.loop_joints = []
     by_child: dict = {}
     for el in doc.root.findall("joint"):
         where = f"{doc.where(el)}: joint {el.get('name')!r}"
@@ -81,9 +80,10 @@ def _urdf_tree(model) -> None:
         if kind is None:
             raise RobotFileError(f"{where}: type={el.get('type')!r} must be one of {', '.join(URDF_KINDS)}")
         parent, child = (_urdf_link_ref(doc, el, tag, index, where) for tag in ("parent", "child"))
-        if child in by_child:
-            raise RobotFileError(f"{where}: link {model.links[child].name!r} already has a parent joint "
-                                 f"({by_child[child]}); a URDF is a tree")
+        if child in by_child:  # a kinematic loop (urdfdom reads it too): the first joint keeps the tree
+            model.loop_joints.append((Joint(el.get("name"), kind, el.get("type"), line=doc.line(el)),
+                                      model.links[child].name))
+            continue
         by_child[child] = where
         link = model.links[child]
         link.parent = parent
@@ -131,40 +131,12 @@ def _mimic(doc, el, where: str):
 # ------------------------------------------------------------------------------------- SDF
 
 
-def _sdf_version(doc) -> float:
-    text = doc.root.get("version", "1.7")
-    try:
-        major, minor = (int(x) for x in text.split(".")[:2])
-    except ValueError:
-        raise RobotFileError(f"{doc.where(doc.root)}: <sdf version={text!r}> is not a version number") from None
-    return major + minor / 100  # 1.10 after 1.9
-
-
-def _sdf_pose(doc, parent):
-    """``(relative_to or None, R, p)`` of ``parent``'s ``<pose>`` (rpy or quat_xyzw, degrees)."""
-    pose = parent.find("pose")
-    if pose is None:
-        return None, np.eye(3), np.zeros(3)
-    where = f"{doc.where(pose)}: <pose>"
-    fmt = pose.get("rotation_format", "euler_rpy")
-    v = floats(pose.text or "0 0 0 0 0 0", 7 if fmt == "quat_xyzw" else 6, where, "pose")
-    if fmt == "quat_xyzw":
-        from .._core.rotations import quat_normalize, quat_to_matrix
-
-        R = quat_to_matrix(quat_normalize([v[6], v[3], v[4], v[5]]))
-    elif fmt == "euler_rpy":
-        rpy = [math.radians(a) for a in v[3:]] if pose.get("degrees") == "true" else v[3:]
-        R = rpy_matrix(*rpy)
-    else:
-        raise RobotFileError(f"{where}: rotation_format={fmt!r} must be euler_rpy or quat_xyzw")
-    return pose.get("relative_to") or None, R, np.asarray(v[:3])
-
-
 class _Frames:
     """The named frames of an SDF document and their poses in the root frame."""
 
     def __init__(self, doc):
         self.doc = doc
+        self.version = sdf_version(doc)
         self.raw: dict = {}        # scoped name -> (relative_to scoped name or None, R, p, where)
         self.done: dict = {None: (np.eye(3), np.zeros(3))}
         self.joints: list = []     # (scope, element)
@@ -178,27 +150,45 @@ class _Frames:
         (a name may refer to a frame declared further down)."""
         doc = self.doc
         frame = scope + "__model__"
-        rel, R, p = _sdf_pose(doc, m) if placed else (None, np.eye(3), np.zeros(3))
+        v = self.version
+        rel, R, p = sdf_pose(doc, m, v) if placed else (None, np.eye(3), np.zeros(3))
         self.raw[frame] = ((parent_scope, rel) if rel else parent_frame, R, p, doc.where(m))
         self.models[scope] = frame
         for link in m.findall("link"):
             name = scope + link.get("name", "")
-            rel, R, p = _sdf_pose(doc, link)
+            rel, R, p = sdf_pose(doc, link, v)
             self.raw[name] = ((scope, rel) if rel else frame, R, p, doc.where(link))
             self.links[id(link)] = name
-        for f in m.findall("frame"):
-            rel, R, p = _sdf_pose(doc, f)
-            self.raw[scope + f.get("name", "")] = ((scope, rel or f.get("attached_to") or "__model__"), R, p,
-                                                   doc.where(f))
+        for f in m.findall("frame") if v >= 1.07 else ():  # <frame> is SDF 1.7's
+            rel, R, p = sdf_pose(doc, f, v)
+            self.raw[self.unique(scope, f, "frame")] = ((scope, rel or f.get("attached_to") or "__model__"), R, p,
+                                                        doc.where(f))
         for j in m.findall("joint"):
-            rel, R, p = _sdf_pose(doc, j)
-            self.raw[scope + j.get("name", "")] = ((scope, rel or (j.findtext("child") or "").strip()), R, p,
-                                                   doc.where(j))
+            rel, R, p = sdf_pose(doc, j, v)
+            self.raw[self.joint_key(scope, j.get("name", ""), j)] = (
+                (scope, rel or (j.findtext("child") or "").strip()), R, p, doc.where(j))
             self.joints.append((scope, j))
         for nested in m.findall("model"):
             inner = scope + nested.get("name", "") + "::"
             self.add_model(nested, inner, scope, frame, True)
             self.raw[scope + nested.get("name", "")] = (inner + "__model__", np.eye(3), np.zeros(3), doc.where(nested))
+
+    def unique(self, scope: str, el, kind: str) -> str:
+        """The scoped name of a frame-carrying element, refused when a link, joint or frame of the
+        model already has it (SDF 1.7 puts them in one namespace; libsdformat refuses it too)."""
+        name = scope + el.get("name", "")
+        if name in self.raw:
+            raise RobotFileError(f"{self.doc.where(el)}: {kind} {el.get('name')!r}: a link, joint or frame of this "
+                                 f"model already has that name ({self.raw[name][3]}); from SDF 1.7 on they share one "
+                                 "namespace, and libsdformat refuses the file")
+        return name
+
+    def joint_key(self, scope: str, name: str, el=None) -> str:
+        """Where a joint's frame is kept: in the frames' namespace from SDF 1.7 on; before it
+        (1.4 to 1.6) joints have a namespace of their own (a joint may share a link's name)."""
+        if self.version < 1.07:
+            return scope + name + "\x00joint"
+        return self.unique(scope, el, "joint") if el is not None else scope + name
 
     def resolve_name(self, name: str, scope: str, where: str):
         """The scoped frame ``name`` means in ``scope`` ("world": None)."""
@@ -229,14 +219,22 @@ class _Frames:
         return self.done[chain[0][0]] if chain else self.done[name]
 
 
-def _sdf_tree(model) -> None:
-    doc = model.document
+def sdf_frames(doc) -> _Frames:
+    """The frames of every model of an SDF document (see :class:`_Frames`)."""
     frames = _Frames(doc)
     worlds = doc.root.findall("world")
     models = [m for w in worlds for m in w.findall("model")] if worlds else doc.root.findall("model")
-    lone = not worlds and len(models) == 1
+    frames.lone = not worlds and len(models) == 1
+    frames.top = models
     for m in models:
-        frames.add_model(m, "" if lone else m.get("name", "") + "::", "", None, not lone)
+        frames.add_model(m, "" if frames.lone else m.get("name", "") + "::", "", None, not frames.lone)
+    return frames
+
+
+def _sdf_tree(model) -> None:
+    doc = model.document
+    frames = sdf_frames(doc)
+    models, lone = frames.top, frames.lone
     index = {}
     for i, lk in enumerate(model.links):
         name = frames.links.get(id(lk.element))
@@ -245,7 +243,8 @@ def _sdf_tree(model) -> None:
         index[name] = i
         lk.scoped_name = name if "::" in name else None
         lk.R_parent_link, lk.p_parent_link = frames.pose(name)
-    version = _sdf_version(doc)
+    version = frames.version
+    model.loop_joints = []
     for scope, el in frames.joints:
         _sdf_joint(model, frames, index, scope, el, version)
     model.root_frame = f"model {models[0].get('name')!r}" if lone else "world"
@@ -268,10 +267,12 @@ def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: flo
         ends.append(None if name is None else index[name])
     parent, child = ends
     link = model.links[child]
-    if link.joints:
-        raise RobotFileError(f"{where}: link {link.name!r} is already the child of joint {link.joints[0].name!r}")
+    if link.joints:  # a kinematic loop: the link keeps its first joint, this one is named in the report
+        model.loop_joints.append((Joint(scope + el.get("name", ""), kind, el.get("type"), line=doc.line(el)),
+                                  link.name))
+        return
     R_rc, p_rc = frames.pose(frames.links[id(link.element)])
-    R_rj, p_rj = frames.pose(scope + el.get("name", ""))
+    R_rj, p_rj = frames.pose(frames.joint_key(scope, el.get("name", "")))
     axis = np.array([0.0, 0.0, 1.0])
     if kind in ("hinge", "slide"):
         axis = R_rc.T @ _sdf_axis(frames, el, scope, version, R_rj, where)

@@ -57,8 +57,10 @@ def floats(text, n: int | None, where: str, what: str) -> list[float]:
 
 
 def _link_elements(doc, root):
-    """``(element, Link, <inertial> or None)`` for every ``<link>`` of a URDF or SDF document."""
-    for el in root.iter("link"):
+    """``(element, Link, <inertial> or None)`` for every link of a URDF: the ``<link>`` children
+    of ``<robot>``, as urdfdom reads them (a ``<link>`` inside ``<gazebo>``, a ``<plugin>``, a
+    ``<transmission>`` or any other element is that element's business, not a link)."""
+    for el in root.findall("link"):
         name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
         yield el, Link(name, doc.line(el), None, element=el), el.find("inertial")
 
@@ -177,14 +179,54 @@ def _sdf_number(doc, parent, tag: str, default: float, what: str) -> float:
     return floats(el.text, 1, where, "the value")[0]
 
 
-def _sdf_pose(doc, parent):
+def sdf_version(doc) -> float:
+    """The ``<sdf version>`` as a number that orders versions (1.10 after 1.9); 1.7 when absent."""
+    text = doc.root.get("version", "1.7")
+    try:
+        major, minor = (int(x) for x in text.split(".")[:2])
+    except ValueError:
+        raise RobotFileError(f"{doc.where(doc.root)}: <sdf version={text!r}> is not a version number") from None
+    return major + minor / 100
+
+
+def sdf_pose(doc, parent, version: float):
+    """``(relative_to or None, R, p)`` of ``parent``'s ``<pose>``, in every form SDF writes it.
+
+    ``x y z roll pitch yaw`` (radians; degrees with ``degrees="true"``) or, with
+    ``rotation_format="quat_xyzw"``, ``x y z qx qy qz qw`` (SDF 1.9).  ``relative_to`` is
+    SDF 1.7's: earlier versions have no such attribute (every pose is relative to its
+    element's default frame), so it is not read there.
+    """
     pose = parent.find("pose")
     if pose is None:
-        return np.eye(3), np.zeros(3), None
-    where = doc.where(pose)
-    rel = pose.get("relative_to")
-    vals = floats(pose.text or "0 0 0 0 0 0", 6, where, "pose")
-    return rpy_matrix(*vals[3:]), np.array(vals[:3]), rel
+        return None, np.eye(3), np.zeros(3)
+    where = f"{doc.where(pose)}: <pose>"
+    fmt = pose.get("rotation_format", "euler_rpy")
+    if fmt not in ("euler_rpy", "quat_xyzw"):
+        raise RobotFileError(f"{where}: rotation_format={fmt!r} must be euler_rpy or quat_xyzw")
+    v = floats(pose.text or "0 0 0 0 0 0", 7 if fmt == "quat_xyzw" else 6, where, "pose")
+    if fmt == "quat_xyzw":
+        from .._core.rotations import quat_normalize, quat_to_matrix
+
+        if not any(v[3:]):
+            raise RobotFileError(f"{where}: the quaternion {v[3:]} has zero length")
+        R = quat_to_matrix(quat_normalize([v[6], v[3], v[4], v[5]]))
+    else:
+        degrees = pose.get("degrees", "false").strip().lower() in ("true", "1")
+        R = rpy_matrix(*([math.radians(a) for a in v[3:]] if degrees else v[3:]))
+    rel = pose.get("relative_to") if version >= 1.07 else None
+    return rel or None, R, np.asarray(v[:3], float)
+
+
+def sdf_models(root) -> list:
+    """Every ``<model>`` of an SDF document (of its worlds, top-level, nested), in document order."""
+    out, stack = [], [root]
+    while stack:
+        el = stack.pop()
+        if el.tag == "model":
+            out.append(el)
+        stack.extend(reversed([c for c in el if c.tag in ("world", "model")]))
+    return out
 
 
 def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
@@ -192,18 +234,24 @@ def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
     root = doc.root
     base = Path(path).resolve().parent
     search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder
-    for inc in root.iter("include"):
+    version = sdf_version(doc)
+    models = sdf_models(root)
+    for inc in [c for holder in [*root.findall("world"), *models] for c in holder.findall("include")]:
         uri = (inc.findtext("uri") or "").strip()
         raise RobotFileError(f"{doc.where(inc)}: <include> of {uri or '(no uri)'!r} is not followed by this version "
                              "of inertia (its links would go unchecked); check the included model's own SDF file")
     links = []
-    for el, link, inertial in _link_elements(doc, root):
-        name = link.name
+    frames = _LinkFrames(doc)
+    for el in [lk for m in models for lk in m.findall("link")]:
+        name = el.get("name") or f"<unnamed link at line {doc.line(el)}>"
+        link = Link(name, doc.line(el), None, element=el)
+        inertial = el.find("inertial")
         if inertial is not None:
-            R, p, rel = _sdf_pose(doc, inertial)
-            if rel not in (None, "", name, "__model__") and rel != name:
-                link.notes.append(("unsupported_pose", f"{doc.where(inertial)}: inertial pose relative_to={rel!r} "
-                                   "is read as relative to the link"))
+            rel, R, p = sdf_pose(doc, inertial, version)
+            if rel not in (None, name):
+                link.notes.append(("unsupported_pose", f"{doc.where(inertial)}: inertial pose relative_to={rel!r}: "
+                                   "libsdformat refuses any frame but the link's (the inertial frame is always "
+                                   "relative to the link); read as relative to the link"))
             mass = _sdf_number(doc, inertial, "mass", 1.0, f"link {name!r}")
             i_el = inertial.find("inertia")
             vals = {k: 0.0 for k in ("ixy", "ixz", "iyz")} | {k: 1.0 for k in ("ixx", "iyy", "izz")}  # SDF defaults
@@ -211,12 +259,32 @@ def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
                 for k in vals:
                     vals[k] = _sdf_number(doc, i_el, k, vals[k], f"link {name!r}")
             link.inertial = Inertial(mass, p, R, _inertia_matrix(**vals), doc.line(inertial), inertial)
-        _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link))
+        _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link, version, frames))
         links.append(link)
     return RobotModel(Path(path), "sdf", links, doc)
 
 
-def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
+class _LinkFrames:
+    """Poses of a link's shapes given ``relative_to`` another frame: read in the link frame
+    through the model's frame graph (built on first use)."""
+
+    def __init__(self, doc):
+        self.doc, self.frames = doc, None
+
+    def in_link(self, link_el, rel: str, R, p):
+        """``(R_link_shape, p_link_shape)`` of a pose ``(R, p)`` relative to frame ``rel``."""
+        from .tree import sdf_frames
+
+        if self.frames is None:
+            self.frames = sdf_frames(self.doc)
+        link = self.frames.links[id(link_el)]
+        scope = link[: link.rfind("::") + 2] if "::" in link else ""
+        R_l, p_l = self.frames.pose(link)
+        R_f, p_f = self.frames.pose(self.frames.resolve_name(rel, scope, self.doc.where(link_el)))
+        return R_l.T @ R_f @ R, R_l.T @ (R_f @ p + p_f - p_l)
+
+
+def _sdf_geometry(doc, el, role, base, search, link, version, frames) -> Geometry | None:
     g = el.find("geometry")
     if g is None:  # required by the SDF specification
         raise RobotFileError(f"{doc.where(el)}: link {link.name!r}: <{role}> has no <geometry>")
@@ -224,7 +292,9 @@ def _sdf_geometry(doc, el, role, base, search, link) -> Geometry | None:
     if not shapes:
         return None
     shape = shapes[0]
-    R, p, _ = _sdf_pose(doc, el)
+    rel, R, p = sdf_pose(doc, el, version)
+    if rel not in (None, link.name):
+        R, p = frames.in_link(link.element, rel, R, p)
     where = doc.where(shape)
     if shape.tag == "box":
         params = {"size": floats(_text(shape, "size"), 3, where, "box size")}

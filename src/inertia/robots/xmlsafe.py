@@ -148,13 +148,18 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     parser.EntityDeclHandler = entity_decl
     parser.UnparsedEntityDeclHandler = lambda *a: _refuse(path, parser, "an unparsed entity declaration")
     parser.ExternalEntityRefHandler = external_ref
+    trailing = None
     try:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
-        msg = expat.ErrorString(exc.code)
-        if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
-            msg += " (entities are not supported in robot files)"
-        raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
+        root_end = max(ends.values()) if ends and not stack else None
+        if root_end is not None and _only_markup(data[root_end:]):
+            # what follows the root element is markup (a stray end tag, a second element):
+            # tinyxml2, the parser of MuJoCo, urdfdom and libsdformat, reads the first element
+            # and ignores the rest, so the file is read as they read it, with a warning
+            trailing = exc.lineno
+        else:
+            raise _malformed(path, exc) from None
     except RobotFileError:
         raise
     except (LookupError, ValueError) as exc:  # an unknown or unusable encoding="..." (expat asks codecs)
@@ -165,6 +170,23 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     root = builder.close()
     doc = Document(root, path, lines, source=source, starts=starts, ends=ends)
     if relocated:
-        doc.notes.append(f"{path}: the XML declaration follows a comment or blank lines (not allowed by XML); "
-                         "read anyway")
+        doc.notes.append(("xml_declaration_moved", f"{path}: the XML declaration follows a comment or blank lines "
+                          "(not allowed by XML); read anyway"))
+    if trailing is not None:
+        doc.notes.append(("content_after_root", f"{path}:{trailing}: markup after the end of the root element "
+                          f"<{root.tag}> (e.g. a stray end tag) is ignored, as MuJoCo, urdfdom and libsdformat "
+                          "(tinyxml2) ignore it; other XML tools refuse the file: remove it"))
     return doc
+
+
+def _only_markup(rest: bytes) -> bool:
+    """``rest`` holds tags, comments and whitespace only (no text outside elements)."""
+    return not re.sub(rb"<[^<>]*>", b"", rest).strip()
+
+
+def _malformed(path, exc) -> RobotFileError:
+    """The error for a document expat cannot read."""
+    msg = expat.ErrorString(exc.code)
+    if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
+        msg += " (entities are not supported in robot files)"
+    return RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})")
