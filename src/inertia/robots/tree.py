@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .model import Joint
-from .urdf_sdf import floats, rpy_matrix, sdf_models, sdf_pose, sdf_version
+from .urdf_sdf import floats, rpy_matrix, sdf_pose, sdf_version
 from .xmlsafe import RobotFileError
 
 #: URDF joint type -> what it does (see :class:`~inertia.robots.model.Joint`)
