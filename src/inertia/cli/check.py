@@ -150,6 +150,7 @@ def _note_summary(report) -> list:
             counts.setdefault(n.code, set()).add(lk.name)
     what = {"geometry_unusable": "geometry comparisons skipped (shapes that are not usable solids, e.g. open meshes)",
             "mesh_overlapping_shells": "meshes whose closed parts overlap, summed as the simulator sums them",
-            "inertial_ignored": "declared inertials ignored (inertiafromgeom)"}
+            "inertial_ignored": "declared inertials ignored (inertiafromgeom)",
+            "mesh_reader_message": "mesh files whose reader complained (e.g. a COLLADA texture it cannot load)"}
     return [f"  notes: {what.get(code, code)} in {fmt.plural(len(names), 'link')}; --verbose lists them"
             for code, names in counts.items()]

@@ -81,10 +81,48 @@ def _inertia_matrix(ixx, iyy, izz, ixy, ixz, iyz) -> np.ndarray:
 # ------------------------------------------------------------------------------------- URDF
 
 
+#: URDF attributes urdfdom reads as one number (``strToDouble``: no whitespace after it) and as
+#: a list of numbers split at spaces (a newline or tab between them is part of a number)
+_URDF_ONE_NUMBER = frozenset(("value", "ixx", "ixy", "ixz", "iyy", "iyz", "izz", "radius", "length", "lower", "upper",
+                              "effort", "velocity", "multiplier", "offset", "damping", "friction"))
+_URDF_NUMBERS = frozenset(("xyz", "rpy", "size", "scale", "rgba"))
+
+
+def _urdf_ros_numbers(doc, root) -> None:
+    """Warn (``doc.notes``) of numbers urdfdom refuses although they read fine as XML.
+
+    urdfdom, which ROS and Pinocchio read URDF with, converts a number with ``strToDouble``:
+    whitespace after it ("1.5 ", a line break) fails ("is not a float"), and a list such as
+    ``xyz`` is split at spaces only, so a line break or tab between two numbers fails too.
+    Pinocchio then drops the link's inertial (mass 0) without failing.
+    """
+    from .edit import SourceEditor
+
+    editor = None
+    for top in [*root.findall("link"), *root.findall("joint")]:
+        for el in top.iter():
+            bad = [k for k, v in el.attrib.items() if k in _URDF_ONE_NUMBER and v != v.rstrip()]
+            if any(k in _URDF_NUMBERS for k in el.attrib) and doc.start_byte(el) is not None:
+                editor = editor or SourceEditor(doc)
+                start, end, _ = editor.start_tag(el)
+                tag = doc.source[start:end]
+                if b"\n" in tag or b"\t" in tag or b"\r" in tag:
+                    for k, (_, a, b) in editor.attributes(el).items():
+                        pieces = doc.source[a:b].decode("utf-8", "replace").split(" ")
+                        if k in _URDF_NUMBERS and any(p.strip() and p.lstrip() != p.split()[0] for p in pieces):
+                            bad.append(k)  # a piece between spaces holds whitespace after its number
+            for k in bad:
+                doc.notes.append(("ros_unreadable_number", (
+                    f"{doc.where(el)}: <{el.tag} {k}={el.get(k)!r}>: read here, but urdfdom (ROS, Pinocchio) refuses "
+                    "it: whitespace after a number (a line break, a trailing space) is \"not a float\" there, and "
+                    "Pinocchio then drops the link's inertial; write the numbers separated by single spaces")))
+
+
 def read_urdf(path, *, search_paths=(), document=None) -> RobotModel:
     """``document``: the file already parsed (e.g. expanded by xacro); read from ``path`` otherwise."""
     doc = document if document is not None else parse_robot_xml(path, "robot", "a URDF")
     root = doc.root
+    _urdf_ros_numbers(doc, root)
     base = Path(path).resolve().parent
     links = []
     for el, link, inertial in _link_elements(doc, root):
