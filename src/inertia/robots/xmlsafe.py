@@ -153,10 +153,9 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
         root_end = max(ends.values()) if ends and not stack else None
-        if root_end is not None and _only_markup(data[root_end:]):
-            # what follows the root element is markup (a stray end tag, a second element):
-            # tinyxml2, the parser of MuJoCo, urdfdom and libsdformat, reads the first element
-            # and ignores the rest, so the file is read as they read it, with a warning
+        if root_end is not None and _ignored_after_root(data[root_end:]):
+            # what follows the root element is what tinyxml2 (the parser of MuJoCo, urdfdom and
+            # libsdformat) ignores: the file is read as they read it, with a warning
             trailing = exc.lineno
         else:
             raise _malformed(path, exc) from None
@@ -179,9 +178,11 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     return doc
 
 
-def _only_markup(rest: bytes) -> bool:
-    """``rest`` holds tags, comments and whitespace only (no text outside elements)."""
-    return not re.sub(rb"<[^<>]*>", b"", rest).strip()
+def _ignored_after_root(rest: bytes) -> bool:
+    """What follows the root's end tag (``rest`` starts with it) is ignored by tinyxml2: it stops
+    at a stray end tag (whatever follows), and reads further elements (no text) without using them."""
+    after = re.sub(rb"^(?:\s|<!--.*?-->)*", b"", rest[rest.find(b">") + 1:], flags=re.S)
+    return after.startswith(b"</") or not re.sub(rb"<[^<>]*>", b"", after).strip()
 
 
 def _malformed(path, exc) -> RobotFileError:
