@@ -120,9 +120,10 @@ def _principal(inertia):
 
 
 def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str | None = None,
-               warnings: bool = True) -> LinkReport:
+               warnings: bool = True, compiler: dict | None = None) -> LinkReport:
     """The findings for one link (``where`` is ``file:line`` for messages); ``warnings=False``
-    skips the comparisons with the geometry, which give warnings only (the errors are the same)."""
+    skips the comparisons with the geometry, which give warnings only (the errors are the same).
+    ``compiler``: MJCF's ``<compiler>`` mass options for the body (MuJoCo repairs what they cover)."""
     rep = LinkReport(link.name, link.line)
     for code, msg in link.notes:
         rep.warnings.append(Finding(code, msg))
@@ -153,7 +154,9 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         if code:
             extra = hint if code in ("triangle_inequality", "not_positive_definite") else ""
             rep.errors.append(Finding(code, f"{at}: {v.message}{extra}"))
-    if rep.errors or not warnings:
+    if rep.errors and compiler:
+        _compiler_repairs(rep, compiler)
+    if violations or rep.errors or not warnings:
         return rep  # comparisons with the geometry need a valid tensor
 
     bounds = geometry_bounds(link, mesh_units=mesh_units)
@@ -200,6 +203,26 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
                 f"(ratios {np.array2string(ratios, precision=3)}"
                 + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")")))
     return rep
+
+
+def _compiler_repairs(rep, compiler: dict) -> None:
+    """Errors MuJoCo's compiler repairs become warnings (``compiler_repairs_inertia``): a zero
+    mass under ``boundmass``, a moment under ``boundinertia``, a broken triangle inequality under
+    ``balanceinertia`` (the moments become their mean)."""
+    from .urdf_sdf import floats
+
+    repairs = {"non_positive_mass": floats(compiler["boundmass"], 1, "<compiler>", "boundmass")[0] > 0,
+               "not_positive_definite": floats(compiler["boundinertia"], 1, "<compiler>", "boundinertia")[0] > 0,
+               "triangle_inequality": compiler["balanceinertia"] == "true"}
+    option = {"non_positive_mass": "boundmass", "not_positive_definite": "boundinertia",
+              "triangle_inequality": "balanceinertia"}
+    if not all(repairs.get(e.code) for e in rep.errors) or any("is -" in e.message for e in rep.errors):
+        return  # something MuJoCo refuses remains (a negative mass is refused whatever the bounds)
+    for e in rep.errors:
+        rep.warnings.append(Finding("compiler_repairs_inertia", f"{e.message}; MuJoCo's <compiler "
+                                    f"{option[e.code]}={compiler[option[e.code]]!r}> repairs it when it compiles "
+                                    "the model (the file itself stays invalid for other tools)"))
+    rep.errors.clear()
 
 
 def _mark_skipped(rep, problem: str, suffix: str) -> None:
@@ -291,14 +314,24 @@ def check_model(model, *, mesh_units: str = "m", warnings: bool = True) -> Check
     the list of massless frames.  ``warnings=False``: the errors only (what ``fix`` asks)."""
     links = []
     doc = model.document
+    main_compiler = None
+    if model.format == "mjcf" and doc is not None:
+        from .whole import compiler_mass_attrs
+
+        main_compiler = compiler_mass_attrs(doc.root.findall("compiler"))
     for link in model.links:
         if doc is not None and link.element is not None:
             where = doc.where(link.element)
             inertial_where = doc.where(link.inertial.element) if link.inertial is not None else where
         else:
             where = inertial_where = f"{model.path}:{link.line}" if link.line else str(model.path)
+        compiler = main_compiler
+        if main_compiler is not None and link.mjcf_compilers is not None:
+            from .whole import compiler_mass_attrs
+
+            compiler = compiler_mass_attrs(link.mjcf_compilers)
         links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where,
-                                warnings=warnings))
+                                warnings=warnings, compiler=compiler))
     report = CheckReport(str(model.path), links)
     for code, message in getattr(doc, "notes", ()):
         report.warnings.append(Finding(code, message))
@@ -340,6 +373,13 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
             except InertiaError:
                 known[id(link)] = None
         return known[id(link)]
+
+    if model.format == "mjcf":  # what MuJoCo simulates: after boundmass, boundinertia, balanceinertia
+        from .whole import mujoco_compiler_adjustments
+
+        local = [(props_of(lk), "declared") for lk in model.links]
+        for lk, (props, _) in zip(model.links, mujoco_compiler_adjustments(model, local, [])):
+            known[id(lk)] = props
 
     loops = getattr(model, "loop_joints", [])
     if loops:
