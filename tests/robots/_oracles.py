@@ -67,7 +67,7 @@ def worst_body_difference(path, *, fusestatic: bool | None = False) -> tuple[flo
         mine = ours[name]
         n += 1
         worst = max(worst, abs(mine.mass - mass) / mass, float(np.abs(mine.com - com).max()) / length,
-                    float(np.abs(mine.inertia_com - inertia).max()) / float(np.abs(inertia).max()))
+                    float(np.abs(mine.inertia_com - inertia).max()) / max(float(np.abs(inertia).max()), 1e-300))
     return worst, n
 
 

@@ -154,6 +154,12 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         if code:
             extra = hint if code in ("triangle_inequality", "not_positive_definite") else ""
             rep.errors.append(Finding(code, f"{at}: {v.message}{extra}"))
+    if inertial.form == "fullinertia" and not any(e.code == "not_positive_definite" for e in rep.errors):
+        least = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_declared + inertial.inertia_declared.T))[0])
+        if not least >= SIMULATOR_MIN_VALUE:  # MuJoCo's rule for fullinertia, moving body or not
+            rep.errors.append(Finding("not_positive_definite", (
+                f"{at}: fullinertia's smallest principal moment is {least:.3g} kg m^2, below {SIMULATOR_MIN_VALUE:g}: "
+                "MuJoCo refuses it (\"inertia must have positive eigenvalues\" in fullinertia)")))
     if rep.errors and compiler:
         _compiler_repairs(rep, compiler)
     if violations or rep.errors or not warnings:
@@ -391,6 +397,8 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
             "these joints")))
     moving = floors.moving_links(model)
     groups = floors.welded_groups(model, moving)
+    if model.format == "mjcf":
+        _static_zero_moments(model, report, {i for members in groups.values() for i, _, _ in members})
     for g, members in groups.items():
         for i, _, _ in members:
             for what in model.links[i].static_only:
@@ -426,6 +434,19 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
                                      "<inertial>: Gazebo simulates it with mass 1 kg and moments 1 kg m^2"))
         if link.inertial is not None and not rep.errors and warnings:
             _gyration(model, i, link, rep, mesh_units, floors)
+
+
+def _static_zero_moments(model, report, in_motion: set) -> None:
+    """A body welded to the world with a ``diaginertia`` moment of exactly 0 (a rod, a point):
+    MuJoCo compiles it (it never moves), so the error becomes a warning."""
+    for i, (link, rep) in enumerate(zip(model.links, report.links)):
+        inertial = link.inertial
+        if i in in_motion or inertial is None or inertial.form != "diaginertia":
+            continue
+        if [e.code for e in rep.errors] == ["not_positive_definite"] and np.diag(inertial.inertia_declared).min() == 0:
+            rep.warnings += [Finding("static_degenerate_inertia", f"{e.message}; the body is welded to the world "
+                                     "(it never moves), and MuJoCo compiles it") for e in rep.errors]
+            rep.errors.clear()
 
 
 def _where(model, i: int) -> str:

@@ -346,7 +346,7 @@ def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
         I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
     else:
         raise RobotFileError(f"{where} needs diaginertia or fullinertia")
-    return Inertial(mass, pos, R, I, line, element)
+    return Inertial(mass, pos, R, I, line, element, "fullinertia" if "fullinertia" in a else "diaginertia")
 
 
 #: MJCF joint types and what they do to the body (hinge and slide move by their value)

@@ -25,6 +25,8 @@ class Inertial:
     inertia_declared: np.ndarray
     line: int | None = None
     element: object = None
+    #: MJCF: how the tensor was written ("fullinertia" or "diaginertia"; MuJoCo judges them apart)
+    form: str | None = None
 
     @property
     def inertia_link(self) -> np.ndarray:
