@@ -12,7 +12,8 @@ the oracle its format has here:
   failure or ``check`` error) on a file MuJoCo compiles, a *missed refusal* a file MuJoCo
   refuses that we read without an error.
 * URDF: Pinocchio (urdfdom).  Total mass, COM and inertia about the COM in the root link's frame
-  at q = 0; a read failure or a tree error of ours on a file Pinocchio builds is a false error.
+  at q = 0; a read failure or a tree error of ours on a file Pinocchio builds is a false error
+  (Pinocchio does not judge physical validity: the inertials ``check`` flags are rechecked below).
 * URDF and SDF inertials ``check`` calls non-physical are checked again at 50 digits (mpmath):
   a tensor that is physical there is a false error.
 * Every file: ``fix`` (nearest valid) writes a copy beside the input, and ``check`` of that copy
@@ -194,7 +195,8 @@ def summary(rows: list) -> list:
             continue
         ok = [r for r in rs if r.get("read_error") is None]
         loads = [r for r in rs if fmt == "sdf" or r.get("oracle_refuses") is None]
-        false = [r for r in loads if fmt != "sdf" and r["errors"]]
+        false = [r for r in loads if fmt == "mjcf" and r["errors"] or r.get("read_error") and fmt != "sdf"
+                 or "joints_unreadable" in r["errors"] and fmt == "urdf" or r.get("inertia_false")]
         missed = [r for r in rs if r.get("oracle_refuses") and not r["errors"]]
         worst = max([r.get("worst", 0.0) for r in rs] or [0.0])
         fixes = [r for r in rs if "fix_fails" in r]
@@ -233,9 +235,10 @@ def main(argv=None) -> int:
             sink.write(json.dumps(row, default=float) + "\n")
             sink.flush()
     print("\n".join(summary(rows)))
-    bad = [r for r in rows if r.get("worst", 0) > 1e-7 or (r.get("oracle_refuses") is None and r["errors"]
-                                                           and r["format"] != "sdf")
-           or r.get("inertia_false") or ("fix_fails" in r and r["fix_fails"] != r["check_of_fix_fails"])]
+    bad = [r for r in rows if r.get("worst", 0) > 1e-7 or (r.get("oracle_refuses") is None and r["format"] == "mjcf"
+                                                           and r["errors"])
+           or r.get("inertia_false") or ("fix_fails" in r and r["fix_fails"] != r["check_of_fix_fails"])
+           or (r.get("read_error") and not r.get("oracle_refuses"))]
     for r in bad:
         print(f"  {r['file']}: worst {r.get('worst', 0):.2g} {r.get('worst_body', '')} errors {r['errors']} "
               f"{r.get('read_error') or ''} {r.get('oracle_refuses') or ''}", file=sys.stderr)

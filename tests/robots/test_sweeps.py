@@ -261,3 +261,40 @@ def test_check_json_of_a_tolerance_case_names_mujocos_floor(tmp_path, capsys):
     assert main(["check", str(path), "--format", "json"]) == 1
     report = json.loads(capsys.readouterr().out)
     assert [e["code"] for lk in report["links"] for e in lk["errors"]] == ["below_simulator_floor"]
+
+
+# ------------------------------------------------------------------------ SDF <include>
+
+
+def test_an_sdf_world_of_included_models_equals_the_world_written_out(tmp_path):
+    """libsdformat's <include>: model://NAME is a model folder (model.config names the SDF of each
+    version, the newest read), <name>, <pose> and <static> replace the model's own."""
+    body = ("<link name='l'><pose>0.1 0 0 0 0 0</pose><inertial><pose>0 0.2 0 0 0 0</pose><mass>2</mass><inertia>"
+            "<ixx>0.1</ixx><iyy>0.2</iyy><izz>0.25</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>"
+            "</link>")
+    (tmp_path / "models" / "cart").mkdir(parents=True)
+    (tmp_path / "models" / "cart" / "model.config").write_text(
+        "<model><sdf version='1.5'>old.sdf</sdf><sdf version='1.6'>model.sdf</sdf></model>")
+    (tmp_path / "models" / "cart" / "old.sdf").write_text("<sdf version='1.5'><model name='cart'/></sdf>")
+    (tmp_path / "models" / "cart" / "model.sdf").write_text(
+        f"<sdf version='1.6'><model name='cart'><pose>5 5 5 0 0 0</pose>{body}</model></sdf>")
+    (tmp_path / "world").mkdir()
+    world = tmp_path / "world" / "w.sdf"
+    world.write_text("<sdf version='1.6'><world name='w'>"
+                     "<include><uri>model://cart</uri><name>c1</name><pose>1 0 0 0 0 1.5707963267948966</pose></include>"
+                     "<include><uri>model://cart</uri><name>c2</name></include>"
+                     "<include><uri>model://sun_is_not_here</uri></include></world></sdf>")
+    with pytest.raises(Exception, match="model://sun_is_not_here'.*not found"):
+        read_robot(world, search_paths=[tmp_path / "models"])
+    world.write_text(world.read_text().replace("<include><uri>model://sun_is_not_here</uri></include>", ""))
+    written = tmp_path / "world" / "out.sdf"
+    written.write_text("<sdf version='1.6'><world name='w'>"
+                       f"<model name='c1'><pose>1 0 0 0 0 1.5707963267948966</pose>{body}</model>"
+                       f"<model name='c2'><pose>5 5 5 0 0 0</pose>{body}</model></world></sdf>")
+    ours = robot_mass_properties(read_robot(world, search_paths=[tmp_path / "models"]))
+    expected = robot_mass_properties(written)
+    assert [lk.name for lk in ours.links] == ["c1::l", "c2::l"] == [lk.name for lk in expected.links]
+    for a, b in zip(ours.links, expected.links):
+        np.testing.assert_allclose(a.com, b.com, atol=1e-15)
+        np.testing.assert_allclose(a.inertia_com, b.inertia_com, atol=1e-15)
+    assert main_quiet(["check", str(world), "--package-path", str(tmp_path / "models")]) == 0

@@ -273,11 +273,8 @@ def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
     base = Path(path).resolve().parent
     search = list(search_paths) + [base.parent]  # model://NAME resolves next to the model folder
     version = sdf_version(doc)
+    _expand_sdf_includes(doc, base, search)
     models = sdf_models(root)
-    for inc in [c for holder in [*root.findall("world"), *models] for c in holder.findall("include")]:
-        uri = (inc.findtext("uri") or "").strip()
-        raise RobotFileError(f"{doc.where(inc)}: <include> of {uri or '(no uri)'!r} is not followed by this version "
-                             "of inertia (its links would go unchecked); check the included model's own SDF file")
     links = []
     frames = _LinkFrames(doc)
     for el in [lk for m in models for lk in m.findall("link")]:
@@ -300,6 +297,77 @@ def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
         _add_shapes(link, el, lambda g, role: _sdf_geometry(doc, g, role, base, search, link, version, frames))
         links.append(link)
     return RobotModel(Path(path), "sdf", links, doc)
+
+
+#: most ``<include>`` elements an SDF document may expand (a guard against include bombs)
+MAX_SDF_INCLUDES = 10_000
+
+
+def _expand_sdf_includes(doc, base: Path, search) -> None:
+    """Replace each ``<include>`` of a ``<world>`` or ``<model>`` by the model it names, as
+    libsdformat does: ``<uri>`` (``model://NAME``, or a path relative to the file's folder) is a
+    model folder (its ``model.config`` names the SDF file of each version: the newest is read)
+    or an SDF file; the include's ``<name>``, ``<pose>`` and ``<static>`` replace the model's.
+    An include of something else (a light, an actor) adds no link and is dropped.  Included
+    elements keep their own file and line for messages (``doc.included`` lists the files).
+    """
+    doc.included = getattr(doc, "included", [])
+    pending = [(holder, c) for holder in [*doc.root.findall("world"), *sdf_models(doc.root)]
+               for c in holder.findall("include")]
+    while pending:
+        holder, inc = pending.pop(0)
+        if len(doc.included) >= MAX_SDF_INCLUDES:
+            raise RobotFileError(f"{doc.where(inc)}: more than {MAX_SDF_INCLUDES} <include> elements; refused")
+        uri = (inc.findtext("uri") or "").strip()
+        where = f"{doc.where(inc)}: <include> of {uri or '(no uri)'!r}"
+        target = _included_sdf(uri, base, search, where)
+        sub = parse_robot_xml(target, "sdf", "an SDF")
+        doc.merge(sub)
+        doc.included.append(target)
+        at = list(holder).index(inc)
+        holder.remove(inc)
+        model = sub.root.find("model")
+        if model is None:
+            continue
+        if inc.find("name") is not None:
+            model.set("name", (inc.findtext("name") or "").strip())
+        for tag in ("static", "pose"):  # the include's own replace the model's
+            if inc.find(tag) is not None:
+                for old in model.findall(tag):
+                    model.remove(old)
+                model.insert(0, inc.find(tag))
+        holder.insert(at, model)
+        pending += [(m, c) for m in [model, *sdf_models(model)[1:]] for c in m.findall("include")]
+
+
+def _included_sdf(uri: str, base: Path, search, where: str) -> Path:
+    """The SDF file an ``<include><uri>`` names (see :func:`_expand_sdf_includes`)."""
+    import re
+
+    if uri.startswith("model://"):
+        name, _, rest = uri[len("model://"):].partition("/")
+        folders = [d / name / rest for d in [*map(Path, search), base, *base.parents]]
+    elif "://" in uri:
+        raise RobotFileError(f"{where}: only model:// and file paths are followed (nothing is fetched)")
+    else:
+        folders = [Path(uri) if Path(uri).is_absolute() else base / uri]
+    found = next((f for f in folders if f.exists()), None)
+    if found is None:
+        raise RobotFileError(f"{where}: not found (model:// is searched in each --package-path folder and the "
+                             "file's parent folders)")
+    if found.is_file():
+        return found
+    config = found / "model.config"
+    if config.is_file():
+        listed = re.findall(rb"""<sdf[^>]*version\s*=\s*["']([\d.]+)["'][^>]*>\s*([^<\s]+)\s*</sdf>""",
+                            config.read_bytes())
+        if listed:
+            _, file = max(listed, key=lambda v: tuple(int(x) for x in v[0].split(b".") if x.isdigit()))
+            if (found / file.decode()).is_file():
+                return found / file.decode()
+    if (found / "model.sdf").is_file():
+        return found / "model.sdf"
+    raise RobotFileError(f"{where}: the model folder {found} names no SDF file (model.config, model.sdf)")
 
 
 class _LinkFrames:
