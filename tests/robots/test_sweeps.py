@@ -46,7 +46,7 @@ MODEL = """<mujoco model="arm">
     <body name="free" pos="1 0 0"><freejoint/>
       <inertial pos="0.1 0.05 0" quat="0.9 0.1 0.3 0.2" mass="2" diaginertia="0.02 0.03 0.04"/></body>
     <body name="fitted" pos="0 1 0"><joint name="jf"/><geom type="box" mesh="tet"/><geom type="ellipsoid" mesh="tet"/>
-    </body>
+      <geom type="sphere" size="0.1" group="3" pos="0.3 0 0"/></body>
   </worldbody>
   {inner_after}
 </mujoco>
