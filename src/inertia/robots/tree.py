@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from .model import Joint
-from .urdf_sdf import floats, rpy_matrix, sdf_pose, sdf_version
+from .numbers import floats, rpy_matrix
+from .sdf_frames import SdfFrames, sdf_frames
 from .xmlsafe import RobotFileError
 
 #: URDF joint type -> what it does (see :class:`~inertia.robots.model.Joint`)
@@ -131,106 +132,6 @@ def _mimic(doc, el, where: str):
 # ------------------------------------------------------------------------------------- SDF
 
 
-class _Frames:
-    """The named frames of an SDF document and their poses in the root frame."""
-
-    def __init__(self, doc):
-        self.doc = doc
-        self.version = sdf_version(doc)
-        self.raw: dict = {}        # scoped name -> (relative_to scoped name or None, R, p, where)
-        self.done: dict = {None: (np.eye(3), np.zeros(3))}
-        self.joints: list = []     # (scope, element)
-        self.links: dict = {}      # id(element) -> scoped name
-        self.models: dict = {}     # scope -> model frame name
-
-    def add_model(self, m, scope: str, parent_scope: str, parent_frame, placed: bool) -> None:
-        """Record model ``m``'s frames under ``scope`` ("name::", "" for a lone model).
-
-        A frame's ``relative_to`` is kept as ``(scope, name)`` until its pose is asked for
-        (a name may refer to a frame declared further down)."""
-        doc = self.doc
-        frame = scope + "__model__"
-        v = self.version
-        rel, R, p = sdf_pose(doc, m, v) if placed else (None, np.eye(3), np.zeros(3))
-        self.raw[frame] = ((parent_scope, rel) if rel else parent_frame, R, p, doc.where(m))
-        self.models[scope] = frame
-        for link in m.findall("link"):
-            name = scope + link.get("name", "")
-            rel, R, p = sdf_pose(doc, link, v)
-            self.raw[name] = ((scope, rel) if rel else frame, R, p, doc.where(link))
-            self.links[id(link)] = name
-        for f in m.findall("frame") if v >= 1.07 else ():  # <frame> is SDF 1.7's
-            rel, R, p = sdf_pose(doc, f, v)
-            self.raw[self.unique(scope, f, "frame")] = ((scope, rel or f.get("attached_to") or "__model__"), R, p,
-                                                        doc.where(f))
-        for j in m.findall("joint"):
-            rel, R, p = sdf_pose(doc, j, v)
-            self.raw[self.joint_key(scope, j.get("name", ""), j)] = (
-                (scope, rel or (j.findtext("child") or "").strip()), R, p, doc.where(j))
-            self.joints.append((scope, j))
-        for nested in m.findall("model"):
-            inner = scope + nested.get("name", "") + "::"
-            self.add_model(nested, inner, scope, frame, True)
-            self.raw[scope + nested.get("name", "")] = (inner + "__model__", np.eye(3), np.zeros(3), doc.where(nested))
-
-    def unique(self, scope: str, el, kind: str) -> str:
-        """The scoped name of a frame-carrying element, refused when a link, joint or frame of the
-        model already has it (SDF 1.7 puts them in one namespace; libsdformat refuses it too)."""
-        name = scope + el.get("name", "")
-        if name in self.raw:
-            raise RobotFileError(f"{self.doc.where(el)}: {kind} {el.get('name')!r}: a link, joint or frame of this "
-                                 f"model already has that name ({self.raw[name][3]}); from SDF 1.7 on they share one "
-                                 "namespace, and libsdformat refuses the file")
-        return name
-
-    def joint_key(self, scope: str, name: str, el=None) -> str:
-        """Where a joint's frame is kept: in the frames' namespace from SDF 1.7 on; before it
-        (1.4 to 1.6) joints have a namespace of their own (a joint may share a link's name)."""
-        if self.version < 1.07:
-            return scope + name + "\x00joint"
-        return self.unique(scope, el, "joint") if el is not None else scope + name
-
-    def resolve_name(self, name: str, scope: str, where: str):
-        """The scoped frame ``name`` means in ``scope`` ("world": None)."""
-        if name == "world":
-            return None
-        full = scope + name
-        if full in self.raw or full == scope + "__model__":
-            return full
-        raise RobotFileError(f"{where}: no frame named {name!r} (links, joints, frames and nested models of "
-                             "this model)")
-
-    def pose(self, name):
-        """``(R_root_frame, p_root_frame)`` of a scoped frame, following ``relative_to``."""
-        chain, seen = [], set()
-        while name not in self.done:
-            if name in seen:
-                raise RobotFileError(f"{self.raw[name][3]}: the poses' relative_to form a cycle through "
-                                     f"{', '.join(sorted(seen))}")
-            seen.add(name)
-            rel, R, p, where = self.raw[name]
-            if isinstance(rel, tuple):
-                rel = self.resolve_name(rel[1], rel[0], where) if rel[1] else rel[0] + "__model__"
-            chain.append((name, rel, R, p))
-            name = rel
-        for frame, rel, R, p in reversed(chain):
-            R0, p0 = self.done[rel]
-            self.done[frame] = (R0 @ R, R0 @ p + p0)
-        return self.done[chain[0][0]] if chain else self.done[name]
-
-
-def sdf_frames(doc) -> _Frames:
-    """The frames of every model of an SDF document (see :class:`_Frames`)."""
-    frames = _Frames(doc)
-    worlds = doc.root.findall("world")
-    models = [m for w in worlds for m in w.findall("model")] if worlds else doc.root.findall("model")
-    frames.lone = not worlds and len(models) == 1
-    frames.top = models
-    for m in models:
-        frames.add_model(m, "" if frames.lone else m.get("name", "") + "::", "", None, not frames.lone)
-    return frames
-
-
 def _sdf_tree(model) -> None:
     doc = model.document
     frames = sdf_frames(doc)
@@ -250,7 +151,7 @@ def _sdf_tree(model) -> None:
     model.root_frame = f"model {models[0].get('name')!r}" if lone else "world"
 
 
-def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: float) -> None:
+def _sdf_joint(model, frames: SdfFrames, index: dict, scope: str, el, version: float) -> None:
     doc = frames.doc
     where = f"{doc.where(el)}: joint {el.get('name')!r}"
     kind = SDF_KINDS.get(el.get("type"))
@@ -284,7 +185,7 @@ def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: flo
         link.R_parent_link, link.p_parent_link = R_rp.T @ R_rc, R_rp.T @ (p_rc - p_rp)
 
 
-def _sdf_axis(frames: _Frames, el, scope: str, version: float, R_rj, where: str) -> np.ndarray:
+def _sdf_axis(frames: SdfFrames, el, scope: str, version: float, R_rj, where: str) -> np.ndarray:
     """The joint axis in the root frame, from ``<axis><xyz>`` and the version's rule."""
     doc = frames.doc
     axis_el = el.find("axis")

@@ -16,44 +16,15 @@ Both write products as tensor elements (``ixy = -sum m x y``): our convention.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 
-from .._core.tolerances import COORDINATE_LIMIT
 from .model import Geometry, Inertial, Link, RobotModel
+from .numbers import floats, rpy_matrix  # noqa: F401  (read from here by the other readers)
 from .resolve import not_found_hint, resolve_mesh
+from .sdf_frames import sdf_models, sdf_pose, sdf_version
 from .xmlsafe import RobotFileError, parse_robot_xml
-
-
-def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
-    """``Rz(yaw) Ry(pitch) Rx(roll)``: URDF/SDF fixed-axis roll-pitch-yaw."""
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
-
-
-def floats(text, n: int | None, where: str, what: str) -> list[float]:
-    """Parse ``n`` whitespace-separated finite numbers; RobotFileError naming ``where`` otherwise."""
-    parts = (text or "").split()
-    try:
-        vals = [float(p) for p in parts]
-    except ValueError:
-        raise RobotFileError(f"{where}: {what} must be numbers, got {text!r}") from None
-    if n is not None and len(vals) != n:
-        raise RobotFileError(f"{where}: {what} needs {n} numbers, got {len(vals)} ({text!r})")
-    if not all(math.isfinite(v) for v in vals):
-        raise RobotFileError(f"{where}: {what} holds a non-finite number ({text!r})")
-    big = [v for v in vals if abs(v) > COORDINATE_LIMIT]
-    if big:
-        raise RobotFileError(f"{where}: {what} holds {big[0]:g}, beyond +-{COORDINATE_LIMIT:g}: no length, mass or "
-                             "inertia of a robot is that large, and the mass properties would overflow (check the "
-                             "units)")
-    return vals
 
 
 def _link_elements(doc, root):
@@ -217,56 +188,6 @@ def _sdf_number(doc, parent, tag: str, default: float, what: str) -> float:
     return floats(el.text, 1, where, "the value")[0]
 
 
-def sdf_version(doc) -> float:
-    """The ``<sdf version>`` as a number that orders versions (1.10 after 1.9); 1.7 when absent."""
-    text = doc.root.get("version", "1.7")
-    try:
-        major, minor = (int(x) for x in text.split(".")[:2])
-    except ValueError:
-        raise RobotFileError(f"{doc.where(doc.root)}: <sdf version={text!r}> is not a version number") from None
-    return major + minor / 100
-
-
-def sdf_pose(doc, parent, version: float):
-    """``(relative_to or None, R, p)`` of ``parent``'s ``<pose>``, in every form SDF writes it.
-
-    ``x y z roll pitch yaw`` (radians; degrees with ``degrees="true"``) or, with
-    ``rotation_format="quat_xyzw"``, ``x y z qx qy qz qw`` (SDF 1.9).  ``relative_to`` is
-    SDF 1.7's: earlier versions have no such attribute (every pose is relative to its
-    element's default frame), so it is not read there.
-    """
-    pose = parent.find("pose")
-    if pose is None:
-        return None, np.eye(3), np.zeros(3)
-    where = f"{doc.where(pose)}: <pose>"
-    fmt = pose.get("rotation_format", "euler_rpy")
-    if fmt not in ("euler_rpy", "quat_xyzw"):
-        raise RobotFileError(f"{where}: rotation_format={fmt!r} must be euler_rpy or quat_xyzw")
-    v = floats(pose.text or "0 0 0 0 0 0", 7 if fmt == "quat_xyzw" else 6, where, "pose")
-    if fmt == "quat_xyzw":
-        from .._core.rotations import quat_normalize, quat_to_matrix
-
-        if not any(v[3:]):
-            raise RobotFileError(f"{where}: the quaternion {v[3:]} has zero length")
-        R = quat_to_matrix(quat_normalize([v[6], v[3], v[4], v[5]]))
-    else:
-        degrees = pose.get("degrees", "false").strip().lower() in ("true", "1")
-        R = rpy_matrix(*([math.radians(a) for a in v[3:]] if degrees else v[3:]))
-    rel = pose.get("relative_to") if version >= 1.07 else None
-    return rel or None, R, np.asarray(v[:3], float)
-
-
-def sdf_models(root) -> list:
-    """Every ``<model>`` of an SDF document (of its worlds, top-level, nested), in document order."""
-    out, stack = [], [root]
-    while stack:
-        el = stack.pop()
-        if el.tag == "model":
-            out.append(el)
-        stack.extend(reversed([c for c in el if c.tag in ("world", "model")]))
-    return out
-
-
 def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
     doc = document if document is not None else parse_robot_xml(path, "sdf", "an SDF")
     root = doc.root
@@ -379,7 +300,7 @@ class _LinkFrames:
 
     def in_link(self, link_el, rel: str, R, p):
         """``(R_link_shape, p_link_shape)`` of a pose ``(R, p)`` relative to frame ``rel``."""
-        from .tree import sdf_frames
+        from .sdf_frames import sdf_frames
 
         if self.frames is None:
             self.frames = sdf_frames(self.doc)
