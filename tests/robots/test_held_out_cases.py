@@ -356,3 +356,17 @@ def test_case12_a_dependencys_noise_is_one_line_not_a_traceback(tmp_path, capfd)
     out, err = capfd.readouterr()
     assert "Traceback" not in err and err == ""
     assert "its reader said: unable to load emissive texture (" in out and out.count("\n") < 8
+
+
+def test_case11_a_comment_holding_dashes_is_read_as_tinyxml2_reads_it(tmp_path, capsys):
+    """gazebo_models' src_doorway: a comment opened inside a comment (XML forbids '--' there;
+    tinyxml2, hence MuJoCo, urdfdom and libsdformat, ends the comment at the first '-->')."""
+    path = _write(tmp_path, {"m.xml": '<mujoco>\n  <!-- mass from aluminium\n  <!-- divided by 4 -- hollow --->\n'
+                                      '  <worldbody><body name="b"><joint/><geom size="0.1"/></body></worldbody>\n'
+                                      "</mujoco>\n"})
+    assert mujoco_compiles(path) is None
+    assert worst_body_difference(path)[0] < MUJOCO_RTOL
+    code, report = _check_json(capsys, path)
+    assert code == 0 and _codes(report, "warnings") == {"comment_with_dashes"}
+    out = tmp_path / "out.xml"
+    assert main(["fix", str(path), "-o", str(out)]) == 0 and out.read_bytes() == path.read_bytes()

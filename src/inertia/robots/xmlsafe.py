@@ -112,6 +112,7 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     path = Path(path) if not isinstance(path, Path) else path
     source = data
     data, relocated = _relocated_declaration(data)
+    data, dashes = _comments_as_tinyxml2_reads_them(data)
     builder = ET.TreeBuilder(insert_comments=True)
     parser = expat.ParserCreate()
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
@@ -171,11 +172,36 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     if relocated:
         doc.notes.append(("xml_declaration_moved", f"{path}: the XML declaration follows a comment or blank lines "
                           "(not allowed by XML); read anyway"))
+    if dashes is not None:
+        doc.notes.append(("comment_with_dashes", f"{path}:{dashes}: a comment holds '--' (a comment started inside "
+                          "another?), which XML forbids; read as MuJoCo, urdfdom and libsdformat (tinyxml2) read it, "
+                          "the comment ending at the first '-->'; other XML tools refuse the file"))
     if trailing is not None:
         doc.notes.append(("content_after_root", f"{path}:{trailing}: markup after the end of the root element "
                           f"<{root.tag}> (e.g. a stray end tag) is ignored, as MuJoCo, urdfdom and libsdformat "
                           "(tinyxml2) ignore it; other XML tools refuse the file: remove it"))
     return doc
+
+
+def _comments_as_tinyxml2_reads_them(data: bytes) -> tuple[bytes, int | None]:
+    """Comments holding ``--`` (XML forbids it; tinyxml2 ends a comment at the first ``-->``):
+    the dashes inside become spaces, byte for byte (offsets and lines unchanged; the source is
+    kept as it is).  Returns the data and the line of the first such comment (None: none)."""
+    first = None
+
+    def blank(m):
+        nonlocal first
+        body = m.group(1).replace(b"--", b"- ")
+        if body.endswith(b"-"):
+            body = body[:-1] + b" "
+        if body != m.group(1) and first is None:
+            first = data.count(b"\n", 0, m.start()) + 1
+        return b"<!--" + body + b"-->"
+
+    if b"<!--" not in data:
+        return data, None
+    out = re.sub(rb"<!--(.*?)-->", blank, data, flags=re.S)
+    return (out, first) if first is not None else (data, None)
 
 
 def _ignored_after_root(rest: bytes) -> bool:
