@@ -129,8 +129,17 @@ def mp_physical(inertia) -> bool:
     return bool(w[0] > 0 and w[0] + w[1] >= w[2])
 
 
-def judge(path: Path, fmt: str, full: bool) -> dict:
+def _check(model, full: bool):
+    """``check_model`` (an older inertia without ``warnings=``: the whole check)."""
     from inertia.robots.check import check_model
+
+    try:
+        return check_model(model, warnings=full)
+    except TypeError:
+        return check_model(model)
+
+
+def judge(path: Path, fmt: str, full: bool) -> dict:
     from inertia.robots.fix import fix_file
     from inertia.robots.io import read_robot
     from inertia.robots.whole import robot_mass_properties
@@ -139,7 +148,7 @@ def judge(path: Path, fmt: str, full: bool) -> dict:
     t0 = time.perf_counter()
     try:
         model = read_robot(path)
-        report = check_model(model, warnings=full)
+        report = _check(model, full)
         row["errors"] = sorted({e.code for e in report.errors} | {e.code for lk in report.links for e in lk.errors})
         row["read_error"] = None
     except Exception as exc:  # noqa: BLE001 - every failure is a row
@@ -175,7 +184,7 @@ def judge(path: Path, fmt: str, full: bool) -> dict:
         out = path.with_name(f".acceptance_fix_{os.getpid()}_{path.name}")
         try:
             fixed = fix_file(path, out)
-            again = check_model(read_robot(out), warnings=False)
+            again = _check(read_robot(out), False)
             row["fix_fails"] = bool(fixed.remaining)
             row["check_of_fix_fails"] = again.n_errors > 0
         except Exception as exc:  # noqa: BLE001
