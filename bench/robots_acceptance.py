@@ -31,6 +31,7 @@ import json
 import os
 import signal
 import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -228,6 +229,9 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
     signal.signal(signal.SIGALRM, _alarm)
+    args.folders = [f.resolve() for f in args.folders]
+    args.out = args.out.resolve() if args.out else None
+    os.chdir(tempfile.mkdtemp(prefix="acceptance_"))  # MuJoCo writes MUJOCO_LOG.TXT where it runs
     rows = []
     sink = open(args.out, "w") if args.out else None
     for path, fmt in robot_files(args.folders):

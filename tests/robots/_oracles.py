@@ -3,6 +3,9 @@ Pinocchio (URDF through urdfdom), each asked through its own public API only."""
 
 from __future__ import annotations
 
+import contextlib
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -11,10 +14,12 @@ from inertia.robots.whole import robot_mass_properties
 
 
 def mujoco_compiles(path) -> str | None:
-    """None when MuJoCo compiles the file, else the first line of its error."""
+    """None when MuJoCo compiles the file, else the first line of its error (MuJoCo's log file,
+    MUJOCO_LOG.TXT, goes to the file's folder, not the working directory)."""
     mujoco = pytest.importorskip("mujoco")
     try:
-        mujoco.MjModel.from_xml_path(str(path))
+        with contextlib.chdir(Path(path).parent):
+            mujoco.MjModel.from_xml_path(str(Path(path).resolve()))
     except Exception as exc:  # noqa: BLE001 - MuJoCo raises ValueError or its own errors
         return str(exc).strip().splitlines()[0]
     return None
