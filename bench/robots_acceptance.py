@@ -58,8 +58,8 @@ def robot_files(folders):
                 yield path, fmt
 
 
-class Timeout(Exception):
-    pass
+class Timeout(BaseException):
+    """A file over the time limit (not an Exception: the oracles' ``except Exception`` let it through)."""
 
 
 def _alarm(signum, frame):
@@ -75,7 +75,7 @@ def mujoco_judgement(path):
         spec.compiler.fusestatic = False
         m = spec.compile()
     except Exception as exc:  # noqa: BLE001
-        return str(exc).strip().splitlines()[0][:200], {}
+        return (str(exc).strip().splitlines() or [type(exc).__name__])[0][:200], {}
     d = mujoco.MjData(m)
     mujoco.mj_kinematics(m, d)
     bodies = {}
@@ -110,7 +110,7 @@ def pinocchio_judgement(path):
     try:
         model = pin.buildModelFromUrdf(str(path))
     except Exception as exc:  # noqa: BLE001
-        return str(exc).strip().splitlines()[0][:200], None
+        return (str(exc).strip().splitlines() or [type(exc).__name__])[0][:200], None
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     total = pin.Inertia.Zero()
