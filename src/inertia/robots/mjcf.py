@@ -2,9 +2,12 @@
 
 Supported, following MuJoCo's compiler:
 
-* ``<compiler angle="degree|radian" eulerseq="xyz" meshdir assetdir inertiafromgeom>``
-  (MuJoCo's default angle unit is degrees; euler sequences with lower-case letters rotate
-  with the frame, upper-case ones about fixed axes);
+* ``<compiler angle="degree|radian" eulerseq="xyz" meshdir assetdir inertiafromgeom
+  inertiagrouprange fitaabb>`` (MuJoCo's default angle unit is degrees; euler sequences with
+  lower-case letters rotate with the frame, upper-case ones about fixed axes).  Every
+  ``<compiler>`` of the model, those of included files too, is merged in document order and
+  holds for the whole model (:func:`merged_compiler`); geoms outside ``inertiagrouprange``
+  carry no mass; ``exactmeshinertia`` (removed from MJCF) is refused as MuJoCo refuses it;
 * default classes (``<default class=...>``, nested, inherited), ``class`` on elements and
   ``childclass`` on bodies, for ``geom``, ``inertial`` and ``mesh`` attributes;
 * orientations ``quat`` (w x y z), ``euler``, ``axisangle``, ``xyaxes``, ``zaxis``;

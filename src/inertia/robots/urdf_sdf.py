@@ -8,8 +8,11 @@ scale``.
 
 SDF: ``<link><inertial><pose>x y z roll pitch yaw</pose><mass>``
 ``<inertia><ixx>...</inertia>``, and geometry ``<box><size>``, ``<cylinder><radius><length>``,
-``<sphere><radius>``, ``<capsule>``, ``<ellipsoid><radii>``, ``<mesh><uri><scale>``.  Poses
-with ``relative_to`` other than the link are not supported and are reported.
+``<sphere><radius>``, ``<capsule>``, ``<ellipsoid><radii>``, ``<mesh><uri><scale>``; poses in
+every form of :func:`~inertia.robots.sdf_frames.sdf_pose` (a shape's ``relative_to`` any frame of
+its model; an inertial's only the link's, as libsdformat requires); ``<include>`` followed as
+libsdformat follows it; links are ``<model>``'s children (not those of a plugin or a state).
+URDF links are ``<robot>``'s children, as urdfdom reads them.
 
 Both write products as tensor elements (``ixy = -sum m x y``): our convention.
 """
