@@ -110,6 +110,9 @@ def report_lines(report, model, *, detail: str = "default") -> list:
     if detail == "quiet":
         return lines
     lines += [f"  error {e.code}: {e.message}" for e in report.errors]
+    if detail != "errors":
+        lines += [f"  warning {w.code}: {w.message}" for w in report.warnings]
+        lines += [f"  note {n.code}: {n.message}" for n in report.notes]
     if report.massless_frames and detail != "errors":
         names = report.massless_frames
         shown = ", ".join(names[:8]) + (f", ... ({len(names) - 8} more)" if len(names) > 8 else "")
@@ -147,6 +150,7 @@ def _note_summary(report) -> list:
             counts.setdefault(n.code, set()).add(lk.name)
     what = {"geometry_unusable": "geometry comparisons skipped (shapes that are not usable solids, e.g. open meshes)",
             "mesh_overlapping_shells": "meshes whose closed parts overlap, summed as the simulator sums them",
-            "inertial_ignored": "declared inertials ignored (inertiafromgeom)"}
+            "inertial_ignored": "declared inertials ignored (inertiafromgeom)",
+            "mesh_reader_message": "mesh files whose reader complained (e.g. a COLLADA texture it cannot load)"}
     return [f"  notes: {what.get(code, code)} in {fmt.plural(len(names), 'link')}; --verbose lists them"
             for code, names in counts.items()]

@@ -23,8 +23,9 @@ file with nothing to fix comes back identical.  A tensor that is zero or roundin
 (largest moment below 1e-15 kg m^2, the least MuJoCo accepts) is not "fixed" into another
 meaningless number: it is kept and reported, and the exit status says the output still fails.
 
-exit status: 0 written and valid, 1 bad input or the written file still fails the check (it says
-which links and why), 2 the file could not be read."""
+exit status: 0 written and valid, 1 bad input or the written file still fails the check (the
+same judgement as 'inertia check' of the written file: it says which links and why), 2 the file
+could not be read."""
 
 HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
 DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
@@ -81,7 +82,8 @@ def fix_summary(report, mode: str) -> list:
     """What the fix did, what it left and why the output is still invalid (if it is)."""
     n = len(report.changed)
     if report.identical:
-        lines = [f"wrote {report.output}: nothing changed; it is byte-identical to the input"]
+        what = "nothing changed" if report.remaining else "nothing to fix"
+        lines = [f"wrote {report.output}: {what}; it is byte-identical to the input"]
     else:
         lines = [f"wrote {report.output}: {fmt.plural(n, 'inertial')} changed (only their numbers; every other "
                  "byte as in the input)"]
