@@ -13,13 +13,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.robots import usd_make as um
-from tests.robots.usd_make import Gf, UsdGeom, UsdPhysics
-
 from inertia import mesh_properties
 from inertia.massprops import primitives
-from inertia.robots.usd.mass import (DEFAULT_DENSITY, UNSET_TOLERANCE, body_mass, collider_solid, jacobi_principal,
-                                     stage_mass_properties)
+from inertia.robots.usd.mass import (
+    DEFAULT_DENSITY,
+    UNSET_TOLERANCE,
+    body_mass,
+    collider_solid,
+    jacobi_principal,
+    stage_mass_properties,
+)
+from tests.robots import usd_make as um
+from tests.robots.usd_make import Gf, UsdGeom, UsdPhysics
 
 #: usd-core's float32 arithmetic: a sum of a few parts, parallel-axis terms, a Jacobi diagonalisation
 FLOAT32_RTOL = 2e-6
