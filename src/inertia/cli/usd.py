@@ -181,7 +181,6 @@ def run_fix(args) -> int | None:
         return None
     from .._core.errors import InputError, RobotFileError
     from ..robots.usd.write import check_written, fix_stage
-    from .fix import fix_summary
 
     if args.from_geometry or args.flip_products or args.density is not None:
         raise InputError("for an OpenUSD stage, fix repairs the authored MassAPI values (the default) or writes "
@@ -196,10 +195,23 @@ def run_fix(args) -> int | None:
         print(f"inertia fix: error: {exc}", file=sys.stderr)
         return 2
     check_written(report, args.from_source, rename=rename, unset_tolerance=tol)
-    lines = fix_summary(report, "usd")
-    lines += [f"  note: {n}" for n in report.notes]
-    fmt.emit(lines, file=sys.stderr)
+    fmt.emit(fix_lines(report), file=sys.stderr)
     return 1 if report.remaining else 0
+
+
+def fix_lines(report) -> list:
+    """What the fix wrote where, what it left and why the result still fails (if it does)."""
+    if report.identical:
+        lines = [f"{report.output}: nothing to write; the stage already holds these values"]
+    else:
+        lines = [f"wrote {', '.join(report.layers)}: {fmt.plural(len(report.changed), 'body', 'bodies')} changed "
+                 "(only the MassAPI attributes that change)"]
+    lines += [f"  {name}: {what}" for name, what in report.changed.items()]
+    lines += [f"  {name}: kept ({why})" for name, why in report.skipped.items()]
+    if report.remaining:
+        lines.append(f"{report.output} still fails ({fmt.plural(len(report.remaining), 'body', 'bodies')}):")
+        lines += [f"  {name}: {why}" for name, why in report.remaining.items()]
+    return lines + [f"  note: {n}" for n in report.notes]
 
 
 def _pairs(items) -> dict:

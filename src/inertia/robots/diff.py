@@ -13,8 +13,9 @@ A matched pair differs when one of
 * inertia: ``max|I_A - I_B| / max(max|I_A|, max|I_B|)`` (root-frame tensors about each COM),
 * COM: ``|c_A - c_B|`` in metres (root frame), compared when both have mass,
 
-exceeds ``tol``.  A body with mass on one side only (absent or massless on the other) differs
-by 1 in mass.  Massless bodies missing on one side are listed, not counted.
+exceeds ``tol``.  A body without a counterpart is first merged into its nearest ancestor that
+has one (converters merge links welded by fixed joints); one with none differs by 1 in mass if
+it has mass, and is listed, not counted, if it has none.
 """
 
 from __future__ import annotations
@@ -124,13 +125,69 @@ def body_errors(a, b) -> dict:
     return out
 
 
+@dataclass
+class Lumped:
+    """A body with the bodies below it that the other side does not have (merged into it)."""
+
+    name: str
+    props: object
+    source: str
+    merged: list
+
+    @property
+    def mass(self):
+        return self.props.mass
+
+    @property
+    def com(self):
+        return self.props.com
+
+    @property
+    def inertia_com(self):
+        return self.props.inertia_com
+
+
+def lump_unmatched(rows: list, matched: set, notes: list, side: str) -> dict:
+    """``{name: row}`` where each body without a counterpart is merged into its nearest ancestor
+    that has one (converters merge links welded by fixed joints); bodies with no such ancestor
+    stay as they are."""
+    from ..massprops.properties import combine
+
+    extra: dict = {}
+    out = {}
+    for r in rows:
+        if r.name in matched:
+            continue
+        j = getattr(r, "parent", None)
+        while j is not None and rows[j].name not in matched:
+            j = getattr(rows[j], "parent", None)
+        if j is None:
+            out[r.name] = r
+        else:
+            extra.setdefault(rows[j].name, []).append(r)
+    for r in rows:
+        if r.name not in matched:
+            continue
+        more = extra.get(r.name)
+        if not more:
+            out[r.name] = r
+            continue
+        parts = [x.props for x in [r, *more] if x.mass > 0]
+        props = combine(parts, frame=r.props.frame, validate=False) if parts else r.props
+        out[r.name] = Lumped(r.name, props, r.source, [x.name for x in more])
+        notes.append(f"{side}: {', '.join(x.name for x in more)} merged into {r.name} (no body of that name on the "
+                     "other side; converters merge links welded by fixed joints)")
+    return out
+
+
 def diff_robots(a, b, *, tol: float = DIFF_TOL, rename=None, read=read_bodies, **read_options) -> DiffReport:
     """Compare two robot descriptions (paths, or RobotMassProperties) body by body."""
     ra = a if hasattr(a, "links") else read(a, **read_options)
     rb = b if hasattr(b, "links") else read(b, **read_options)
-    rows_a = {r.name: r for r in ra.links}
-    rows_b = {r.name: r for r in rb.links}
-    pairs = match_bodies(list(rows_a), list(rows_b), rename)
+    pairs = match_bodies([r.name for r in ra.links], [r.name for r in rb.links], rename)
+    notes: list = []
+    rows_a = lump_unmatched(list(ra.links), set(pairs), notes, "A")
+    rows_b = lump_unmatched(list(rb.links), set(pairs.values()), notes, "B")
     diffs, same = [], 0
     for name, row in rows_a.items():
         other = rows_b.get(pairs.get(name))
@@ -149,9 +206,6 @@ def diff_robots(a, b, *, tol: float = DIFF_TOL, rename=None, read=read_bodies, *
         else:
             unmatched.append(f"{rb.path}: {name}")
     diffs.sort(key=lambda d: -d.worst)
-    report = DiffReport(str(ra.path), str(rb.path), tol, diffs, same, unmatched)
+    report = DiffReport(str(ra.path), str(rb.path), tol, diffs, same, unmatched, notes)
     report.totals = {"mass_a": ra.total.mass, "mass_b": rb.total.mass, "frame_a": ra.frame, "frame_b": rb.frame}
-    if ra.frame != rb.frame:
-        report.notes.append(f"the root frames differ ({ra.frame} vs {rb.frame}): world positions compare only when "
-                            "they coincide")
     return report

@@ -23,6 +23,8 @@ Warnings:
   approximation (its convex hull for ``none`` and ``convexHull``), and the two differ by more than
   :data:`HULL_RTOL` in mass or a principal moment;
 * ``mass_api_not_applied``: mass attributes authored on a prim without ``PhysicsMassAPI`` (ignored);
+* ``mesh_not_solid``: a mesh collider that bounds no solid (open, inconsistently wound): its
+  convex hull stands in for it (what PhysX cooks for a dynamic body);
 * ``geometry_unusable``: a collider whose shape cannot be integrated.
 
 Stage warnings: ``missing_units`` (``metersPerUnit`` or ``kilogramsPerUnit`` not authored: the
@@ -128,6 +130,11 @@ def _body_findings(stage, i: int, rep, tol: float) -> None:
             rep.errors.append(Finding("below_simulator_floor", (
                 f"{where}: mass {props.mass:.3g} kg, principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2: "
                 f"below {SIMULATOR_MIN_VALUE:g}, the least a simulator accepts for a moving body")))
+    for part in bm.parts:
+        if part.shape.startswith("hull ("):
+            rep.warnings.append(Finding("mesh_not_solid", (
+                f"{part.path}: the mesh collider is not a closed solid ({part.shape.split(': ', 1)[-1].rstrip(')')}): "
+                "its convex hull stands in for it, as PhysX cooks it for a dynamic body")))
     if body.dynamic and bm.parts and any(c.kind == "mesh" for c in body.colliders):
         _hull_finding(stage, i, bm, rep, tol)
 

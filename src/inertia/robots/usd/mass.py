@@ -148,8 +148,9 @@ def _mesh_solid(points, faces, what: str, approximation: str | None):
     if key in _MESH_CACHE:
         return _MESH_CACHE[key]
     if approximation in (None, "meshSimplification", "sdf"):
-        props = mesh_properties(points, faces, density=1.0, name=what, self_crossing="certificate")
-        shape = "exact"
+        props, shape = _summed_solid(points, faces, what), "exact"
+        if props.warnings and any("accepted" in w for w in props.warnings):
+            shape = "exact (closed parts that overlap, summed as a simulator sums them)"
     elif approximation == "boundingCube":
         from ...massprops import primitives
 
@@ -167,6 +168,24 @@ def _mesh_solid(points, faces, what: str, approximation: str | None):
         _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
     _MESH_CACHE[key] = out = (props.mass, np.array(props.com), np.array(props.inertia_com), shape)
     return out
+
+
+def _summed_solid(points, faces, what: str):
+    """The mesh's solid; closed parts that overlap (or a shell through itself) are summed, as
+    simulators integrate them, and the result says so in its warnings."""
+    import warnings
+
+    from ...massprops.mesh import mesh_properties
+
+    try:
+        return mesh_properties(points, faces, density=1.0, name=what, self_crossing="certificate")
+    except MeshError as exc:
+        codes = {d.code for d in exc.report.errors} if exc.report is not None else set()
+        if not codes or not codes <= {"overlapping_shells", "self_intersecting"}:
+            raise
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return mesh_properties(points, faces, density=1.0, name=what, on_defect="warn", self_crossing="certificate")
 
 
 #: PhysX's view of ``physics:approximation`` on a dynamic body's mesh (None: the mesh itself)
@@ -321,7 +340,7 @@ def body_mass(stage, index: int, *, physx: bool = False, tol: float = UNSET_TOLE
     parts = []
     for c in body.colliders:
         solid = collider_solid(c, physx=physx, dynamic=body.dynamic)
-        if not solid[3].startswith(("exact", "hull", "bounding")) or solid[3].startswith("hull ("):
+        if "(" in solid[3]:
             notes.append(f"{c.path}: {solid[3]}")
         parts.append(collider_part(c, body, solid, meters_per_unit=stage.meters_per_unit,
                                    kilograms_per_unit=stage.kilograms_per_unit, tol=tol))

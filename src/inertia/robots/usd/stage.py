@@ -252,7 +252,10 @@ def _mesh_params(prim) -> dict:
     orientation = prim.GetAttribute("orientation").Get() if prim.GetAttribute("orientation") else None
     if str(orientation) == "leftHanded":
         faces = faces[:, ::-1]
-    return {"points": v, "faces": faces}
+    # converters write a vertex per face corner (STL has no shared vertices): equal points are one
+    # vertex, so that a closed surface is closed in its indices too
+    v, inverse = np.unique(v, axis=0, return_inverse=True)
+    return {"points": v, "faces": inverse.reshape(-1)[faces]}
 
 
 def _load_physics(stage, root: str):

@@ -108,6 +108,9 @@ def plan_from_source(stage, source, *, rename=None, tol: float = 1e-6, unset_tol
 
     src = source if hasattr(source, "links") else read_bodies(source)
     mine = stage_mass_properties(stage, tol=unset_tolerance)
+    # the values as authored (only exact zeros "not set"): a body whose authored values already
+    # equal the source's differs only by usd-core's reading of them, which no write can change
+    authored = stage_mass_properties(stage, tol=0.0) if unset_tolerance > 0 else mine
     rows = {r.name: r for r in src.links}
     pairs = match_bodies(list(rows), [r.name for r in mine.links], rename)
     by_name = {r.name: k for k, r in enumerate(mine.links)}
@@ -115,16 +118,20 @@ def plan_from_source(stage, source, *, rename=None, tol: float = 1e-6, unset_tol
     for name, target in pairs.items():
         k = by_name[target]
         row, body = rows[name], stage.bodies[k]
-        errors = body_errors(row, mine.links[k])
-        if max(errors.values(), default=0.0) <= tol:
+        if max(body_errors(row, mine.links[k]).values(), default=0.0) <= tol:
+            continue
+        if max(body_errors(row, authored.links[k]).values(), default=0.0) <= tol:
             continue
         if not row.mass > 0:
             report.skipped[target] = (f"the source gives it no mass ({name!r}, {row.source}); UsdPhysics cannot say "
                                       "\"massless\" (0 means not set)")
             continue
-        plan[k] = mass_api_values(stage, body, row.props)
+        plan[k] = values = mass_api_values(stage, body, row.props)
+        small = unset_tolerance > 0 and not is_set(values["physics:diagonalInertia"], unset_tolerance)
         report.changed[target] = (f"from {name!r}: mass {row.mass:.6g} kg, COM {np.round(row.com, 6).tolist()} m "
-                                  f"(world), moments {np.array2string(row.props.principal()[0], precision=6)} kg m^2")
+                                  f"(world), moments {np.array2string(row.props.principal()[0], precision=6)} kg m^2"
+                                  + (f" (an inertia below usd-core's {unset_tolerance:g}: it reads it as not set)"
+                                     if small else ""))
     unmatched = sorted(set(rows) - set(pairs))
     if unmatched:
         report.notes.append(f"{len(unmatched)} bodies of the source have no body of that name in the stage: "
@@ -155,8 +162,8 @@ def _target(usd_stage, path: str, attr: str):
 
 
 def _writable(layer, why: str) -> None:
-    Sdf = pxr_modules()[4]
-    if layer.anonymous or Sdf.Layer.IsPackageOrPackagedLayer(layer) or not layer.realPath:
+    packaged = layer.GetFileFormat().IsPackage() or "[" in layer.identifier
+    if layer.anonymous or packaged or not layer.realPath:
         raise InputError(f"the values belong in {layer.identifier}, which cannot be edited in place ({why}); "
                          "write an override layer instead: --layer OUT.usda")
 
@@ -190,8 +197,14 @@ def _gf_value(name, value, Gf):
     return Gf.Vec3f(*v)
 
 
+def _number(x) -> str:
+    """A float32 as its shortest text (usd-core reads it back as the same float32)."""
+    text = str(np.float32(x))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def _text_value(name, value) -> str:
-    v = [str(x) for x in np.atleast_1d(_f32(value))]
+    v = [_number(x) for x in np.atleast_1d(_f32(value))]
     return v[0] if name == "physics:mass" else "(" + ", ".join(v) + ")"
 
 
@@ -217,8 +230,13 @@ def _text_edit(text: str, edits: list, api_prims: list) -> str:
     for prim_path in api_prims:
         prim = prims[str(prim_path)]
         changes.append(_api_change(text, prim))
+    merged: dict = {}      # inserts at one place keep the order of ``edits``
+    for pos, n, new in changes:
+        old_n, old_new = merged.get(pos, (0, ""))
+        merged[pos] = (max(n, old_n), old_new + new)
     out = text
-    for pos, n, new in sorted(changes, key=lambda c: c[0], reverse=True):
+    for pos in sorted(merged, reverse=True):
+        n, new = merged[pos]
         out = out[:pos] + new + out[pos + n:]
     return out
 
