@@ -349,18 +349,25 @@ def _write_layer(layer, dest: Path, attr_edits: list, api_prims: list) -> list:
             ok = check.ImportFromString(new) and layer_signature(check) == layer_signature(expected)
         except (ValueError, KeyError):
             ok = False
-        if ok:
-            write_bytes_atomic(dest, new.encode("utf-8"))
-            return []
-        write_bytes_atomic(dest, expected.ExportToString().encode("utf-8"))
-        return [f"{dest}: the text edit could not be verified, so usd-core wrote the whole layer (same opinions, "
-                "its own formatting)"]
+        write_bytes_atomic(dest, (new if ok else expected.ExportToString()).encode("utf-8"))
+        _reload(dest)
+        return [] if ok else [f"{dest}: the text edit could not be verified, so usd-core wrote the whole layer "
+                              "(same opinions, its own formatting)"]
     if dest == Path(layer.realPath):
         _sdf_edit(layer, attr_edits, api_prims)
         layer.Save()
     else:
         expected.Export(str(dest))
+        _reload(dest)
     return []
+
+
+def _reload(path: Path) -> None:
+    """Make usd-core's layer registry (which outlives a stage in this process) read ``path`` again."""
+    Sdf = pxr_modules()[4]
+    layer = Sdf.Layer.Find(str(path))
+    if layer is not None:
+        layer.Reload(True)
 
 
 def _copy_unchanged(root, dest: Path) -> None:
@@ -388,6 +395,7 @@ def _write_override(stage, dest: Path, attr_edits: list, api_prims: list) -> Non
         out.Export(str(dest))
     else:
         write_bytes_atomic(dest, out.ExportToString().encode("utf-8"))
+    _reload(dest)
 
 
 def check_written(report: UsdFixReport, source=None, *, rename=None, tol: float = 1e-6,
