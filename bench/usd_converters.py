@@ -3,7 +3,7 @@
 Usage::
 
     python bench/usd_converters.py MODEL_DIR [MODEL_DIR ...] [--out DIR] [--json FILE]
-        [--mjcf-converter EXE] [--urdf-converter EXE] [--repeat 3]
+        [--mjcf-converter EXE] [--urdf-converter EXE] [--repeat 3] [--package NAME=DIR ...]
 
 For every robot of each folder (MJCF: ``*.xml`` files with ``<mujoco>`` and bodies, scenes
 skipped when the robot file is there; URDF: ``*.urdf``), the script
@@ -51,11 +51,11 @@ def find_models(folder: Path) -> list:
     return out
 
 
-def convert(exe: str, model: Path, out: Path) -> tuple[Path, float]:
+def convert(exe: str, model: Path, out: Path, extra=()) -> tuple[Path, float]:
     if out.exists():
         shutil.rmtree(out)
     t = time.perf_counter()
-    run = subprocess.run([exe, str(model), str(out)], capture_output=True, text=True)
+    run = subprocess.run([exe, str(model), str(out), *extra], capture_output=True, text=True)
     seconds = time.perf_counter() - t
     stages = sorted(out.glob("*.usda"))
     if run.returncode != 0 or not stages:
@@ -100,23 +100,25 @@ def count(report) -> tuple[int, float]:
 
 
 def usd_core_vs_truth(stage_path: Path, truth) -> tuple[int, int, float]:
-    """``(agree, total, worst)``: usd-core's ComputeMassProperties (fed with our per-collider values
-    where it sums colliders) against the truth, per matched body, at TOL."""
+    """``(agree, compared, worst)``: usd-core's ComputeMassProperties (fed with our per-collider values
+    where it sums colliders) against the truth, body by body as ``inertia diff`` pairs them, at TOL."""
     from pxr import Gf, UsdPhysics
 
     from inertia._core.rotations import matrix_to_quat
-    from inertia.massprops.properties import MassProperties
-    from inertia.robots.diff import body_errors, match_bodies
+    from inertia.massprops.properties import MassProperties, combine
+    from inertia.robots.diff import diff_robots
     from inertia.robots.usd.mass import body_mass, principal_axes_matrix
     from inertia.robots.usd.stage import read_stage
 
     stage = read_stage(stage_path)
-    rows = {r.name: r for r in truth.links}
-    pairs = match_bodies(list(rows), [b.name for b in stage.bodies])
-    index = {b.name: i for i, b in enumerate(stage.bodies)}
-    agree, worst = 0, 0.0
-    for name, target in pairs.items():
-        i = index[target]
+
+    class Row:
+        def __init__(self, name, props, parent):
+            self.name, self.props, self.parent, self.source = name, props, parent, "usd-core"
+            self.mass, self.com, self.inertia_com = props.mass, props.com, props.inertia_com
+
+    rows = []
+    for i, b in enumerate(stage.bodies):
         parts = {p.path: p for p in body_mass(stage, i).parts}
 
         def info(prim, parts=parts):
@@ -131,33 +133,34 @@ def usd_core_vs_truth(stage_path: Path, truth) -> tuple[int, int, float]:
             mi.localRot = Gf.Quatf(*[float(x) for x in matrix_to_quat(p.R_body_collider)])
             return mi
 
-        b = stage.bodies[i]
         prim = stage.usd_stage.GetPrimAtPath(b.path)
         mass, diag, com, q = UsdPhysics.RigidBodyAPI(prim).ComputeMassProperties(info)
         R = principal_axes_matrix([q.GetReal(), *q.GetImaginary()]) if q.GetLength() > 0.5 else np.eye(3)
         m_unit, kg_unit, Rw, pw = stage.meters_per_unit, stage.kilograms_per_unit, b.R_world_body, b.p_world_body
-        props = MassProperties(mass * kg_unit, (Rw @ np.array(com, float) + pw) * m_unit,
-                               Rw @ R @ np.diag(np.array(diag, float)) @ R.T @ Rw.T * kg_unit * m_unit ** 2,
-                               validate=False)
+        rows.append(Row(b.label, MassProperties(
+            mass * kg_unit, (Rw @ np.array(com, float) + pw) * m_unit,
+            Rw @ R @ np.diag(np.array(diag, float)) @ R.T @ Rw.T * kg_unit * m_unit ** 2, frame="world",
+            validate=False), b.parent))
 
-        class Row:
-            pass
+    class Table:
+        pass
 
-        row = Row()
-        row.mass, row.com, row.inertia_com = props.mass, props.com, props.inertia_com
-        e = max(body_errors(rows[name], row).values())
-        worst = max(worst, e)
-        agree += e <= TOL
-    return agree, len(pairs), worst
+    table = Table()
+    table.path, table.links, table.frame = stage_path, rows, "world"
+    table.total = combine([r.props for r in rows if r.mass > 0], frame="world", validate=False)
+    d = diff_robots(truth, table, tol=TOL)
+    return d.same, d.same + len(d.differ), max((x.worst for x in d.differ), default=0.0)
 
 
-def measure(kind: str, model: Path, exe: str, out: Path, repeat: int) -> dict:
+def measure(kind: str, model: Path, exe: str, out: Path, repeat: int, packages=()) -> dict:
     from inertia.robots.diff import diff_robots, read_bodies
     from inertia.robots.usd.check import check_stage
     from inertia.robots.usd.stage import read_stage
     from inertia.robots.usd.write import fix_stage
 
-    stage, seconds = convert(exe, model, out / model.stem)
+    name = f"{model.parent.name}_{model.stem}"
+    extra = [a for p in packages for a in ("--package", p)] if kind == "urdf" else []
+    stage, seconds = convert(exe, model, out / name, extra)
     truth = mujoco_truth(model) if kind == "mjcf" else read_bodies(model)
     row = {"model": str(model), "kind": kind, "stage": str(stage), "convert_s": round(seconds, 2),
            "bodies": len(truth.links)}
@@ -171,9 +174,12 @@ def measure(kind: str, model: Path, exe: str, out: Path, repeat: int) -> dict:
         rep = check_stage(read_stage(stage))
         times.append(time.perf_counter() - t)
     row["check_s"] = round(min(times), 3)
+    st = read_stage(stage)
+    row["colliders"] = sum(len(b.colliders) for b in st.bodies)
+    row["triangles"] = sum(len(c.params.get("faces", ())) for b in st.bodies for c in b.colliders)
     row["check_findings"] = sorted({f.code for lk in rep.links for f in lk.errors + lk.warnings}
                                    | {f.code for f in rep.warnings})
-    fixed = out / (model.stem + "_fixed")
+    fixed = out / (name + "_fixed")
     if fixed.exists():
         shutil.rmtree(fixed)
     shutil.copytree(stage.parent, fixed)
@@ -198,6 +204,8 @@ def main(argv=None) -> int:
     ap.add_argument("--mjcf-converter", default=shutil.which("mujoco_usd_converter"))
     ap.add_argument("--urdf-converter", default=shutil.which("urdf_usd_converter"))
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--package", action="append", default=[], metavar="NAME=DIR",
+                    help="a ROS package for package:// URIs (passed to urdf_usd_converter)")
     args = ap.parse_args(argv)
     rows = []
     for folder in args.folders:
@@ -207,7 +215,7 @@ def main(argv=None) -> int:
                 print(f"skip {model}: no {kind} converter (--{kind}-converter)", file=sys.stderr)
                 continue
             try:
-                rows.append(measure(kind, model, exe, args.out, args.repeat))
+                rows.append(measure(kind, model, exe, args.out, args.repeat, args.package))
             except Exception as exc:  # noqa: BLE001 - one model's failure is a row, not the end
                 rows.append({"model": str(model), "kind": kind, "error": f"{type(exc).__name__}: {exc}"[:300]})
             print(json.dumps(rows[-1]), file=sys.stderr)

@@ -164,7 +164,7 @@ def check_stage(stage, *, tol: float = UNSET_TOLERANCE) -> UsdCheckReport:
         stage = read_stage(stage)
     report = UsdCheckReport(str(stage.path), [])
     for i, body in enumerate(stage.bodies):
-        rep = LinkReport(body.name if [b.name for b in stage.bodies].count(body.name) == 1 else body.path, None)
+        rep = LinkReport(body.label if [b.label for b in stage.bodies].count(body.label) == 1 else body.path, None)
         _body_findings(stage, i, rep, tol)
         report.links.append(rep)
     missing = [name for name, done in zip(("metersPerUnit", "kilogramsPerUnit"), stage.units_authored) if not done]

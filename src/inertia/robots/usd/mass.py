@@ -417,14 +417,14 @@ def stage_mass_properties(stage, *, physx: bool = False, tol: float = UNSET_TOLE
     if not hasattr(stage, "bodies"):
         stage = read_stage(stage)
     rows, notes = [], []
-    names = [b.name for b in stage.bodies]
+    names = [b.label for b in stage.bodies]
     for i, body in enumerate(stage.bodies):
         try:
             bm = body_mass(stage, i, physx=physx, tol=tol)
         except InertiaError as exc:
             raise InertiaError(f"{stage.path}: body {body.path}: {exc}") from None
         props = to_world_si(stage, body, bm)
-        name = body.name if names.count(body.name) == 1 else body.path
+        name = body.label if names.count(body.label) == 1 else body.path
         exact = math.nan
         if physx and any(p.shape != "exact" for p in bm.parts):
             exact = to_world_si(stage, body, body_mass(stage, i, tol=tol)).mass

@@ -111,6 +111,13 @@ class Body:
     dynamic: bool = True            # rigid body enabled and not kinematic
     parent: int | None = None       # index of the parent body (joints, else the prim hierarchy)
     articulation: str | None = None
+    #: the prim's ``displayName``, where converters keep a name that is no valid prim name
+    display_name: str | None = None
+
+    @property
+    def label(self) -> str:
+        """The name reports use: the display name, else the prim's name."""
+        return self.display_name or self.name
 
 
 @dataclass
@@ -131,7 +138,7 @@ class Stage:
 
     def body(self, name: str) -> Body:
         for b in self.bodies:
-            if name in (b.name, b.path):
+            if name in (b.name, b.path, b.display_name):
                 return b
         raise RobotFileError(f"{self.path}: no rigid body named {name!r}; the bodies are "
                              + ", ".join(repr(b.name) for b in self.bodies[:30]))
@@ -283,7 +290,8 @@ def read_stage(path, *, root: str = "/") -> Stage:
         R, t, s = _decompose(cache.GetLocalToWorldTransform(prim))
         index[str(p)] = len(bodies)
         bodies.append(Body(str(p), prim.GetName(), R, t, s, mass_attrs(prim),
-                           dynamic=bool(desc.rigidBodyEnabled) and not bool(desc.kinematicBody)))
+                           dynamic=bool(desc.rigidBodyEnabled) and not bool(desc.kinematicBody),
+                           display_name=prim.GetMetadata("displayName") or None))
     out = Stage(path, UsdGeom.GetStageMetersPerUnit(stage), UsdPhysics.GetStageKilogramsPerUnit(stage),
                 (UsdGeom.StageHasAuthoredMetersPerUnit(stage), UsdPhysics.StageHasAuthoredKilogramsPerUnit(stage)),
                 bodies, usd_stage=stage)

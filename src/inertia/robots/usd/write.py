@@ -291,7 +291,7 @@ def fix_stage(path, output=None, *, source=None, rename=None, in_place: bool = F
             values, why = nearest_values(stage, i, unset_tolerance)
             if values:
                 plan[i] = values
-                report.changed[b.name] = why
+                report.changed[b.label] = why
     edits = {i: {k: v for k, v in values.items() if not _same(_current(stage.bodies[i].mass, k), v)}
              for i, values in plan.items()}
     usd = stage.usd_stage
@@ -300,8 +300,8 @@ def fix_stage(path, output=None, *, source=None, rename=None, in_place: bool = F
         body = stage.bodies[i]
         prim = usd.GetPrimAtPath(body.path)
         if prim.IsInstanceProxy():
-            report.skipped[body.name] = "it is inside an instance: edit the prototype's source instead"
-            report.changed.pop(body.name, None)
+            report.skipped[body.label] = "it is inside an instance: edit the prototype's source instead"
+            report.changed.pop(body.label, None)
             continue
         needs_api = bool(values) and not body.mass.applied
         for name, value in values.items():
