@@ -50,12 +50,12 @@ def run(args) -> int:
 
     from .._core.errors import InputError, RobotFileError
     from ..robots.diff import diff_robots
-    from .usd import _pairs, unset_tolerance
+    from .usd import name_pairs, unset_tolerance
 
     if not (args.tol >= 0):
         raise InputError(f"--tol must be a non-negative number, got {args.tol}")
     try:
-        report = diff_robots(args.a, args.b, tol=args.tol, rename=_pairs(args.map), physx=args.as_physx,
+        report = diff_robots(args.a, args.b, tol=args.tol, rename=name_pairs(args.map), physx=args.as_physx,
                              unset_tolerance=unset_tolerance(args), search_paths=args.package_path,
                              mesh_units=args.mesh_units)
     except RobotFileError as exc:

@@ -77,7 +77,6 @@ def run_props(args) -> int | None:
     if _not_usd(args, args.source, (("--as-physx", "as_physx"), ("--zero-unset", "zero_unset"))):
         return None
     from ..robots.usd.mass import stage_mass_properties
-    from .props_robot import robot_dict
 
     _refuse_mesh_options(args)
     result = stage_mass_properties(args.source, physx=args.as_physx, tol=unset_tolerance(args))
@@ -90,13 +89,16 @@ def run_props(args) -> int | None:
         return 0
     links = result.subtree_links(args.subtree) if sub is not None else result.links
     if args.format == "json":
-        data = robot_dict(result, props, links, args.subtree)
-        data["articulations"] = result.articulations
-        data["as_physx"] = bool(args.as_physx)
-        data["conventions"] = ("SI units (kg, m, kg m^2); every position and tensor in the stage's world frame at the "
-                               "authored pose; inertia_com about the center of mass, products of inertia negated "
-                               "(L = I w)")
-        fmt.emit(fmt.to_json(data))
+        pf = props.principal_frame()
+        fmt.emit(fmt.to_json({
+            "source": str(result.path), "format": result.format, "frame": result.frame, "subtree": args.subtree,
+            "configuration": {}, "mass": props.mass, "com": props.com, "inertia_com": props.inertia_com,
+            "principal_moments": pf.moments, "principal_axes": pf.R_body_principal,
+            "links": [lk.to_dict() for lk in links], "notes": list(result.notes),
+            "articulations": result.articulations, "as_physx": bool(args.as_physx),
+            "conventions": ("SI units (kg, m, kg m^2); every position and tensor in the stage's world frame at the "
+                            "authored pose; inertia_com about the center of mass, products of inertia negated "
+                            "(L = I w)")}))
     else:
         fmt.emit(props_lines(result, props, links, args.subtree, physx=args.as_physx))
     return 0
@@ -109,7 +111,7 @@ def props_lines(result, props, links, subtree=None, *, physx: bool = False) -> l
     what = f"the subtree of body {subtree!r} ({len(links)} bodies)" if subtree else "every dynamic body"
     lines = fmt.heading(f"Mass properties of {what}: {result.path}")[1:]
     lines += fmt.key_values([
-        ("format", f"OpenUSD (UsdPhysics), {len(result.links)} rigid bodies"
+        ("format", f"OpenUSD (UsdPhysics), {fmt.plural(len(result.links), 'rigid body', 'rigid bodies')}"
                    + (f", {len(result.articulations)} articulation(s)" if result.articulations else "")),
         ("frame", "world, at the authored pose (SI units)"),
         ("colliders", "as PhysX simulates them (--as-physx)" if physx else "exact solids"),
@@ -186,7 +188,7 @@ def run_fix(args) -> int | None:
         raise InputError("for an OpenUSD stage, fix repairs the authored MassAPI values (the default) or writes "
                          "another description's values (--from SOURCE); --from-geometry, --flip-products and "
                          "--density are for URDF, SDF and MJCF files")
-    rename = _pairs(args.map)
+    rename = name_pairs(args.map)
     tol = unset_tolerance(args)
     try:
         report = fix_stage(args.file, args.output, source=args.from_source, rename=rename, in_place=args.in_place,
@@ -214,7 +216,7 @@ def fix_lines(report) -> list:
     return lines + [f"  note: {n}" for n in report.notes]
 
 
-def _pairs(items) -> dict:
+def name_pairs(items) -> dict:
     from .._core.errors import InputError
 
     out = {}

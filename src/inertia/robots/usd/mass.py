@@ -354,9 +354,7 @@ def body_mass(stage, index: int, *, physx: bool = False, tol: float = UNSET_TOLE
             diag = np.ones(3)
         q = a.principal_axes if has_q else np.array([1.0, 0.0, 0.0, 0.0])
         R = principal_axes_matrix(q)
-        source = "sphere" if mass is not None else "fallback"
-        if has_I:
-            source = "authored"
+        source = "fallback" if mass is None else "authored" if has_I else "sphere"
         return BodyMass(index, m, com if com is not None else np.zeros(3), R @ np.diag(diag) @ R.T, source,
                         notes=notes, diagonal=diag, principal_axes=q)
     M, C, I = sum_parts(parts)

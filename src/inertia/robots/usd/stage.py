@@ -348,13 +348,15 @@ def _bind_materials(stage, colliders) -> None:
 
 def _stray_mass(stage, root: str, out: Stage, collider_paths: set) -> None:
     """Prims with mass opinions that neither a body nor a collider carries: physics ignores them."""
-    Usd = pxr_modules()[0]
+    Usd, _, UsdPhysics = pxr_modules()[:3]
     bodies = {b.path for b in out.bodies}
     for prim in Usd.PrimRange(stage.GetPrimAtPath(root), Usd.TraverseInstanceProxies()):
         p = str(prim.GetPath())
         if p in bodies or p in collider_paths:
             continue
         attrs = mass_attrs(prim)
+        if prim.HasAPI(UsdPhysics.MaterialAPI) and not attrs.applied:
+            continue            # a physics material's own physics:density
         if attrs.applied or attrs.authored:
             out.stray_mass.append((p, attrs))
 

@@ -337,11 +337,11 @@ def _write_layer(layer, dest: Path, attr_edits: list, api_prims: list) -> list:
     from .usda_text import layer_signature
 
     Sdf = pxr_modules()[4]
-    fmt = layer.GetFileFormat().formatId
     expected = Sdf.Layer.CreateAnonymous(".usda")
     expected.TransferContent(layer)
     _sdf_edit(expected, attr_edits, api_prims)
-    if fmt == "usda" and dest.suffix.lower() in (".usda", ".usd"):
+    is_text = Path(layer.realPath).read_bytes()[:5] == b"#usda"
+    if is_text and dest.suffix.lower() in (".usda", ".usd"):
         text = Path(layer.realPath).read_text(encoding="utf-8")
         try:
             new = _text_edit(text, attr_edits, api_prims)
