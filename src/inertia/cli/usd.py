@@ -95,7 +95,11 @@ def run_props(args) -> int | None:
             "configuration": {}, "mass": props.mass, "com": props.com, "inertia_com": props.inertia_com,
             "principal_moments": pf.moments, "principal_axes": pf.R_body_principal,
             "links": [lk.to_dict() for lk in links], "notes": list(result.notes),
-            "articulations": result.articulations, "as_physx": bool(args.as_physx),
+            "articulations": {root: {"bodies": a["bodies"], **({"mass": a["total"].mass, "com": a["total"].com,
+                                                               "inertia_com": a["total"].inertia_com}
+                                                              if a["total"] is not None else {})}
+                              for root, a in result.articulations.items()},
+            "as_physx": bool(args.as_physx),
             "conventions": ("SI units (kg, m, kg m^2); every position and tensor in the stage's world frame at the "
                             "authored pose; inertia_com about the center of mass, products of inertia negated "
                             "(L = I w)")}))
@@ -127,6 +131,10 @@ def props_lines(result, props, links, subtree=None, *, physx: bool = False) -> l
             for lk in links]
     lines += fmt.table(["body", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "source"], rows)
     lines += [f"  {s}: {SOURCES[s]}" for s in dict.fromkeys(lk.source for lk in links)]
+    for root, a in result.articulations.items():
+        total = "no mass" if a["total"] is None else (f"{fmt.num(a['total'].mass)} kg, COM "
+                                                      f"{fmt.vector(a['total'].com)} m")
+        lines.append(f"  articulation {root}: {fmt.plural(len(a['bodies']), 'body', 'bodies')}, {total}")
     notes = list(result.notes) + [f"{lk.name}: {n}" for lk in links for n in lk.notes]
     if notes:
         lines += fmt.heading("Notes") + [f"  - {n}" for n in notes]

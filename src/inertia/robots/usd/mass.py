@@ -441,7 +441,11 @@ def stage_mass_properties(stage, *, physx: bool = False, tol: float = UNSET_TOLE
                          + ("" if stage.bodies else " (no prim has PhysicsRigidBodyAPI)"))
     total = combine(counted, frame="world", validate=False)
     out = RobotMassProperties(stage.path, "usd", "world", {}, rows, total, notes)
-    out.articulations = {root: [rows[i].name for i in members] for root, members in stage.articulations.items()}
+    out.articulations = {}
+    for root, members in stage.articulations.items():
+        parts = [rows[i].props for i in members if rows[i].mass > 0]
+        out.articulations[root] = {"bodies": [rows[i].name for i in members],
+                                   "total": combine(parts, frame="world", validate=False) if parts else None}
     return out
 
 

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..._core.errors import InputError, RobotFileError
-from .mass import UNSET_TOLERANCE, body_mass, is_set
+from ..._core.errors import InputError
+from .mass import UNSET_TOLERANCE, is_set
 from .stage import pxr_modules, read_stage
 
 #: attribute -> (usda type, Sdf value type name)
@@ -433,5 +433,4 @@ def _tolerance_hint(path, name: str, unset_tolerance: float) -> str:
     return ""
 
 
-__all__ = ["fix_stage", "mass_api_values", "plan_from_source", "nearest_values", "check_written", "UsdFixReport",
-           "body_mass", "RobotFileError"]
+__all__ = ["fix_stage", "mass_api_values", "plan_from_source", "nearest_values", "check_written", "UsdFixReport"]
