@@ -261,3 +261,17 @@ def test_check_warns_when_physx_would_simulate_a_concave_mesh_as_a_much_heavier_
     assert "hull_differs" in warnings
     exact, physx = stage_mass_properties(path), stage_mass_properties(path, physx=True)
     assert physx.links[0].mass / exact.links[0].mass == pytest.approx(11.5 / 7.0, rel=1e-12)   # hull area / L area (shoelace)
+
+
+def test_a_usdz_package_is_read_and_fixed_through_an_override_layer_only(files, tmp_path):
+    from pxr import UsdUtils
+
+    urdf, stage = files
+    package = tmp_path / "robot.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(stage)), str(package))
+    assert len(diff_robots(urdf, package).differ) == 2
+    with pytest.raises(InputError, match="cannot be edited in place .* --layer OUT.usda"):
+        fix_stage(package, source=urdf, in_place=True)
+    over = tmp_path / "over.usda"
+    fix_stage(package, source=urdf, layer=over)
+    assert not diff_robots(urdf, over).differ

@@ -326,12 +326,12 @@ def body_mass(stage, index: int, *, physx: bool = False, tol: float = UNSET_TOLE
     mass = a.mass if a and a.mass is not None and a.mass > 0 else None
     has_I = bool(a and is_set(a.diagonal_inertia, tol))
     has_q = bool(a and is_set(a.principal_axes, tol))
-    com = a.center_of_mass * body.scale_world if a and finite_vector(a.center_of_mass) else None
+    com_B = a.center_of_mass * body.scale_world if a and finite_vector(a.center_of_mass) else None
     notes = []
-    if mass is not None and has_I and com is not None:
+    if mass is not None and has_I and com_B is not None:
         q = a.principal_axes if has_q else np.array([1.0, 0.0, 0.0, 0.0])
         R = principal_axes_matrix(q)
-        out = BodyMass(index, mass, com, R @ np.diag(a.diagonal_inertia) @ R.T, "authored",
+        out = BodyMass(index, mass, com_B, R @ np.diag(a.diagonal_inertia) @ R.T, "authored",
                        diagonal=np.array(a.diagonal_inertia), principal_axes=q)
         if not has_q:
             out.notes.append("principalAxes not authored: identity used (usd-core returns an uninitialised "
@@ -355,31 +355,32 @@ def body_mass(stage, index: int, *, physx: bool = False, tol: float = UNSET_TOLE
         q = a.principal_axes if has_q else np.array([1.0, 0.0, 0.0, 0.0])
         R = principal_axes_matrix(q)
         source = "fallback" if mass is None else "authored" if has_I else "sphere"
-        return BodyMass(index, m, com if com is not None else np.zeros(3), R @ np.diag(diag) @ R.T, source,
+        return BodyMass(index, m, com_B if com_B is not None else np.zeros(3), R @ np.diag(diag) @ R.T, source,
                         notes=notes, diagonal=diag, principal_axes=q)
-    M, C, I = sum_parts(parts)
+    # the colliders' sum, scaled to an authored mass, carried to an authored COM (parallel axis)
+    mass_sum, com_B_sum, I_B = sum_parts(parts)
     if mass is None:
-        mass = M
-    elif M > 0:
-        I = I * (mass / M)
-    if com is None:
-        com = C
+        mass = mass_sum
+    elif mass_sum > 0:
+        I_B = I_B * (mass / mass_sum)
+    if com_B is None:
+        com_B = com_B_sum
     else:
-        I = _translate_inertia(I, mass, com - C)
-    diag, q = np.linalg.eigvalsh(I), None
+        I_B = _translate_inertia(I_B, mass, com_B - com_B_sum)
+    diag, q = np.linalg.eigvalsh(I_B), None
     if has_I or has_q:   # authored halves paired with the sum's Jacobi frame, as usd-core pairs them
-        jd, jq = jacobi_principal(I)
+        jd, jq = jacobi_principal(I_B)
         diag = np.array(a.diagonal_inertia) if has_I else jd
         q = a.principal_axes if has_q else jq
-        R = principal_axes_matrix(q)
-        I = R @ np.diag(diag) @ R.T
-    if a and (a.mass is not None and a.mass > 0 or has_I or com is not None and finite_vector(a.center_of_mass)):
+        R_BP = principal_axes_matrix(q)
+        I_B = R_BP @ np.diag(diag) @ R_BP.T
+    if a and (a.mass is not None and a.mass > 0 or has_I or finite_vector(a.center_of_mass)):
         source = "partly_authored"
     elif all(p.density_from == "default" for p in parts):
         source = "default_density"
     else:
         source = "colliders"
-    return BodyMass(index, mass, com, I, source, parts, notes, diagonal=diag, principal_axes=q)
+    return BodyMass(index, mass, com_B, I_B, source, parts, notes, diagonal=diag, principal_axes=q)
 
 
 # ------------------------------------------------------------------------------ the stage
