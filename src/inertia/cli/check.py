@@ -53,6 +53,8 @@ def add_robot_arguments(p) -> None:
 def register(sub) -> None:
     p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
+    from .usd import add_usd_arguments
+    add_usd_arguments(p, physx=False)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                    help="an argument of a .xacro file (repeatable)")
@@ -80,7 +82,10 @@ def run(args) -> int:
     import sys
 
     from ..robots.xmlsafe import RobotFileError
+    from .usd import run_check
 
+    if (code := run_check(args)) is not None:
+        return code
     try:
         from ..robots.check import check_model
         from ..robots.io import parse_xacro_args, read_robot

@@ -49,6 +49,8 @@ def register(sub) -> None:
                            "(products copied from CAD with the wrong sign)")
     p.add_argument("--density", type=float, metavar="RHO",
                    help="with --from-geometry: kg/m^3, the mass then follows from the volume")
+    from .usd import add_fix_arguments
+    add_fix_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -58,7 +60,10 @@ def run(args) -> int:
     from .._core.errors import InputError
     from ..robots.xmlsafe import RobotFileError
     from .check import MASS_UNITS
+    from .usd import run_fix
 
+    if (code := run_fix(args)) is not None:
+        return code
     if args.density is not None and not args.from_geometry:
         raise InputError("--density needs --from-geometry")
     if args.density is not None and not (args.density > 0 and args.density != float("inf")):

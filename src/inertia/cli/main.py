@@ -24,6 +24,7 @@ COMMANDS = {
     "batch": "batch",
     "check": "check",
     "fix": "fix",
+    "diff": "diff",
 }
 
 
