@@ -57,11 +57,9 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
 
 
 def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
-    """True when every index of ``faces`` (validated, (F, 3) int64) is in 0..n_vertices-1.
-
-    The compiled kernels index without bounds checks: every call that hands them faces asks
-    this first, on the arrays in their final shape.
-    """
+    """True when every index of ``faces`` (validated, (F, 3) int64) is in 0..n_vertices-1: asked
+    before any kernel is handed faces, so that the caller's own error names the problem (the
+    remaining numba kernels index without bounds checks)."""
     return len(faces) == 0 or (int(faces.min()) >= 0 and int(faces.max()) < n_vertices)
 
 
