@@ -40,14 +40,6 @@ auto released(F &&job) {
     return job();
 }
 
-// The STL's corners welded with group numbers of type I (int32 while they fit: half the table).
-template <class I>
-Mesh stl_weld(const uint8_t *records, size_t n, double rtol, double &pending) {
-    Mesh m;
-    pending = stl_weld_and_merge<I>(records, n, rtol, m);
-    return m;
-}
-
 }  // namespace
 
 void bind_topology(nb::module_ &m) {
@@ -105,8 +97,9 @@ void bind_topology(nb::module_ &m) {
         const uint8_t *records = data.data() + 84;
         double pending = 0.0;
         MeshArrays out = arrays(released([&] {
-            return 3 * n < size_t(std::numeric_limits<int32_t>::max()) ? stl_weld<int32_t>(records, n, rtol, pending)
-                                                                       : stl_weld<int64_t>(records, n, rtol, pending);
+            return 3 * n < size_t(std::numeric_limits<int32_t>::max())
+                       ? stl_weld_and_merge<int32_t>(records, n, rtol, pending)
+                       : stl_weld_and_merge<int64_t>(records, n, rtol, pending);
         }));
         return std::make_tuple(std::get<0>(out), std::get<1>(out), pending);
     }, "weld_and_merge of a binary STL's triangles read from its bytes (`data`: the whole file).");

@@ -195,8 +195,9 @@ inline uint32_t le32(const uint8_t *p) {
 // welded by the corners' bits (-0.0 folded onto 0.0; a corner with a NaN or infinity alone) and
 // merged: the arrays merge_near gives for the float64 soup of the corners, without the soup.
 // Each vertex takes the float32 value of its first corner, exactly.
+// `pending`: as merge_near returns.  I: the type of the group numbers (int32 while they fit: half the table).
 template <class I>
-double stl_weld_and_merge(const uint8_t *records, size_t n, double rtol, Mesh &m) {
+Mesh stl_weld_and_merge(const uint8_t *records, size_t n, double rtol, double &pending) {
     const size_t corners = 3 * n;
     auto corner = [records](size_t i) { return records + 50 * (i / 3) + 12 + 12 * (i % 3); };
     const Groups<I> g = weld_groups<I, uint32_t>(corners, [&](size_t i, uint32_t *k) {
@@ -206,6 +207,7 @@ double stl_weld_and_merge(const uint8_t *records, size_t n, double rtol, Mesh &m
             k[c] = w == 0x80000000u ? 0u : w;
         }
     });
+    Mesh m;
     m.v.resize(3 * size_t(g.count));
     for (I t = 0; t < g.count; ++t) {
         const uint8_t *p = corner(size_t(g.first[t]));
@@ -217,7 +219,8 @@ double stl_weld_and_merge(const uint8_t *records, size_t n, double rtol, Mesh &m
         }
     }
     m.f.assign(g.group.begin(), g.group.end());
-    return merge_near(m, rtol, true);
+    pending = merge_near(m, rtol, true);
+    return m;
 }
 
 }  // namespace inertia::topology
