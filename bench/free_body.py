@@ -12,12 +12,12 @@ disabled, ``timestep = 1 ms``.
 
 Measured, all in this run (MuJoCo needs ``pip install mujoco``; without it only our rows):
 
-1. **One body, RK4**: steps/s of ``inertia.dynamics.rollouts.rollout(..., method="rk4",
-   backend="numba")`` (final state only, and saving every state) against MuJoCo's loop
+1. **One body, RK4**: steps/s of ``inertia.dynamics.rollouts.rollout(..., method="rk4")``
+   (final state only, and saving every state) against MuJoCo's loop
    (``mj_step`` called from Python with ``opt.integrator = RK4``) and, for reference, MuJoCo's
    C rollout (``mujoco.rollout.rollout``, one thread).  Target: >= 20x MuJoCo's loop.
 2. **Batch**: 1e5 bodies with random initial states, body-steps/s on one core
-   (``numba.set_num_threads(1)``) for each compiled method, then on all cores.  Target:
+   (``threads=1``) for each method, then on all cores.  Target:
    >= 5e7 body-steps/s per core.
 3. **Energy drift** after 10 s at h = 1 ms for every method of ours (the transition function,
    torque-free) next to MuJoCo's Euler, implicit, implicitfast and RK4:
@@ -27,11 +27,13 @@ Measured, all in this run (MuJoCo needs ``pip install mujoco``; without it only 
 
 Times are the minimum over ``--repeat`` runs after a warm-up (compilation excluded); the
 machine may be shared, so compare the ratios within one run, not absolute numbers across runs.
+Run by an older install (numba, ``backend=``), :func:`run_rollout` drives that API instead.
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import os
 import platform
 import time
@@ -40,7 +42,7 @@ import numpy as np
 
 from inertia.dynamics import RigidBody, pack_state
 from inertia.dynamics.integrators import METHODS
-from inertia.dynamics.rollouts import COMPILED_METHODS, numba_available, rollout
+from inertia.dynamics.rollouts import rollout
 from inertia.dynamics.state import OMEGA_BODY
 
 SIZE = np.array([0.1, 0.2, 0.4])           # m, box edges along body x, y, z
@@ -145,6 +147,19 @@ def mujoco_energy(mujoco, integrator: str, n: int, every: int):
 
 
 # ------------------------------------------------------------------------------ ours
+#: an install before the compiled core: numba kernels chosen by ``backend=``, threads by numba
+OLD_API = "backend" in inspect.signature(rollout).parameters
+
+
+def run_rollout(x0, u, h, n=None, *, threads=1, **kw):
+    """``rollout`` on ``threads`` threads, on this install's API or on the old one's."""
+    if not OLD_API:
+        return rollout(x0, u, h, n, threads=threads, **kw)
+    import numba
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    return rollout(x0, u, h, n, backend="numba", **kw)
+
+
 def our_body() -> RigidBody:
     return RigidBody(MASS, np.diag(INERTIA_DIAG))
 
@@ -154,9 +169,8 @@ def our_x0() -> np.ndarray:
 
 
 def our_energy(method: str, n: int, every: int):
-    backend = "numba" if method in COMPILED_METHODS and numba_available() else "numpy"
-    traj = rollout(our_x0(), None, H, n, body=our_body(), method=method, backend=backend, save_every=every)
-    return kinetic_energy(traj[:, OMEGA_BODY]), traj[:, OMEGA_BODY], backend
+    traj = run_rollout(our_x0(), None, H, n, body=our_body(), method=method, save_every=every)
+    return kinetic_energy(traj[:, OMEGA_BODY]), traj[:, OMEGA_BODY]
 
 
 def reference_omega(n: int, every: int) -> np.ndarray:
@@ -192,35 +206,23 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
 
     mujoco, why = load_mujoco()
-    have_numba = numba_available()
     print(f"# free box {SIZE.tolist()} m, {MASS} kg, I = {np.round(INERTIA_DIAG, 6).tolist()} kg m^2, "
           f"omega0 = {OMEGA0.tolist()} rad/s, h = {H * 1e3:g} ms")
     print(f"# {platform.processor() or platform.machine()}, {os.cpu_count()} logical cores, numpy {np.__version__}"
-          + (f", numba {__import__('numba').__version__}" if have_numba else ", numba MISSING")
+          + (", old API (numba)" if OLD_API else ", compiled core")
           + (f", mujoco {mujoco.__version__}" if mujoco else f", {why}"))
-    if not have_numba:
-        print("# numba is not installed: the compiled rows below use the NumPy backend")
-    backend = "numba" if have_numba else "numpy"
     body, x0 = our_body(), our_x0()
 
     # ---------------------------------------------------------------- 1. one body, RK4
     n = args.steps
-    if have_numba:
-        import numba
-        numba.set_num_threads(1)
-    r_final = n / best_time(lambda: rollout(x0, None, H, n, body=body, method="rk4", backend=backend,
-                                            save_every=None), args.repeat)
-    r_traj = n / best_time(lambda: rollout(x0, None, H, n, body=body, method="rk4", backend=backend),
-                           args.repeat)
-    r_np = 2000 / best_time(lambda: rollout(x0, None, H, 2000, body=body, method="rk4", backend="numpy",
-                                            save_every=None), max(1, args.repeat // 2))
+    r_final = n / best_time(lambda: run_rollout(x0, None, H, n, body=body, method="rk4", save_every=None),
+                            args.repeat)
+    r_traj = n / best_time(lambda: run_rollout(x0, None, H, n, body=body, method="rk4"), args.repeat)
     print("\n## 1. One body, RK4, steps/s (one thread)\n")
     print(f"| {'run':<52} | {'steps/s':>10} | {'vs MuJoCo loop':>14} |")
     print(f"|{'-' * 54}|{'-' * 12}|{'-' * 16}|")
     mj_loop = None
-    rows = [("ours, rollout " + backend + ", final state only", r_final),
-            ("ours, rollout " + backend + ", every state saved", r_traj),
-            ("ours, rollout numpy (reference path)", r_np)]
+    rows = [("ours, rollout, final state only", r_final), ("ours, rollout, every state saved", r_traj)]
     if mujoco:
         mj_loop = mujoco_loop_rate(mujoco, n, args.repeat, "RK4")
         rows.append(("MuJoCo mj_step loop in Python, RK4", mj_loop))
@@ -242,27 +244,17 @@ def main(argv=None) -> None:
     xb = random_batch(N, rng)
     print(f"\n## 2. Batch of {N} bodies, {nb} steps, body-steps/s\n")
     cores = os.cpu_count() or 1
-    hdr = f"| {'method':<16} | {'1 core':>10} | {f'all cores ({cores})':>16} | {'numpy, 1 core':>13} |"
+    hdr = f"| {'method':<16} | {'1 core':>10} | {f'all cores ({cores})':>16} |"
     print(hdr)
     print("|" + "|".join("-" * (len(c) + 0) for c in hdr.split("|")[1:-1]) + "|")
     per_core = {}
-    for method in COMPILED_METHODS:
-        def run(meth=method, be=backend):
-            rollout(xb, None, H, nb, body=body, method=meth, backend=be, save_every=None)
-        if have_numba:
-            numba.set_num_threads(1)
-        one = N * nb / best_time(run, args.repeat)
-        if have_numba:
-            numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-            every = N * nb / best_time(run, args.repeat)
-            numba.set_num_threads(1)
-        else:
-            every = one
-        n_np = 10
-        npr = N * n_np / best_time(lambda meth=method: rollout(xb, None, H, n_np, body=body, method=meth,
-                                                               backend="numpy", save_every=None), 2)
+    for method in METHODS:
+        def run(threads, meth=method):
+            run_rollout(xb, None, H, nb, body=body, method=meth, save_every=None, threads=threads)
+        one = N * nb / best_time(lambda: run(1), args.repeat)
+        every = N * nb / best_time(lambda: run(cores), args.repeat)
         per_core[method] = one
-        print(f"| {method:<16} | {one:10.3g} | {every:16.3g} | {npr:13.3g} |")
+        print(f"| {method:<16} | {one:10.3g} | {every:16.3g} |")
     best = max(per_core, key=per_core.get)
     print(f"\nTarget >= 5e7 body-steps/s per core: rk4 {per_core['rk4']:.3g} "
           f"({'met' if per_core['rk4'] >= 5e7 else 'NOT met'}); best {best} {per_core[best]:.3g}.")
@@ -284,9 +276,9 @@ def main(argv=None) -> None:
     row("reference (DOP853, 1e-13)", kinetic_energy(w_ref), w_ref)
     results = {}
     for method in METHODS:
-        T, w, be = our_energy(method, n, every)
+        T, w = our_energy(method, n, every)
         results[f"ours {method}"] = w
-        row(f"ours {method} ({be})", T, w)
+        row(f"ours {method}", T, w)
     if mujoco:
         for integ in ("Euler", "implicit", "implicitfast", "RK4"):
             T, w = mujoco_energy(mujoco, integ, n, every)

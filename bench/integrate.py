@@ -3,19 +3,21 @@
 Rows (each timed once per round, rounds interleaved; best and median over the rounds, and the
 ratio to the anchor of the same section taken round by round):
 
-1. ``inertia.dynamics.integrate`` (the README's API), one body, every method: steps/s of the
-   compiled loop and of the NumPy reference; anchor: MuJoCo's C rollout of the same free
-   box, RK4, one thread (``mujoco.rollout``; needs ``pip install mujoco``).  h = 10 us (1e6
-   steps = 10 s: euler_explicit's energy growth stays finite).
+1. ``inertia.dynamics.integrate`` (the README's API), one body, every method: steps/s;
+   anchor: MuJoCo's C rollout of the same free box, RK4, one thread (``mujoco.rollout``;
+   needs ``pip install mujoco``).  h = 10 us (1e6 steps = 10 s: euler_explicit's energy
+   growth stays finite).
 2. ``inertia.dynamics.rollout``, a batch of ``--batch`` bodies (final state only), body-steps/s
-   on 1 and 2 threads (``numba.set_num_threads``); anchor: the C loop of
+   on 1 and 2 threads (``threads=``); anchor: the C loop of
    ``bench/rollout_soa.c`` (structure of arrays, chunks of 128 bodies kept in L1, the same
    RK4 / splitting step), built here with ``cc -O3 -march=native``, on 1 and 2 threads.
 3. ``inertia simulate --times 0,1e4 --step 0.01`` (1e6 steps), whole process, wall time.
-4. With ``--cold``: the first call of each compiled kernel with an empty numba cache (a fresh
-   process per method, ``NUMBA_CACHE_DIR`` a new folder): CPU seconds of the compilation.
+4. With ``--cold``: the first call of each method in a fresh process (an old install: with an
+   empty numba cache, ``NUMBA_CACHE_DIR`` a new folder), CPU seconds.
 
-The machine may be shared: the load average is printed before and after; compare ratios.
+The machine may be shared: the load average is printed before and after; compare ratios.  Run by
+an install before the compiled core, the same rows drive its numba kernels (``backend="numba"``,
+``numba.set_num_threads``; see ``free_body.run_rollout``), so old and new are measured by one script.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from free_body import INERTIA_DIAG, OMEGA0, random_batch  # noqa: E402
+from free_body import INERTIA_DIAG, OLD_API, OMEGA0, random_batch, run_rollout  # noqa: E402
 from startup import ensure_bytecode  # noqa: E402
 
 METHODS = ("euler_explicit", "euler_implicit", "rk4", "splitting", "dmv", "dmv4", "midpoint")
@@ -75,11 +77,11 @@ def report(rates: dict, anchor: str | None, unit: str) -> None:
 def integrate_rows(steps: int) -> dict:
     from inertia.dynamics import integrate
 
+    kw = {"backend": "numba"} if OLD_API else {}
     rows = {}
     for method in METHODS:
-        for backend, n in (("numba", steps), ("numpy", max(10, steps // 200))):
-            rows[f"integrate {method} {backend}"] = (n, lambda m=method, b=backend, n=n: integrate(
-                [1, 0, 0, 0], OMEGA0, INERTIA_DIAG, 1e-5, n, method=m, record_every=n, backend=b))
+        rows[f"integrate {method}"] = (steps, lambda m=method: integrate(
+            [1, 0, 0, 0], OMEGA0, INERTIA_DIAG, 1e-5, steps, method=m, record_every=steps, **kw))
     try:
         import mujoco
         from free_body import mujoco_model, mujoco_reset
@@ -135,18 +137,14 @@ def c_rollout(f, method_id: int, x: np.ndarray, n: int, threads: int) -> None:
 
 
 def rollout_rows(N: int, n: int, cfun) -> dict:
-    import numba
-
     from inertia.dynamics import RigidBody
-    from inertia.dynamics.rollouts import rollout
 
     body = RigidBody(1.0, np.diag(INERTIA_DIAG))
     xb = random_batch(N, np.random.default_rng(0))
 
     def ours(method, threads, steps):
         def run():
-            numba.set_num_threads(threads)
-            rollout(xb, None, H, steps, body=body, method=method, backend="numba", save_every=None)
+            run_rollout(xb, None, H, steps, body=body, method=method, save_every=None, threads=threads)
         return N * steps, run
 
     rows = {}
@@ -169,33 +167,36 @@ def simulate_walls(method: str, runs: int) -> list:
     cmd = [sys.executable, "-m", "inertia.cli.main", "simulate", "--moments", "1,2,3", "--omega", "0.01,1,0",
            "--times", "0,1e4", "--step", "0.01", "--method", method]
     ensure_bytecode("inertia")                                 # as installed (see bench/startup.py)
-    subprocess.run(cmd, check=True, capture_output=True)      # warm the numba cache
+    subprocess.run(cmd, check=True, capture_output=True)      # warm the file cache (an old install: numba's)
     return [seconds(lambda: subprocess.run(cmd, check=True, capture_output=True)) for _ in range(runs)]
 
 
 # ---------------------------------------------------------------------------- 4. cold compile
 _COLD = """
 import sys, time, numpy as np
+sys.path.insert(0, {here!r})
+from free_body import OLD_API
 from inertia.dynamics import integrate, RigidBody, pack_state
 from inertia.dynamics.rollouts import rollout
 m = sys.argv[1]
+kw = dict(backend="numba") if OLD_API else dict()
 t = time.process_time()
-integrate([1, 0, 0, 0], [0.01, 1, 0], [1, 2, 3], 0.01, 10, method=m, backend="numba")
+integrate([1, 0, 0, 0], [0.01, 1, 0], [1, 2, 3], 0.01, 10, method=m, **kw)
 a = time.process_time() - t
 t = time.process_time()
 rollout(np.broadcast_to(pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 1, 0]), (200, 13)), None, 0.01, 2,
-        body=RigidBody(1.0, np.diag([1.0, 2, 3])), method=m, backend="numba", save_every=None)
-print(f"{a:.2f} {time.process_time() - t:.2f}")
+        body=RigidBody(1.0, np.diag([1.0, 2, 3])), method=m, save_every=None, **kw)
+print(f"{{a:.2f}} {{time.process_time() - t:.2f}}")
 """
 
 
 def cold_compile() -> None:
-    print("\n## 4. First call with an empty numba cache (CPU s of compilation, fresh process each)\n")
+    print("\n## 4. First call in a fresh process (CPU s; an old install: with an empty numba cache)\n")
     print("| method | integrate | rollout |\n|---|---|---|")
     for method in METHODS:
         with tempfile.TemporaryDirectory() as cache:
             env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-            out = subprocess.run([sys.executable, "-c", _COLD, method], env=env, check=True, capture_output=True,
+            out = subprocess.run([sys.executable, "-c", _COLD.format(here=str(HERE)), method], env=env, check=True, capture_output=True,
                                  text=True).stdout.split()
         print(f"| {method} | {out[0]} | {out[1]} |")
 
@@ -209,8 +210,7 @@ def main(argv=None) -> int:
     ap.add_argument("--cold", action="store_true", help="also time cold compilation (slow)")
     ap.add_argument("--sections", default="123", help="which sections to run, e.g. 2 (default 123)")
     a = ap.parse_args(argv)
-    import numba
-    print(f"# {os.cpu_count()} cores, numpy {np.__version__}, numba {numba.__version__}; "
+    print(f"# {os.cpu_count()} cores, numpy {np.__version__}, {'old API (numba)' if OLD_API else 'compiled core'}; "
           f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
     if "1" in a.sections:

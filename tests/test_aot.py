@@ -110,14 +110,6 @@ def test_the_library_gives_the_numba_kernels_answers(library):
         _close(twins[0], twins[1])
         # the search given the edges' twins answers as when it finds them itself
         assert sc_fast.find_crossing(verts, f, twins[0], 64, 1e-9, outs[0]) == expect
-    soup = np.ascontiguousarray(v[f].reshape(-1, 3))
-    soup_f = np.arange(len(soup), dtype=np.int64).reshape(-1, 3)
-    _close(topo_fast.weld_and_merge(soup, soup_f, 1e-9), topo_nb.weld_and_merge(soup, soup_f, 1e-9))
-    raw = np.frombuffer(_stl_bytes(v, f), dtype=np.uint8)
-    corners = raw[84:].reshape(-1, 50)[:, 12:48].copy().view("<u4").reshape(-1, 3, 3)
-    strided = np.frombuffer(_stl_bytes(v, f)[84:], dtype=[("n", "<u4", 3), ("c", "<u4", (3, 3)), ("a", "<u2")])["c"]
-    for arg in (corners, strided):
-        _close(topo_fast.stl_weld_and_merge(arg, 1e-9), topo_nb.stl_weld_and_merge(arg, 1e-9))
 
 
 def test_other_argument_types_go_to_numba_not_to_the_library(library):
@@ -227,7 +219,7 @@ def test_an_interrupted_build_is_not_noted_as_failed(tmp_path, monkeypatch):
     monkeypatch.setattr(aot_library, "_compile_in_child", interrupted)
     try:
         with pytest.raises(KeyboardInterrupt):
-            aot_library.build({"inertia.geometry._topology_numba": {"weld_map": "f8[:,::1]"}})
+            aot_library.build({"inertia.geometry._topology_numba": {"clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!, i8[:,::1]!"}})
         assert not os.path.exists(aot._failed_path()) and aot.wanted()
         assert not [n for n in os.listdir(tmp_path / "cache" / "aot") if n.startswith(".build-")]
     finally:

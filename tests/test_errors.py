@@ -105,3 +105,16 @@ def test_robot_link_lookup_names_the_links(tmp_path):
         model.link("leg")
     assert isinstance(exc.value, errors.InputError) and exc.value.code == "link_not_found"
     assert "no link named 'leg'; the links are 'base', 'arm'" in str(exc.value)
+
+
+def test_complex_and_boolean_inputs_are_refused_never_silently_cut():
+    import numpy as np
+    import pytest
+
+    import inertia
+    from inertia.errors import InputError
+
+    with pytest.raises(InputError, match="must hold real numbers, got complex values"):
+        inertia.MassProperties(1.0, [0, 0, 1j], np.eye(3))
+    with pytest.raises(InputError, match="density must be a real number, got True"):
+        inertia.box((0.1, 0.2, 0.3), density=True)

@@ -97,21 +97,6 @@ def test_batch_cluster_without_distributed_names_the_batch_extra(monkeypatch, tm
     _assert_names_extra(ei, "batch")
 
 
-def test_compiled_rollout_without_numba_names_the_fast_extra_and_numpy_still_runs(monkeypatch):
-    from inertia.dynamics import RigidBody, pack_state, rollout
-
-    _hide(monkeypatch, "numba")
-    body = RigidBody(1.0, np.diag([1.0, 2.0, 3.0]))
-    x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.1, 1.0, 0.0])
-    with pytest.raises(MissingDependencyError) as ei:
-        rollout(x0, np.zeros(6), 0.01, 5, body=body, method="rk4", backend="numba")
-    _assert_names_extra(ei, "fast")
-    # truth: the NumPy path conserves |L| without numba
-    traj = rollout(x0, np.zeros(6), 0.01, 50, body=body, method="rk4", backend="auto")
-    L = np.linalg.norm(traj[:, 10:13] * [1.0, 2.0, 3.0], axis=1)
-    assert np.allclose(L, L[0], rtol=1e-6)
-
-
 def test_cli_without_trimesh_exits_with_a_one_line_error_naming_the_extra(monkeypatch, tmp_path, capsys):
     from inertia.cli.main import main
 

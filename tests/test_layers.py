@@ -6,7 +6,7 @@
     robots
     particles | dynamics | symbolic      (siblings: no imports between them)
     massprops
-    geometry                              (and the compiled core inertia._ext)
+    geometry
     _core                                 (numpy, scipy and the standard library only)
 
 A package may import the packages listed for it in ``ALLOWED`` and itself.  The public
@@ -26,10 +26,10 @@ PKG = SRC / "inertia"
 
 ALLOWED = {
     "_core": set(),
-    "geometry": {"_core", "_ext"},   # _ext: the compiled core (geometry owns its mesh families)
+    "geometry": {"_core", "_ext"},   # _ext: the compiled core (its geometry families)
     "massprops": {"geometry", "_core"},
     "particles": {"massprops", "geometry", "_core"},
-    "dynamics": {"massprops", "geometry", "_core"},
+    "dynamics": {"massprops", "geometry", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
     "symbolic": {"massprops", "geometry", "_core"},
     "robots": {"massprops", "geometry", "_core"},
     "viz": {"particles", "dynamics", "massprops", "geometry", "_core"},

@@ -1,14 +1,11 @@
-"""Where a batch runs: the worker count for the estimated work, the process pool's rows, and
-a file that kills its worker process (a real SIGSEGV) costing one row, not the run.
+"""Where a batch runs: threads in this process by default, the same table on 1 or N threads,
+synchronously, or on a Dask cluster of worker processes running threads.
 
-Truth: the single-file API (inertia.mesh_file_properties, process_file) for every row; the
-integer minimiser of ``work / n + n * start`` found by brute force for the worker count.
+Truth: the single-file API (inertia.mesh_file_properties) for every row; the table of one
+placement for the others (every column but the timing one, bit for bit).
 """
 
 from __future__ import annotations
-
-import os
-import signal
 
 import numpy as np
 import pytest
@@ -18,10 +15,6 @@ pytest.importorskip("pyarrow")
 
 import inertia  # noqa: E402
 from inertia.batch import read_frame, run_batch  # noqa: E402
-from inertia.batch.pool import ProcessPool, start_method  # noqa: E402
-from inertia.batch.record import process_file, process_packed  # noqa: E402
-from inertia.batch.run import formats_of, plan_workers  # noqa: E402
-from inertia.batch.sources import Job  # noqa: E402
 
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 CUBE_F = [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6),
@@ -34,78 +27,66 @@ def _cube(path, scale=1.0):
     return path
 
 
-def segfaulting_task(payload: bytes) -> bytes:
-    """process_packed, except that a chunk holding a file named SEGV*.obj dies of SIGSEGV,
-    as a crash in compiled code does (no exception, no cleanup)."""
-    import pickle
+def _meshes(folder, n=24):
+    """Cubes, icospheres and tori of different sizes and a broken file: a mixed folder."""
+    import trimesh
 
-    jobs, _ = pickle.loads(payload)
-    if any(os.path.basename(job.path).startswith("SEGV") for job in jobs):
-        os.kill(os.getpid(), signal.SIGSEGV)
-    return process_packed(payload)
-
-
-@pytest.mark.parametrize("seconds, start, cores", [(0.001, 0.02, 8), (0.05, 0.02, 8), (0.3, 0.02, 2), (3.0, 0.02, 64),
-                                                   (1.5, 1.0, 8), (30.0, 1.0, 8), (0.0, 0.02, 4), (1e4, 1.0, 3)])
-def test_workers_minimise_work_per_worker_plus_start_up(seconds, start, cores):
-    n = plan_workers(seconds, start, cores)
-    cost = [seconds / k + k * start for k in range(1, cores + 1)]
-    assert 1 <= n <= cores and cost[n - 1] <= min(cost) * 1.2 + 1e-12
-
-
-def test_a_small_job_gets_one_worker_and_a_large_one_every_core():
-    assert plan_workers(0.01, 0.02, 8) == 1            # 10 ms of work: a second worker would not pay
-    assert plan_workers(100.0, 0.02, 8) == 8
-    assert plan_workers(2.0, 1.0, 8) == 1              # spawned workers (1 s each) need more work
-    assert plan_workers(100.0, 1.0, 8) == 8
-
-
-def test_formats_are_told_from_extensions_and_stl_headers(tmp_path):
-    from tests._make import write_ascii_stl, write_binary_stl
-
-    tri = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], float)
-    jobs = [Job(str(write_binary_stl(tmp_path / "b.stl", tri))), Job(str(write_ascii_stl(tmp_path / "a.stl", tri))),
-            Job(str(_cube(tmp_path / "c.obj"))), Job(str(tmp_path / "d.ply")), Job(str(tmp_path / "missing.stl"))]
-    assert formats_of(jobs) == {"binary_stl", "ascii_stl", "obj", "trimesh"}
-    assert formats_of(jobs[:1]) == {"binary_stl"}
-
-
-def test_the_pool_gives_the_single_file_rows_and_a_segfault_costs_one_row(tmp_path):
-    jobs = [Job(str(_cube(tmp_path / f"cube{k}.obj", 1 + k)), 1000.0) for k in range(6)]
-    jobs.insert(4, Job(str(_cube(tmp_path / "SEGV.obj")), 1000.0))
-    chunks = [jobs[:3], jobs[3:6], jobs[6:]]
-    with ProcessPool(2, task=segfaulting_task) as pool:
-        got = dict(pool.map(chunks, {}))
-        assert all(w["proc"].is_alive() for w in pool.workers)   # the lost worker was replaced
-    rows = [row for i in sorted(got) for row in got[i]]
-    assert [r["path"] for r in rows] == [j.path for j in jobs]
-    for job, row in zip(jobs, rows):
-        if "SEGV" in job.path:
-            assert row["status"] == "error" and row["reason"] == "crashed" and job.path in row["message"]
-            assert "SIGSEGV" in row["message"] or start_method() != "fork"
+    folder.mkdir()
+    rng = np.random.default_rng(5)
+    for k in range(n):
+        kind = k % 3
+        if kind == 0:
+            _cube(folder / f"cube{k}.obj", 0.5 + k)
+        elif kind == 1:
+            m = trimesh.creation.icosphere(subdivisions=1 + k % 4, radius=0.1 + k)
+            m.vertices += rng.normal(scale=1e-3, size=m.vertices.shape)
+            m.export(folder / f"sphere{k}.stl")
         else:
-            want = process_file(job)
-            assert row["status"] == "ok" and row["mass"] == want["mass"] and row["com"] == want["com"]
-            assert row["inertia_com"] == want["inertia_com"]
+            trimesh.creation.torus(1 + k, 0.3, major_sections=16 + k, minor_sections=12).export(folder / f"torus{k}.stl")
+    (folder / "broken.obj").write_text("v 0 0 0\nf 1 2 3\n")
+    return folder
 
 
-def test_default_run_says_where_it_ran_and_matches_the_single_file_api(tmp_path):
+def test_default_run_is_threads_here_and_matches_the_single_file_api(tmp_path):
     folder = tmp_path / "meshes"
     folder.mkdir()
     for k in range(5):
         _cube(folder / f"cube{k}.obj", 0.5 + k)
     out = tmp_path / "out.parquet"
-    summary = run_batch([folder], out, progress=False)
-    assert summary.ok == 5 and "1 worker process on this machine" in summary.placement
-    assert "would not pay for their start" in summary.placement   # a few ms of work: one worker
-    assert any(line.startswith("ran on 1 worker process") for line in summary.lines())
+    summary = run_batch([folder], out, progress=False, n_workers=2)
+    assert summary.ok == 5 and summary.placement == "on 2 threads in this process"
+    assert "ran on 2 threads in this process" in summary.lines()
     table = read_frame(out)
-    for path, mass, com in zip(table["path"], table["mass"], table["com"]):
+    for path, mass, com, inertia_com in zip(table["path"], table["mass"], table["com"], table["inertia_com"]):
         ref = inertia.mesh_file_properties(path, density=1000.0)
         assert mass == ref.mass and np.array_equal(com, ref.com)
-    forced = run_batch([folder], out, progress=False, overwrite=True, n_workers=2)
-    assert "2 worker processes" in forced.placement and "as asked" in forced.placement
-    assert read_frame(out).equals(table) or read_frame(out).drop(columns="elapsed_s").equals(
-        table.drop(columns="elapsed_s"))
+        assert np.array_equal(np.reshape(inertia_com, (3, 3)), ref.inertia_com)
     sync = run_batch([folder], out, progress=False, overwrite=True, scheduler="synchronous")
     assert sync.placement.startswith("in this process")
+
+
+def test_one_or_many_threads_and_synchronous_write_the_same_table(tmp_path):
+    folder = _meshes(tmp_path / "meshes")
+    tables = []
+    for k, kw in enumerate([dict(scheduler="synchronous"), dict(n_workers=1), dict(n_workers=2),
+                            dict(n_workers=7, chunk_files=1)]):
+        out = tmp_path / f"out{k}.parquet"
+        run_batch([folder], out, progress=False, **kw)
+        tables.append(read_frame(out).drop(columns="elapsed_s"))
+    assert (tables[0]["status"] == "error").sum() == 1
+    for t in tables[1:]:
+        assert t.equals(tables[0])
+
+
+@pytest.mark.slow
+def test_a_local_cluster_of_one_or_two_processes_writes_the_same_table(tmp_path):
+    pytest.importorskip("distributed")
+    folder = _meshes(tmp_path / "meshes", n=9)
+    ref = tmp_path / "ref.parquet"
+    run_batch([folder], ref, progress=False, scheduler="synchronous")
+    want = read_frame(ref).drop(columns="elapsed_s")
+    for n in (1, 2):
+        out = tmp_path / f"cluster{n}.parquet"
+        summary = run_batch([folder], out, progress=False, scheduler="cluster", n_workers=n)
+        assert summary.placement.startswith(f"on a local Dask cluster of {n} worker process")
+        assert read_frame(out).drop(columns="elapsed_s").equals(want)

@@ -137,7 +137,7 @@ def test_valid_files_come_back_identical(tmp_path, capsys, robots):
             argv += ["--package-path", str(path.parent.parent)]
         assert main(argv) == 0, key
         assert out.read_bytes() == path.read_bytes(), key
-        assert "nothing changed; it is byte-identical" in capsys.readouterr().err
+        assert "nothing to fix; it is byte-identical" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("tensor", ["0 0 0 0 0 0", "2.4e-35 0 0 0 0 0", "1e-41 1e-41 1e-41 0 0 0"])

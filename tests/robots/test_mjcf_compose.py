@@ -290,7 +290,14 @@ def test_a_missing_model_file_is_named(tmp_path):
     assert f"{path}:2: <model file='gone.xml'>: model file not found" in message
 
 
-def test_fix_refuses_a_model_with_attachments(attached, tmp_path):
+def test_fix_of_a_model_with_attachments_refuses_changes_in_their_files(attached, tmp_path, capsys):
+    """Nothing to fix: the copy, exit 0 (issue 33, case 10); a change in the attached file: refused."""
     out = tmp_path / "fixed.xml"
+    assert main(["fix", str(attached), "-o", str(out)]) == 0
+    assert out.read_bytes() == attached.read_bytes() and "nothing to fix" in capsys.readouterr().err
+    out.unlink()
+    child = attached.parent / "sub" / "child.xml"
+    child.write_text(CHILD.replace('<body name="tip"/>', '<body name="tip"><inertial pos="0 0 0" mass="1" '
+                                   'diaginertia="1 1 3"/></body>'))
     assert main(["fix", str(attached), "-o", str(out)]) != 0
-    assert not out.exists()
+    assert not out.exists() and "in files it includes or attaches: 'a_tip'" in capsys.readouterr().err

@@ -241,7 +241,7 @@ def test_blank_lines_before_the_xml_declaration_are_tolerated(capsys, tmp_path):
     path.write_text('\n\n<?xml version="1.0"?>\n<robot name="r"><link name="a"><inertial><mass value="2"/>'
                     '<inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>\n')
     model = read_robot(path)
-    assert model.link("a").line == 4 and "blank lines" in model.document.notes[0]
+    assert model.link("a").line == 4 and "blank lines" in model.document.notes[0][1]
     code, out, _ = _run(capsys, "props", path, "--format", "json")
     assert code == 0 and json.loads(out)["mass"] == 2.0
     assert _run(capsys, "check", path)[0] == 0

@@ -196,6 +196,7 @@ def test_fix_from_geometry_matches_the_primitives(tmp_path, capsys):
     <collision><origin xyz="0.1 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.02" length="0.3"/></geometry></collision>
   </link>
   <link name="frame_only"/>
+  <joint name="j" type="fixed"><parent link="base"/><child link="frame_only"/></joint>
 </robot>
 """)
     out = tmp_path / "fixed.urdf"

@@ -130,17 +130,20 @@ def test_sdf_links_without_inertial_count_with_sdfs_default(capsys, tmp_path):
     assert code == 0 and "Gazebo computes these from the collision shapes" in json.loads(out)["notes"][1]
 
 
-def test_a_urdf_with_two_roots_or_a_second_parent_is_named(capsys, tmp_path):
+def test_a_urdf_with_two_roots_is_named_and_a_second_parent_is_a_loop(capsys, tmp_path):
     path = tmp_path / "r.urdf"
     path.write_text('<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
                     '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
     code, _, err = _run(capsys, "props", path)
     assert code == 1 and "one root link" in err and "'a', 'c'" in err
-    path.write_text('<robot name="r"><link name="a"/><link name="b"/>'
+    inertial = '<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    path.write_text(f'<robot name="r"><link name="a">{inertial}</link><link name="b">{inertial}</link>'
                     '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>'
                     '<joint name="k" type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
-    code, _, err = _run(capsys, "props", path)
-    assert code == 1 and "joint 'k'" in err and "link 'b' already has a parent joint" in err
+    code, out, _ = _run(capsys, "props", path)
+    assert code == 0 and "2 kg" in out  # urdfdom reads the loop too; the mass needs no tree
+    code, out, _ = _run(capsys, "check", path)
+    assert code == 0 and "kinematic_loop" in out and "joint 'k'" in out and "link 'b' already has a parent" in out
 
 
 def test_an_sdf_world_places_its_models_and_nested_models(tmp_path):

@@ -1,4 +1,22 @@
 // Bindings of the dynamics family (inertia._ext.dynamics).
-#include "common/arrays.hpp"
+#include <nanobind/stl/tuple.h>
 
-void bind_dynamics(nb::module_ &m) { (void)m; }
+#include "dynamics/kernels.hpp"
+#include "dynamics/steps.hpp"
+
+namespace dyn = inertia::dynamics;
+
+void bind_dynamics(nb::module_ &m) {
+    using namespace nb::literals;
+    const auto nogil = nb::call_guard<nb::gil_scoped_release>();
+    m.def("advance", &dyn::advance, "method"_a, "q"_a, "m"_a, "moments"_a, "torque"_a, "counts"_a, "hs"_a, "slots"_a,
+          "qs"_a, "ws"_a, "stop_if_not_finite"_a, nogil,
+          "Advance bodies (B) over segments of fixed steps in place; (failed body or -1, steps done, kind, "
+          "Newton residual).");
+    m.def("rollout", &dyn::rollout, "method"_a, "x0"_a, "u"_a, "moments"_a, "mass"_a, "frame"_a, "gravity"_a, "h"_a,
+          "n_steps"_a, "save_every"_a, "body_force"_a, "threads"_a, "out"_a, "status"_a, nogil,
+          "6-DOF rollout of N bodies into out (S, N, 13); status[b] = the step where body b's Newton failed, or -1.");
+    m.attr("METHODS") = nb::make_tuple("euler_explicit", "euler_implicit", "rk4", "splitting", "dmv", "dmv4",
+                                       "midpoint");
+    m.attr("NEWTON_MAX_ITER") = dyn::NEWTON_MAX_ITER;
+}

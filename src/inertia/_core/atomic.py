@@ -68,11 +68,14 @@ def write_bytes_atomic(path, data: bytes) -> None:
             fh.flush()
             os.fsync(fh.fileno())
         replace_with_temp(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError):   # a full disk, a file-size limit, a vanished folder
+            raise InputError(f"{path}: cannot write the output ({exc.strerror or exc}); nothing was written",
+                             code="unwritable") from None
         raise
 
 

@@ -27,6 +27,7 @@ EXTRA_OF = {
     "distributed": "batch",
     "pandas": "batch",
     "pyarrow": "batch",
+    "pxr": "usd",
 }
 
 

@@ -48,3 +48,28 @@ QUAT_NORM_TOL = 1e-6
 #: Absolute, not relative: a 1 kg link with moments of 1e-35 kg m^2 is rounding noise however
 #: well shaped.  ``inertia fix`` never writes a tensor below it.
 SIMULATOR_MIN_VALUE = 1e-15
+
+#: the unit roundoff of float32 (half an ulp at 1): a coordinate stored as float32 (binary STL,
+#: many glTF and PLY files) is within this fraction of its magnitude of the true value
+FLOAT32_ROUNDOFF = 2.0 ** -24
+
+
+def coordinate_precision(vertices, radius: float, unit_factor: float = 1.0) -> float:
+    """The relative precision of a body's inertia that its mesh coordinates allow: 0 for
+    double-precision data, else ``4 FLOAT32_ROUNDOFF max|v| / radius`` when every coordinate,
+    divided by ``unit_factor`` (the file's unit in metres), is a float32 value.
+
+    ``radius``: the body's largest radius of gyration (m, the units of ``vertices``).  A
+    coordinate off by ``d`` moves a moment ``m r^2`` by about ``2 m r d``; twice that bounds it.
+    """
+    import numpy as np
+
+    v = np.asarray(vertices, dtype=np.float64)
+    if v.size == 0 or not radius > 0:
+        return 0.0
+    raw = v / unit_factor if unit_factor != 1.0 else v
+    as32 = raw.astype(np.float32).astype(np.float64)
+    biggest = float(np.abs(raw).max())
+    if biggest == 0.0 or float(np.abs(as32 - raw).max()) > 1e-12 * biggest:
+        return 0.0
+    return min(4.0 * FLOAT32_ROUNDOFF * float(np.abs(v).max()) / radius, 0.5)

@@ -18,10 +18,7 @@ def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch
     shape, or (with ``finite``, the default) holds NaN/inf.  ``finite=False`` lets NaN and
     inf through, for functions that report on data that may have diverged.
     """
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be numeric, got {type(value).__name__}: {exc}") from None
+    arr = as_real_array(value, name)
     k = len(shape_tail)
     ok = arr.ndim >= k and arr.shape[arr.ndim - k:] == shape_tail if k else True
     if ok and not allow_batch and arr.ndim != k:
@@ -36,6 +33,23 @@ def as_float_array(value, name: str, shape_tail: tuple[int, ...], *, allow_batch
     return arr
 
 
+def as_real_array(value, name: str) -> np.ndarray:
+    """``value`` as a float64 array of any shape; InputError naming ``name`` for what is not a
+    real number: strings, objects, complex values (the imaginary part is never dropped) and
+    booleans."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be numeric, got {type(value).__name__}: {exc}") from None
+    if raw.dtype == bool or np.issubdtype(raw.dtype, np.complexfloating):
+        kind = "booleans" if raw.dtype == bool else "complex values"
+        raise InputError(f"{name} must hold real numbers, got {kind} (dtype {raw.dtype})")
+    try:
+        return np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be numeric, got {type(value).__name__}: {exc}") from None
+
+
 def as_vector3(value, name: str, *, allow_batch: bool = False) -> np.ndarray:
     return as_float_array(value, name, (3,), allow_batch=allow_batch)
 
@@ -45,7 +59,9 @@ def as_matrix3(value, name: str, *, allow_batch: bool = False) -> np.ndarray:
 
 
 def as_positive_scalar(value, name: str, *, allow_zero: bool = False) -> float:
-    """A finite positive float (or non-negative when ``allow_zero``)."""
+    """A finite positive float (or non-negative when ``allow_zero``); bools and complex refused."""
+    if isinstance(value, (bool, np.bool_, complex, np.complexfloating)):
+        raise InputError(f"{name} must be a real number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):

@@ -23,11 +23,10 @@ def mass_properties_table(sources, *, density=None, mass=None, units: str = "m",
     """One row per mesh file (columns: :data:`inertia.batch.record.COLUMNS`) as a pandas DataFrame.
 
     ``sources``: paths, folders, globs or manifests (as ``inertia batch``), or a list of
-    :class:`Job`.  ``scheduler``: ``"synchronous"`` (default, this process), ``"auto"`` or
-    None (worker processes here, as many as the work pays for: see :mod:`inertia.batch.run`),
-    ``"processes"``, ``"cluster"`` (a local Dask cluster), a ``"tcp://..."`` address or a
-    ``distributed.Client``.  Bad files are rows with ``status == "error"`` and a ``reason``;
-    nothing is written to disk.
+    :class:`Job`.  ``scheduler``: ``"synchronous"`` (default, this process), ``"threads"``
+    (a thread per core here: see :mod:`inertia.batch.run`), ``"cluster"`` (a local Dask
+    cluster), a ``"tcp://..."`` address or a ``distributed.Client``.  Bad files are rows with
+    ``status == "error"`` and a ``reason``; nothing is written to disk.
     """
     require("pandas", "a mass-properties table")
     jobs = _jobs_from(sources, density, mass, units)

@@ -2,21 +2,16 @@
 
 Execution
 ---------
-* ``scheduler=None`` or ``"auto"`` (default): worker processes on this machine
-  (:class:`~inertia.batch.pool.ProcessPool`), as many as the estimated work pays for: a
-  forked worker starts in milliseconds, so one for a small job and one per core from about
-  0.1 s of work (a spawned one costs about a second: more work per worker).  ``n_workers``
-  fixes the count.  A worker lost to a file costs that file one ``crashed`` row.
-* ``scheduler="processes"``: the same, with ``n_workers`` (default: one per core).
-* ``scheduler="cluster"`` (or ``"local"``): an embedded ``distributed.LocalCluster``, one
-  single-threaded worker process per core (or ``n_workers``), loopback only.  Its workers
-  take about a second each to start, so on one machine it never pays against the process
-  pool; it is there to be forced (Dask's dashboard, memory limits, the same code path as a
-  remote cluster).
+* ``scheduler=None``, ``"auto"`` or ``"threads"`` (default): a pool of threads in this process,
+  one per core (or ``n_workers``).  The compiled kernels release the GIL, so files run side by
+  side; every file's row is the same whatever the thread count.
+* ``scheduler="cluster"`` (or ``"local"``): an embedded ``distributed.LocalCluster`` on the
+  loopback, one worker process (or ``n_workers``) running threads: the same code path as a
+  remote cluster, with Dask's dashboard and memory limits, and a file that ends its worker
+  process costs that file one ``crashed`` row.
 * ``scheduler="tcp://HOST:PORT"``: an existing ``distributed`` scheduler.  Every worker
   needs ``inertia`` installed and must see the files under the same paths.
-* ``scheduler="synchronous"``: in this process (debugging, tests): no isolation, a file
-  that crashes compiled code ends the run.
+* ``scheduler="synchronous"``: in this process, one file after another (debugging, tests).
 
 The summary says where the run went (:attr:`BatchSummary.placement`).
 
@@ -39,16 +34,19 @@ done, keyed by path, size and modification time.  A file that changed since is d
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import sys
+import threading
 import time
 from collections import Counter
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.atomic import output_folder, remove_stale_temps
-from .._core.errors import InertiaError, InputError
+from .._core.errors import InputError
 from .._core.optional import require
 from .._core.progress import Progress
 from .output import (
@@ -60,8 +58,7 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .pool import START_S, ProcessPool, cpu_count, reassemble, start_method
-from .record import crashed_row, options_key, process_chunk, process_packed, warm_up
+from .record import crashed_row, options_key, process_chunk, process_file, process_packed
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -88,9 +85,6 @@ TAIL_CHUNKS_PER_WORKER = 32
 
 #: most files in one default chunk (progress and part files keep moving on huge runs)
 MAX_CHUNK_FILES = 256
-
-#: seconds of work per byte of input (with FILE_COST_BYTES: 0.3 ms + 2.3 ms per MB a file)
-SECONDS_PER_BYTE = 2.3e-3 / 2**20
 
 #: a cluster run in which no task ends for this long asks the scheduler about the tasks it
 #: waits for: one the scheduler no longer holds is lost, not waited for (see _Executor.map)
@@ -141,34 +135,6 @@ def job_costs(jobs) -> list[int]:
                 size = 0
         costs.append(size + FILE_COST_BYTES)
     return costs
-
-
-def formats_of(jobs, sample: int = 16) -> set[str]:
-    """The formats among ``jobs`` (see :func:`~inertia.batch.record.warm_up`): STL files are
-    told binary or ASCII by the first ``sample`` of them."""
-    from ..geometry.mesh_io import stl_kind
-
-    found, stl = set(), 0
-    for job in jobs:
-        ext = os.path.splitext(job.path)[1].lower()
-        if ext == ".stl" and stl < sample:
-            stl += 1
-            try:
-                found.add("binary_stl" if stl_kind(Path(job.path)) >= 0 else "ascii_stl")
-            except (OSError, InertiaError):
-                pass
-        elif ext == ".obj":
-            found.add("obj")
-        elif ext in (".ply", ".off", ".glb", ".gltf"):
-            found.add("trimesh")
-    return found
-
-
-def plan_workers(seconds: float, start_s: float, cores: int) -> int:
-    """Workers for ``seconds`` of work when each takes ``start_s`` to start: the count that
-    minimises ``seconds / n + n * start_s`` (about ``sqrt(seconds / start_s)``), 1 to ``cores``."""
-    best = max(1, min(cores, int(round((seconds / start_s) ** 0.5)) if start_s > 0 else cores))
-    return best
 
 
 def make_chunks(jobs, n_workers: int, chunk_files: int | None = None) -> list[list[Job]]:
@@ -225,51 +191,126 @@ def _part_files(parts_dir: Path) -> list[Path]:
 
 def _previous_tables(output: Path, fmt: str, parts_dir: Path) -> list:
     """Arrow tables of an earlier run: the final table (if any), then the parts (newer)."""
-    tables = [read_table(output, fmt)] if output.exists() else []
+    tables = [_previous_output(output, fmt)] if output.exists() else []
     tables += [read_table(part, "parquet") for part in _part_files(parts_dir)]
     return tables
 
 
-#: glibc allocator settings for batch workers (see :func:`local_cluster`): never give freed
-#: heap back, keep arrays up to 32 MiB on the heap, grow it 16 MiB at a time.  Worth setting
-#: in the environment of the workers of an external cluster too.
-WORKER_MALLOC_ENV = {"MALLOC_TRIM_THRESHOLD_": str(2**31), "MALLOC_MMAP_THRESHOLD_": str(32 * 2**20),
-                     "MALLOC_TOP_PAD_": str(16 * 2**20)}
+def _previous_output(output: Path, fmt: str):
+    """The table in ``output`` to resume from.  A JSON Lines file cut short keeps its whole
+    lines (the cut row is done again); a file that is not a batch table, or a Parquet or CSV
+    file that cannot be read, is refused by name (``--force`` starts again)."""
+    again = "move it away, or add --force (force=True) to start again"
+    if fmt == "jsonl":
+        rows, cut = [], 0
+        with open(output, "rb") as fh:
+            for line in fh:
+                try:
+                    row = json.loads(line)
+                except ValueError:
+                    cut += 1
+                    continue
+                if isinstance(row, dict):
+                    rows.append(row)
+        if cut:
+            sys.stderr.write(f"inertia batch: {output}: {cut} line{'s' if cut > 1 else ''} cut short or unreadable; "
+                             "those files are done again\n")
+        if rows and not all(_BATCH_KEYS <= row.keys() for row in rows):
+            raise InputError(f"{output}: is not a table of inertia batch (rows without {sorted(_BATCH_KEYS)}); {again}")
+        return rows_to_table(rows)
+    if fmt == "csv":
+        with open(output, encoding="utf-8", errors="replace") as fh:
+            header = set(fh.readline().strip().split(","))
+        if not _BATCH_KEYS <= header:
+            raise InputError(f"{output}: is not a table of inertia batch (no {sorted(_BATCH_KEYS)} columns); {again}")
+    try:
+        table = read_table(output, fmt)
+    except InputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - whatever the reader's complaint, the file cannot be resumed
+        raise InputError(f"{output}: cannot be read as a {fmt} table to resume ({type(exc).__name__}: {exc}); "
+                         f"{again}") from None
+    if len(table) and any(table.column(c).null_count == len(table) for c in _BATCH_KEYS):
+        raise InputError(f"{output}: is not a table of inertia batch (no {sorted(_BATCH_KEYS)} columns); {again}")
+    return table
 
 
-def local_cluster(n_workers: int):
-    """The embedded cluster: ``n_workers`` single-threaded worker processes on the loopback.
+#: the columns without which a row cannot be resumed
+_BATCH_KEYS = frozenset({"path", "size_bytes", "mtime_ns", "status"})
 
-    Two Dask defaults are changed, for these workers only:
 
-    * glibc's allocator keeps freed memory for the next file (:data:`WORKER_MALLOC_ENV`).
-      Dask sets ``MALLOC_TRIM_THRESHOLD_=65536`` to return freed memory to the system
-      promptly, which also stops glibc from adapting its mmap threshold: every array over
-      128 KiB is then mapped afresh and page-faulted on each file.  Measured on 5k-face
-      meshes: 2.2x slower per file with Dask's setting, and 1.4x slower with glibc's
-      defaults than with these.  A worker holds little between files, so its resident
-      memory stays about that of its largest mesh.
-    * The worker's sampling profiler is off (it interrupts the compute thread every 10 ms).
+class _OutputLock:
+    """One run at a time per output: an exclusive lock on ``OUTPUT.lock`` (released by the
+    system when the process ends, however it ends)."""
 
-    No dashboard; the scheduler's HTTP server (health routes) still starts, so it gets a free
-    loopback port (with None it takes 8787, clashing with any other cluster).  Logs below
-    ERROR are hidden ("worker still alive, killing" at shutdown).
-    """
+    def __init__(self, output: Path):
+        self.path = output.with_name(output.name + ".lock")
+
+    def __enter__(self):
+        import fcntl
+
+        try:
+            self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise InputError(f"{self.path}: cannot write the output's lock there ({exc.strerror or exc})",
+                             code="unwritable") from None
+        try:
+            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(self.fd, 32, 0).decode(errors="replace").strip()
+            os.close(self.fd)
+            raise InputError(f"{self.path.with_suffix('')}: another inertia batch run is writing this output"
+                             + (f" (process {holder})" if holder else "") + "; wait for it to end, or choose "
+                             "another output", code="output_busy") from None
+        os.ftruncate(self.fd, 0)
+        os.pwrite(self.fd, str(os.getpid()).encode(), 0)
+        return self
+
+    def __exit__(self, *exc):
+        try:
+            os.unlink(self.path)
+        except OSError:
+            pass
+        os.close(self.fd)
+        return False
+
+
+def local_cluster(n_workers: int, threads: int):
+    """The embedded cluster: ``n_workers`` worker processes of ``threads`` threads each, on the
+    loopback.  The workers' sampling profiler is off (it interrupts the compute threads every
+    10 ms); no dashboard, but the scheduler's HTTP server (health routes) still starts, so it
+    gets a free loopback port (with None it takes 8787, clashing with any other cluster).
+    Logs below ERROR are hidden ("worker still alive, killing" at shutdown)."""
     import logging
 
     import dask
     from distributed import LocalCluster
 
-    environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", None) or {})
-    environ.update(WORKER_MALLOC_ENV)
     # allowed-failures 1: a task that kills its worker twice is given up (then isolated, see
     # _Executor.map) instead of killing four workers in turn
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": environ,
-                          "distributed.worker.profile.enabled": False,
+    with dask.config.set({"distributed.worker.profile.enabled": False,
                           "distributed.scheduler.allowed-failures": 1}):
-        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+        return LocalCluster(n_workers=n_workers, threads_per_worker=threads, processes=True, host="127.0.0.1",
                             dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
                             silence_logs=logging.ERROR)
+
+
+def cpu_count() -> int:
+    """The cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return os.cpu_count() or 1
+
+
+def _chunk_rows(jobs, options: dict, stop: threading.Event):
+    """:func:`process_chunk` on a thread of the pool; None once ``stop`` is set (an interrupted
+    run: the files not done are done again on resume)."""
+    rows = []
+    for job in jobs:
+        if stop.is_set():
+            return None
+        rows.append(process_file(job, **options))
+    return rows
 
 
 class _Executor:
@@ -280,29 +321,36 @@ class _Executor:
         self.requested = n_workers
         self.n_workers = n_workers or cpu_count()
         self.jobs = jobs
-        self.client = self.cluster = self.pool = None
+        self.client = self.cluster = self.threads = None
         self.placement = ""
 
     def __enter__(self):
         if self.scheduler == "synchronous":
-            self.placement = "in this process (synchronous: a file that crashes compiled code ends the run)"
-            self._expect_work(sum(job_costs(self.jobs)) * SECONDS_PER_BYTE)
+            self.n_workers = 1
+            self.placement = "in this process, one file after another (synchronous)"
             return self
-        if self.scheduler in ("auto", "processes"):
-            return self._start_pool()
-        Client = require("distributed", "a batch run on a Dask cluster (or use scheduler='synchronous')").Client
+        if self.scheduler in ("auto", "threads"):
+            self.threads = ThreadPoolExecutor(self.n_workers, thread_name_prefix="inertia-batch")
+            self._stop = threading.Event()
+            self.placement = f"on {self.n_workers} thread{'s' if self.n_workers > 1 else ''} in this process"
+            return self
+        Client = require("distributed", "a batch run on a Dask cluster (or use scheduler='threads')").Client
         if self.scheduler in ("cluster", "local"):
             import dask
 
-            self.cluster = local_cluster(self.n_workers)
+            processes = self.requested or 1
+            threads = max(1, cpu_count() // processes)
+            self.cluster = local_cluster(processes, threads)
             self.client = Client(self.cluster)
+            self.n_workers = processes * threads
             # Our nannies restart a worker that a file kills, but SpecCluster closes for good the
             # nanny of a worker still missing lost-worker-timeout (15 s) after each removal: files
             # that kill their workers in turn meet that check between a death and the restart,
             # until no worker is left and the tasks wait forever.  It is read at each removal, so
             # it is set for the run (a day: a worker lost for that long is gone).
             self._config = dask.config.set({"distributed.deploy.lost-worker-timeout": "1 day"})
-            self.placement = f"on a local Dask cluster of {self.n_workers} workers"
+            self.placement = (f"on a local Dask cluster of {processes} worker process{'es' if processes > 1 else ''}"
+                              f" of {threads} thread{'s' if threads > 1 else ''}")
         elif isinstance(self.scheduler, str) and "://" in self.scheduler:
             try:
                 self.client = Client(self.scheduler, timeout="20s")
@@ -313,39 +361,9 @@ class _Executor:
             self.client = self.scheduler
             self.placement = "on the Dask client given"
         else:
-            raise InputError(f"unknown scheduler {self.scheduler!r}: use 'auto' (worker processes as the work "
-                             "pays), 'processes', 'cluster' (a local Dask cluster), 'synchronous' or a "
+            raise InputError(f"unknown scheduler {self.scheduler!r}: use 'threads' (the default: a thread per "
+                             "core in this process), 'cluster' (a local Dask cluster), 'synchronous' or a "
                              "'tcp://HOST:PORT' address")
-        return self
-
-    @staticmethod
-    def _expect_work(seconds: float) -> None:
-        """A run of ``seconds`` (estimated) in this process, or in workers forked from it:
-        above 0.05 s the NumPy paths would take 10-20x that, so compiled from the first file."""
-        if seconds > 0.05:
-            from .._core.compiled import prefer_compiled
-
-            prefer_compiled()
-
-    def _start_pool(self):
-        """Worker processes here: as many as the estimated work pays for (or as asked)."""
-        method = start_method()
-        seconds = sum(job_costs(self.jobs)) * SECONDS_PER_BYTE
-        if self.requested:
-            n, why = self.requested, "as asked"
-        elif self.scheduler == "processes":
-            n, why = cpu_count(), "one per core"
-        else:
-            n = plan_workers(seconds, START_S[method], cpu_count())
-            why = ("one per core" if n == cpu_count() else
-                   f"{'more' if n < cpu_count() else 'fewer'} would not pay for their start")
-        if method == "fork":   # loaded once here, inherited by every worker
-            self._expect_work(seconds)
-            warm_up(formats_of(self.jobs))
-        self.pool = ProcessPool(n, method=method).__enter__()
-        self.n_workers = n
-        self.placement = (f"on {n} worker process{'es' if n > 1 else ''} on this machine ({method}; "
-                          f"estimated work {seconds:.2g} s: {why})")
         return self
 
     def worker_count(self) -> int:
@@ -353,7 +371,8 @@ class _Executor:
         if self.client is None or self.cluster is not None:
             return self.n_workers
         try:
-            return max(1, len(self.client.scheduler_info().get("workers", {})))
+            workers = self.client.scheduler_info().get("workers", {})
+            return max(1, sum(int(w.get("nthreads", 1)) for w in workers.values()))
         except Exception:  # noqa: BLE001 - an estimate is enough
             return self.n_workers
 
@@ -368,8 +387,10 @@ class _Executor:
         :data:`STALL_S` in which no task ends, a task the scheduler no longer holds counts as
         lost (:meth:`_stalled`).  ``task`` replaces :func:`process_packed` (tests).
         """
-        if self.pool is not None:
-            yield from self.pool.map(chunks, options)
+        if self.threads is not None:
+            index = {self.threads.submit(_chunk_rows, chunk, options, self._stop): i for i, chunk in enumerate(chunks)}
+            for fut in as_completed(index):
+                yield index[fut], fut.result()
             return
         if self.client is None:
             for i, chunk in enumerate(chunks):
@@ -473,8 +494,9 @@ class _Executor:
         return lost
 
     def __exit__(self, *exc):
-        if self.pool is not None:
-            self.pool.__exit__(*exc)
+        if self.threads is not None:   # the files under way finish; the rest are not started
+            self._stop.set()
+            self.threads.shutdown(wait=True, cancel_futures=True)
         live = getattr(self, "_live", None)
         if live and self.client is not None:
             try:
@@ -490,6 +512,18 @@ class _Executor:
             finally:
                 self._config.__exit__(None, None, None)
         return False
+
+
+def reassemble(split: dict, chunks, i: int, sub, rows):
+    """The rows of chunk ``i`` once whole: ``rows`` themselves for a chunk run whole (``sub``
+    None), else None until every file of the split chunk has its row in ``split[i]``."""
+    if sub is None:
+        return rows
+    split[i][sub] = rows[0]
+    if len(split[i]) < len(chunks[i]):
+        return None
+    done = split.pop(i)
+    return [done[k] for k in range(len(chunks[i]))]
 
 
 def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None, chunk_files=None,
@@ -525,8 +559,7 @@ def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None
 
 def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=None, units: str = "m",
               shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3, self_crossing: str = "search",
-              scheduler=None,
+              robust_tol: float = 1e-3, self_crossing: str = "search", scheduler=None,
               n_workers: int | None = None, chunk_files: int | None = None, resume: bool = False,
               overwrite: bool = False, progress: bool = True, on_part=None) -> BatchSummary:
     """Mass properties of every mesh in ``sources``, written to ``output`` (see the module docstring).
@@ -545,80 +578,81 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
     jobs = sources if sources and all(isinstance(j, Job) for j in sources) else \
         collect_jobs(sources, density=density, mass=mass, units=units)
-    parts_dir = output.with_name(output.name + ".parts")
-    if not resume:
-        if output.exists() and not overwrite:
-            raise InputError(f"{output} exists: pass resume=True (--resume) to continue it or "
-                             "overwrite=True (--force) to start again")
-        if parts_dir.exists():
-            _remove_parts_dir(parts_dir)
-    remove_stale_temps(output)  # left by a killed run (kill -9 gives no chance to clean up)
-    if parts_dir.is_dir():
-        for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
-            tmp.unlink(missing_ok=True)
-    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol, "self_crossing": self_crossing}
-    previous = _previous_tables(output, fmt, parts_dir) if resume else []
-    todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
-    try:
-        parts_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{output}: cannot write the output there: cannot make {parts_dir} "
-                         f"({exc.strerror or exc})", code="unwritable") from None
-    first_part = len(_part_files(parts_dir))
-    bar = Progress(len(todo), enabled=progress)
-    written = [first_part]
-    # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
-    # longer than PART_S
-    tables = []
-    pending: list[dict] = []      # rows of finished chunks not yet in a part
-    last_part = [None]            # when the last part was written (None: none yet)
+    with _OutputLock(output):   # a second run on this output is refused, by name
+        parts_dir = output.with_name(output.name + ".parts")
+        if not resume:
+            if output.exists() and not overwrite:
+                raise InputError(f"{output} exists: pass resume=True (--resume) to continue it or "
+                                 "overwrite=True (--force) to start again")
+            if parts_dir.exists():
+                _remove_parts_dir(parts_dir)
+        remove_stale_temps(output)  # left by a killed run (kill -9 gives no chance to clean up)
+        if parts_dir.is_dir():
+            for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
+                tmp.unlink(missing_ok=True)
+        options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
+                   "robust_tol": robust_tol, "self_crossing": self_crossing}
+        previous = _previous_tables(output, fmt, parts_dir) if resume else []
+        todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
+        try:
+            parts_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"{output}: cannot write the output there: cannot make {parts_dir} "
+                             f"({exc.strerror or exc})", code="unwritable") from None
+        first_part = len(_part_files(parts_dir))
+        bar = Progress(len(todo), enabled=progress)
+        written = [first_part]
+        # the parts as Arrow tables (compact, columnar): rows are not kept as Python objects
+        # longer than PART_S
+        tables = []
+        pending: list[dict] = []      # rows of finished chunks not yet in a part
+        last_part = [None]            # when the last part was written (None: none yet)
 
-    def write_part():
-        rows = pending[:]
-        pending.clear()
-        path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
-        written[0] += 1
-        tables.append(write_rows_parquet(rows, path))
-        last_part[0] = time.perf_counter()
-        if on_part is not None:
-            on_part(path, rows)
+        def write_part():
+            rows = pending[:]
+            pending.clear()
+            path = parts_dir / f"{PART_PREFIX}{written[0]:06d}.parquet"
+            written[0] += 1
+            tables.append(write_rows_parquet(rows, path))
+            last_part[0] = time.perf_counter()
+            if on_part is not None:
+                on_part(path, rows)
 
-    def take_rows(_, rows):
-        pending.extend(rows)
-        if last_part[0] is None or time.perf_counter() - last_part[0] >= PART_S:
-            write_part()
+        def take_rows(_, rows):
+            pending.extend(rows)
+            if last_part[0] is None or time.perf_counter() - last_part[0] >= PART_S:
+                write_part()
 
-    placement = [""]
-    try:
-        execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
-                on_rows=take_rows, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
-    except KeyboardInterrupt:
-        if pending:               # the rows finished since the last part: saved, not lost
-            write_part()
-        n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
-        sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
-                         f"run again with --resume to finish\n")
-        raise
+        placement = [""]
+        try:
+            execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
+                    on_rows=take_rows, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
+        except KeyboardInterrupt:
+            if pending:               # the rows finished since the last part: saved, not lost
+                write_part()
+            n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
+            sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
+                             f"run again with --resume to finish\n")
+            raise
 
-    if pending:                   # the rows since the last part go straight into the output
-        tables.append(rows_to_table(pending))
-        pending.clear()
-    final = _latest_rows(previous + tables, jobs)
-    if fmt == "parquet":
-        write_table_parquet(final, output)
-    else:
-        write_frame(table_to_frame(final), output, fmt)
-    _remove_parts_dir(parts_dir)
+        if pending:                   # the rows since the last part go straight into the output
+            tables.append(rows_to_table(pending))
+            pending.clear()
+        final = _latest_rows(previous + tables, jobs)
+        if fmt == "parquet":
+            write_table_parquet(final, output)
+        else:
+            write_frame(table_to_frame(final), output, fmt)
+        _remove_parts_dir(parts_dir)
 
-    # the counts describe the whole table written (after a resume: earlier rows too)
-    statuses = final.column("status").to_pylist()
-    counts = Counter(statuses)
-    reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
-    return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
-                        ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
-                        errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output),
-                        placement=placement[-1])
+        # the counts describe the whole table written (after a resume: earlier rows too)
+        statuses = final.column("status").to_pylist()
+        counts = Counter(statuses)
+        reasons = Counter(r for s, r in zip(statuses, final.column("reason").to_pylist()) if s == "error")
+        return BatchSummary(total=len(jobs), skipped=len(jobs) - len(todo), processed=len(todo),
+                            ok=counts.get("ok", 0), warnings=counts.get("warning", 0), errors=counts.get("error", 0),
+                            errors_by_reason=dict(reasons), elapsed_s=time.perf_counter() - t0, output=str(output),
+                            placement=placement[-1])
 
 
 def _available(module: str, needed_for: str) -> None:

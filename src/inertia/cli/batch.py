@@ -12,11 +12,11 @@ from . import _format as fmt
 
 EPILOG = """\
 examples:
-  inertia batch meshes/ -o results.parquet                 (worker processes, as many as the work pays for)
+  inertia batch meshes/ -o results.parquet                 (a thread per core in this process)
   inertia batch 'parts/**/*.stl' --units mm --density 2700 -o parts.csv
   inertia batch manifest.csv -o out.parquet --scheduler tcp://10.0.0.5:8786
   inertia batch meshes/ -o results.parquet --resume        (after Ctrl-C: finish the rest)
-  inertia batch meshes/ -o results.parquet --scheduler cluster --workers 4   (a local Dask cluster)
+  inertia batch meshes/ -o results.parquet --scheduler cluster --workers 2   (a local Dask cluster)
 
 columns: path, size_bytes, mtime_ns, status (ok|warning|error), reason, message, warnings,
 units, density, mass, volume, com, inertia_com (9, row-major, negated products), principal_moments
@@ -30,18 +30,17 @@ once, then at most every 2 s; Ctrl-C saves the rest); the output file is assembl
 end.  --resume skips files already done (same path, size, mtime and options); a resume with
 other options is refused unless --force recomputes those rows.
 
-where it runs (the summary says): by default on worker processes of this machine,
-one for a small job and one per core when the estimated work pays for them (forked on Linux: a
-worker starts in milliseconds); a file that crashes its worker costs one 'crashed' row.
---workers N fixes the count; --scheduler cluster forces a local Dask cluster (about a second
-per worker to start), tcp://HOST:PORT a remote one, synchronous this process (no isolation).
+where it runs (the summary says): by default on a thread per core in this process (--workers N
+threads); --scheduler cluster on a local Dask cluster (--workers N processes, each running
+threads; a file that ends its worker process costs one 'crashed' row), tcp://HOST:PORT on a
+remote one, synchronous one file after another in this process.  Every file's row is the same
+wherever it runs.
 
 exit status: 0 the run completed (file errors are rows, counted in the summary), 1 bad input or
 the run could not start, 130 interrupted (resumable)."""
 
-HELP = "mass properties of many mesh files (worker processes here, or a Dask cluster)"
-DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manifests, in parallel (worker processes "
-               "or Dask), "
+HELP = "mass properties of many mesh files (threads here, or a Dask cluster)"
+DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manifests, in parallel (threads or Dask), "
                "one row per file, saved as it goes and resumable.")
 
 
@@ -58,12 +57,11 @@ def register(sub) -> None:
     p.add_argument("--units", choices=tuple(LENGTH_UNITS), default="m", help="length unit of the files (default m)")
     add_mesh_options(p, batch=True)
     p.add_argument("--scheduler", metavar="ADDR",
-                   help="auto (default: worker processes here, as many as the work pays for), processes (one per "
-                        "core), cluster (a local Dask cluster), synchronous (this process), or tcp://HOST:PORT of a "
-                        "Dask scheduler")
+                   help="threads (default: a thread per core in this process), cluster (a local Dask cluster), "
+                        "synchronous (this process, one file at a time), or tcp://HOST:PORT of a Dask scheduler")
     p.add_argument("--dask-config", metavar="FILE", help="YAML Dask config (its scheduler-address is used)")
     p.add_argument("--workers", type=int, metavar="N",
-                   help="worker processes, or local cluster size (default: chosen by the estimated work)")
+                   help="threads (default: one per core), or the local cluster's worker processes (default 1)")
     p.add_argument("--chunk-files", type=int, metavar="N", help="files per task (default: automatic)")
     p.add_argument("--resume", action="store_true", help="continue an earlier run into the same output")
     p.add_argument("--force", action="store_true",

@@ -53,6 +53,8 @@ def add_robot_arguments(p) -> None:
 def register(sub) -> None:
     p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
     add_robot_arguments(p)
+    from .usd import add_usd_arguments
+    add_usd_arguments(p, physx=False)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                    help="an argument of a .xacro file (repeatable)")
@@ -80,7 +82,10 @@ def run(args) -> int:
     import sys
 
     from ..robots.xmlsafe import RobotFileError
+    from .usd import run_check
 
+    if (code := run_check(args)) is not None:
+        return code
     try:
         from ..robots.check import check_model
         from ..robots.io import parse_xacro_args, read_robot
@@ -110,6 +115,9 @@ def report_lines(report, model, *, detail: str = "default") -> list:
     if detail == "quiet":
         return lines
     lines += [f"  error {e.code}: {e.message}" for e in report.errors]
+    if detail != "errors":
+        lines += [f"  warning {w.code}: {w.message}" for w in report.warnings]
+        lines += [f"  note {n.code}: {n.message}" for n in report.notes]
     if report.massless_frames and detail != "errors":
         names = report.massless_frames
         shown = ", ".join(names[:8]) + (f", ... ({len(names) - 8} more)" if len(names) > 8 else "")
@@ -147,6 +155,7 @@ def _note_summary(report) -> list:
             counts.setdefault(n.code, set()).add(lk.name)
     what = {"geometry_unusable": "geometry comparisons skipped (shapes that are not usable solids, e.g. open meshes)",
             "mesh_overlapping_shells": "meshes whose closed parts overlap, summed as the simulator sums them",
-            "inertial_ignored": "declared inertials ignored (inertiafromgeom)"}
+            "inertial_ignored": "declared inertials ignored (inertiafromgeom)",
+            "mesh_reader_message": "mesh files whose reader complained (e.g. a COLLADA texture it cannot load)"}
     return [f"  notes: {what.get(code, code)} in {fmt.plural(len(names), 'link')}; --verbose lists them"
             for code, names in counts.items()]

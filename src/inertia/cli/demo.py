@@ -113,23 +113,30 @@ def run(args) -> int:
     import os
 
     title = body.name if bundled else os.path.basename(str(info.source))
-    files = None
-    if not args.no_report:
+    files = study = None
+    repeated = props.principal_frame().degenerate
+    if repeated:      # no unique intermediate axis (within the input's precision): no flip to show
+        import sys
+
+        if not args.no_report:
+            print("inertia demo: note: no report written: it shows the intermediate-axis flip, and this body "
+                  "has repeated principal moments", file=sys.stderr)
+    elif not args.no_report:
         files = _write_report(args, props, title, display_mesh, _describe(info, body))
     if files is not None:
         study = files["study"]
-    else:  # --no-report, or the plotting libraries are missing: the tables still come
+    elif not repeated:  # --no-report, or the plotting libraries are missing: the tables still come
         from ..dynamics.flip_study import flip_study
 
         study = flip_study(props.principal()[0])
     if args.format == "json":
         d = report_dict(props, info, report, bundled=bundled)
-        d["flip"] = _flip_dict(study)
+        d["flip"] = None if study is None else _flip_dict(study)
         if files is not None:
             d["report"] = {"index": str(files["index"]), "files": sorted(f for v in files["files"].values() for f in v)}
         fmt.emit(fmt.to_json(d))
     else:
-        lines = report_lines(props, info, report, bundled=bundled) + flip_lines(study)
+        lines = report_lines(props, info, report, bundled=bundled) + flip_lines(study, props)
         if files is not None:
             lines += fmt.heading("8. Report") + [f"  {files['index']}  (open it in a browser; "
                                                  f"{sum(len(v) for v in files['files'].values()) + 1} files)"]
@@ -189,9 +196,13 @@ def _flip_dict(study) -> dict:
                             for k, v in study.integrators.items()}}
 
 
-def flip_lines(study) -> list[str]:
-    """Section 7: the intermediate-axis flip, predicted and simulated."""
+def flip_lines(study, props) -> list[str]:
+    """Section 7: the intermediate-axis flip, predicted and simulated (None: repeated moments)."""
     lines = fmt.heading("7. Spin about the intermediate axis: the Dzhanibekov flip")
+    if study is None:
+        groups = " and ".join("I" + " = I".join(str(k + 1) for k in g) for g in props.principal_frame().degenerate)
+        return lines + [f"  none: {groups} within {props.moments_rtol:.2g} of the largest moment (the input's "
+                        "precision), so there is no unique intermediate axis to flip about"]
     w = study.omega0_body
     lines += [f"  spin            omega0 = [{', '.join(fmt.num(x) for x in w)}] rad/s about principal axes 1, 2, 3",
               f"  predicted       a flip every 2K(m)/lambda = {fmt.num(study.flip_interval)} s",

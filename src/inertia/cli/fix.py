@@ -23,8 +23,9 @@ file with nothing to fix comes back identical.  A tensor that is zero or roundin
 (largest moment below 1e-15 kg m^2, the least MuJoCo accepts) is not "fixed" into another
 meaningless number: it is kept and reported, and the exit status says the output still fails.
 
-exit status: 0 written and valid, 1 bad input or the written file still fails the check (it says
-which links and why), 2 the file could not be read."""
+exit status: 0 written and valid, 1 bad input or the written file still fails the check (the
+same judgement as 'inertia check' of the written file: it says which links and why), 2 the file
+could not be read."""
 
 HELP = "write a corrected copy of a URDF, SDF or MJCF file's inertials"
 DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geometry, or replace invalid "
@@ -48,6 +49,8 @@ def register(sub) -> None:
                            "(products copied from CAD with the wrong sign)")
     p.add_argument("--density", type=float, metavar="RHO",
                    help="with --from-geometry: kg/m^3, the mass then follows from the volume")
+    from .usd import add_fix_arguments
+    add_fix_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -57,7 +60,10 @@ def run(args) -> int:
     from .._core.errors import InputError
     from ..robots.xmlsafe import RobotFileError
     from .check import MASS_UNITS
+    from .usd import run_fix
 
+    if (code := run_fix(args)) is not None:
+        return code
     if args.density is not None and not args.from_geometry:
         raise InputError("--density needs --from-geometry")
     if args.density is not None and not (args.density > 0 and args.density != float("inf")):
@@ -81,7 +87,8 @@ def fix_summary(report, mode: str) -> list:
     """What the fix did, what it left and why the output is still invalid (if it is)."""
     n = len(report.changed)
     if report.identical:
-        lines = [f"wrote {report.output}: nothing changed; it is byte-identical to the input"]
+        what = "nothing changed" if report.remaining else "nothing to fix"
+        lines = [f"wrote {report.output}: {what}; it is byte-identical to the input"]
     else:
         lines = [f"wrote {report.output}: {fmt.plural(n, 'inertial')} changed (only their numbers; every other "
                  "byte as in the input)"]

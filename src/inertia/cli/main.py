@@ -7,7 +7,9 @@ Only the standard library is imported here so that ``inertia --help`` starts fas
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import io
 import os
 import sys
 
@@ -22,7 +24,7 @@ COMMANDS = {
     "batch": "batch",
     "check": "check",
     "fix": "fix",
-    "warm-up": "warmup",
+    "diff": "diff",
 }
 
 
@@ -50,6 +52,40 @@ def _pop_debug(argv: list[str]) -> tuple[list[str], bool]:
     return [a for i, a in enumerate(argv) if not (i < end and a == "--debug")], debug
 
 
+class _WholeWrites(io.RawIOBase):
+    """A file descriptor whose every write is whole or an OSError: a write cut short by a
+    file-size limit raises (EFBIG) instead of being dropped by Python's buffered stdout."""
+
+    def __init__(self, fd: int):
+        super().__init__()
+        self.fd = fd
+
+    def writable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        return self.fd
+
+    def write(self, data) -> int:
+        view = memoryview(data).cast("B")
+        done = 0
+        while done < len(view):
+            done += os.write(self.fd, view[done:])
+        return done
+
+
+def _checked_stdout() -> None:
+    """Replace ``sys.stdout`` (a real file descriptor only) by the same stream over :class:`_WholeWrites`."""
+    out = sys.stdout
+    try:
+        fd = out.fileno()
+    except (AttributeError, OSError, ValueError):
+        return                    # a test's capture or an embedding: left alone
+    out.flush()
+    sys.stdout = io.TextIOWrapper(io.BufferedWriter(_WholeWrites(fd)), encoding=out.encoding, errors=out.errors,
+                                  line_buffering=out.line_buffering)
+
+
 def main(argv=None) -> int:
     argv, debug = _pop_debug(list(sys.argv[1:] if argv is None else argv))
     # a line that names its command first needs that command's parser only (the others'
@@ -62,17 +98,25 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     try:
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        sys.stdout.flush()        # a write that fails is this command's failure, not the exit's
+        return code
     except KeyboardInterrupt:
         print("inertia: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
+    except BrokenPipeError:       # the reader went away (inertia ... | head): nothing more to say
+        _stdout_to_devnull()
         return 0
     except Exception as exc:  # noqa: BLE001 - the CLI turns every failure into a message
-        if args.debug:
-            raise
         from .._core.errors import InertiaError
 
+        if isinstance(exc, OSError) and not isinstance(exc, InertiaError) and exc.errno in _OUTPUT_ERRNOS:
+            _stdout_to_devnull()
+            print(f"inertia {args.command}: error: cannot write the output ({exc.strerror}); it is incomplete",
+                  file=sys.stderr)
+            return 1
+        if args.debug:
+            raise
         if isinstance(exc, InertiaError):
             print(f"inertia {args.command}: error: {exc}", file=sys.stderr)
             return 1
@@ -82,19 +126,24 @@ def main(argv=None) -> int:
         return 3
 
 
-def entry() -> None:
-    """The ``inertia`` command: :func:`main`, then the process ends without the interpreter's
-    teardown (freeing every loaded module's objects, 20-30 ms after a batch run: the work of
-    some 50 files).  Every command has closed and renamed what it writes when it returns;
-    the output streams are flushed here.  An exception, ``--help`` and argparse's errors exit
-    the usual way."""
-    code = main()
+#: errors of a write that the user's system can cause: full disk, file-size limit, quota, I/O
+_OUTPUT_ERRNOS = {errno.ENOSPC, errno.EFBIG, errno.EDQUOT, errno.EIO, errno.EPIPE}
+
+
+def _stdout_to_devnull() -> None:
+    """Point stdout at /dev/null, so the interpreter's last flush has nowhere to fail."""
     try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except (OSError, ValueError):   # a closed pipe: let the interpreter report it as usual
-        sys.exit(code)
-    os._exit(code)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+
+
+def entry() -> None:
+    """The ``inertia`` command."""
+    _checked_stdout()
+    sys.exit(main())
 
 
 if __name__ == "__main__":

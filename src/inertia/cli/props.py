@@ -48,6 +48,8 @@ def register(sub) -> None:
     add_source_arguments(p)
     add_format_argument(p, robot=True)
     add_robot_arguments(p)
+    from .usd import add_usd_arguments
+    add_usd_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -65,7 +67,10 @@ def add_format_argument(p, *, robot: bool = False) -> None:
 def run(args) -> int:
     from . import props_robot
     from ._source import load_source
+    from .usd import run_props
 
+    if (code := run_props(args)) is not None:
+        return code
     if props_robot.is_robot_file(args.source):
         return props_robot.run(args)
     props_robot.refuse_robot_options(args)

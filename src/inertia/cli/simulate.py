@@ -23,9 +23,8 @@ from . import _format as fmt
 
 #: samples refused beyond this (memory and time guard)
 MAX_SAMPLES = 5_000_000
-#: Integrator steps a run may take unless --max-steps allows more (well under a second with
-#: the compiled integrators, about half a minute on NumPy without numba; the exact solution
-#: takes no steps).
+#: Integrator steps a run may take unless --max-steps allows more (well under a second; the
+#: exact solution takes no steps).
 DEFAULT_MAX_STEPS = 1_000_000
 
 CONVENTIONS = ("SI units; omega_body in rad/s in the body frame; q_world_body scalar-first (w, x, y, z), "

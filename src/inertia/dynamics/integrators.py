@@ -45,18 +45,7 @@ import numpy as np
 from .._core.errors import InputError, IntegrationError  # noqa: F401 (re-exported)
 from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
 from ..massprops.validity import as_principal_moments
-from .integrator_kernels import (
-    KERNELS,
-    NEWTON_MAX_ITER,
-    kernel_dmv,
-    kernel_dmv4,
-    kernel_euler_explicit,
-    kernel_euler_implicit,
-    kernel_midpoint,
-    kernel_rk4,
-    kernel_splitting,
-)
-from .segments import COMPILED_METHODS, run_segments
+from .segments import METHOD_NAMES, NEWTON_MAX_ITER, run_segments
 
 __all__ = [
     "step_euler_explicit",
@@ -72,7 +61,6 @@ __all__ = [
     "integrate",
     "integrate_segments",
     "check_method",
-    "COMPILED_METHODS",
     "Trajectory",
     "NEWTON_MAX_ITER",
     "IntegrationError",
@@ -109,12 +97,12 @@ def _prepare(q_world_body, omega_body, moments, h, torque_body, *, validate: boo
     return q, w, I, hf, tau
 
 
-def _run(kernel, q_world_body, omega_body, moments, h, torque_body):
+def _run(method, q_world_body, omega_body, moments, h, torque_body):
     # one step of Euler's equations: positive moments suffice (a body is validated where it
     # is set up: integrate, RigidBody, exact_solution)
     q, w, I, hf, tau = _prepare(q_world_body, omega_body, moments, h, torque_body, validate=False)
-    q1, m1 = kernel(q, I * w, I, hf, tau)
-    return q1, m1 / I
+    qs, ws = run_segments(method, q, w, I, tau, [1], [hf], stop_if_not_finite=False)
+    return qs[1], ws[1]
 
 
 _PARAMS_DOC = """
@@ -153,7 +141,7 @@ def step_euler_explicit(q_world_body, omega_body, moments, h, torque_body=None):
     runs blow up; the drift pushes the body toward its minor axis.  Torque: explicit,
     evaluated with the start-of-step state.
     """
-    return _run(kernel_euler_explicit, q_world_body, omega_body, moments, h, torque_body)
+    return _run("euler_explicit", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_euler_implicit(q_world_body, omega_body, moments, h, torque_body=None):
@@ -168,7 +156,7 @@ def step_euler_implicit(q_world_body, omega_body, moments, h, torque_body=None):
     toward its major axis.  Unconditionally stable in omega.  Torque: inside ``f``,
     constant over the step.
     """
-    return _run(kernel_euler_implicit, q_world_body, omega_body, moments, h, torque_body)
+    return _run("euler_implicit", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_rk4(q_world_body, omega_body, moments, h, torque_body=None):
@@ -189,7 +177,7 @@ def step_rk4(q_world_body, omega_body, moments, h, torque_body=None):
     Invariants: none exactly; energy, ``|L|`` and spatial L drift like O(h^4 t).
     Torque: held constant in the body frame over the step; still order 4.
     """
-    return _run(kernel_rk4, q_world_body, omega_body, moments, h, torque_body)
+    return _run("rk4", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_splitting(q_world_body, omega_body, moments, h, torque_body=None):
@@ -206,7 +194,7 @@ def step_splitting(q_world_body, omega_body, moments, h, torque_body=None):
     and O(h^2).  With torque: kick-drift-kick, ``m += h/2 tau`` before and after the free
     step (Strang splitting again, still order 2, reversible).
     """
-    return _run(kernel_splitting, q_world_body, omega_body, moments, h, torque_body)
+    return _run("splitting", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_dmv(q_world_body, omega_body, moments, h, torque_body=None):
@@ -227,7 +215,7 @@ def step_dmv(q_world_body, omega_body, moments, h, torque_body=None):
     Step-size limit: the equation for c has no real solution once ``h |w_j|`` exceeds about
     1 (test body: h = 0.7 works, h = 0.8 raises :class:`~inertia.errors.InputError`).
     """
-    return _run(kernel_dmv, q_world_body, omega_body, moments, h, torque_body)
+    return _run("dmv", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_dmv4(q_world_body, omega_body, moments, h, torque_body=None):
@@ -242,7 +230,7 @@ def step_dmv4(q_world_body, omega_body, moments, h, torque_body=None):
     kick-DMV4-kick, which is only **order 2** (the modified inertia corrects the free flow,
     not the splitting error).
     """
-    return _run(kernel_dmv4, q_world_body, omega_body, moments, h, torque_body)
+    return _run("dmv4", q_world_body, omega_body, moments, h, torque_body)
 
 
 def step_midpoint(q_world_body, omega_body, moments, h, torque_body=None):
@@ -258,7 +246,7 @@ def step_midpoint(q_world_body, omega_body, moments, h, torque_body=None):
     attitude error is 3.7x larger on the test body, so the exponential is used.
     With torque: inside the implicit equation (order 2).
     """
-    return _run(kernel_midpoint, q_world_body, omega_body, moments, h, torque_body)
+    return _run("midpoint", q_world_body, omega_body, moments, h, torque_body)
 
 
 for _f in (step_euler_explicit, step_euler_implicit, step_rk4, step_splitting, step_dmv, step_dmv4,
@@ -314,7 +302,7 @@ class Trajectory:
 
 
 def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_METHOD, torque_body=None,
-              record_every: int = 1, validate: bool = True, backend: str = "auto",
+              record_every: int = 1, validate: bool = True,
               progress: Callable[[int], None] | None = None) -> Trajectory:
     """Integrate the rotational motion over ``n_steps`` fixed steps of size ``h``.
 
@@ -343,12 +331,6 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_MET
         rule of :func:`inertia.massprops.validity.as_principal_moments` that ``exact_solution``
         and ``RigidBody`` apply too.  ``validate=False`` accepts any positive moments (textbook
         test bodies such as ``(2/3, 1, 2)``).
-    backend : {"auto", "numba", "numpy"}, keyword-only
-        ``"numba"``: the compiled loop (every method; the same formulas as the NumPy kernels,
-        agreeing to a few ulps per step; numba is the extra ``inertia[fast]``); ``"numpy"``:
-        the NumPy kernels, the reference; ``"auto"`` (default): compiled when numba is
-        installed and the run is long enough to pay for loading (or compiling) the kernel,
-        see :mod:`inertia.dynamics.compiled`.
     progress : callable or None, keyword-only
         Called with the number of steps (per body) done since its previous call, a few
         times per second of work (``inertia simulate`` draws its progress bar with it).
@@ -384,13 +366,12 @@ def integrate(q0, omega0_body, moments, h, n_steps, *, method: str = DEFAULT_MET
     recorded = np.r_[np.arange(0, n + 1, every), [n] if n % every else []].astype(np.int64)
     hf = as_time_step(h)
     qs, ws = _run_segments(q0, omega0_body, moments, np.diff(recorded), np.full(len(recorded) - 1, hf), method,
-                           torque_body, validate, backend, progress)
+                           torque_body, validate, progress)
     return Trajectory(t=recorded * hf, q_world_body=qs, omega_body=ws)
 
 
 def integrate_segments(q0, omega0_body, moments, steps, h, *, method: str = DEFAULT_METHOD, torque_body=None,
-                       validate: bool = True, backend: str = "auto",
-                       progress: Callable[[int], None] | None = None) -> Trajectory:
+                       validate: bool = True, progress: Callable[[int], None] | None = None) -> Trajectory:
     """:func:`integrate` over consecutive segments with their own step counts and sizes.
 
     Segment k takes ``steps[k]`` steps of size ``h[k]``; the state is recorded at the start
@@ -424,17 +405,17 @@ def integrate_segments(q0, omega0_body, moments, steps, h, *, method: str = DEFA
     hs = np.asarray(h, dtype=float) if np.ndim(h) else np.full(counts.shape, as_time_step(h))
     if hs.shape != counts.shape or not np.isfinite(hs).all() or (hs == 0).any():
         raise InputError(f"h must be a finite non-zero step in s, or one per segment ({len(counts)}), got {h!r}")
-    qs, ws = _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, backend, progress)
+    qs, ws = _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, progress)
     return Trajectory(t=np.concatenate([[0.0], np.cumsum(counts * hs)]), q_world_body=qs, omega_body=ws)
 
 
-def _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, backend, progress):
+def _run_segments(q0, omega0_body, moments, counts, hs, method, torque_body, validate, progress):
     q, w, I, _, tau = _prepare(q0, omega0_body, moments, 1.0, torque_body, validate=validate)
-    return run_segments(method, q, w, I, tau, counts, hs, backend=backend, progress=progress)
+    return run_segments(method, q, w, I, tau, counts, hs, progress=progress)
 
 
 def check_method(method) -> str:
     """``method`` if it names an integrator of :data:`METHODS`, else InputError."""
-    if not isinstance(method, str) or method not in KERNELS:
-        raise InputError(f"method must be one of {sorted(KERNELS)}, got {method!r}")
+    if not isinstance(method, str) or method not in METHOD_NAMES:
+        raise InputError(f"method must be one of {sorted(METHOD_NAMES)}, got {method!r}")
     return method

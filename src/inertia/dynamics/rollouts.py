@@ -1,65 +1,38 @@
 """Rollouts of the 6-DOF transition function: many steps, one body or a batch of bodies.
 
-``rollout(x0, u, h, n_steps, body=..., method=..., backend=...)`` repeats
+``rollout(x0, u, h, n_steps, body=..., method=...)`` repeats
 :func:`inertia.dynamics.transition.step` with the same state layout, input layout, frames and
-schemes.  Two backends:
-
-* ``"numpy"``: the reference, a Python loop over vectorised NumPy steps (fast over large
-  batches, slow for one long trajectory);
-* ``"numba"``: compiled kernels (:mod:`inertia.dynamics._rollout_numba`) for every method
-  name (:data:`COMPILED_METHODS`; a step function passed as ``method`` runs on NumPy),
-  vectorised over chunks of bodies and parallel over chunks.  numba is an optional extra
-  (``pip install inertia[fast]``), imported only when this backend is used; asking for it
-  without numba raises :class:`inertia.errors.MissingDependencyError`.  The kernels
-  transcribe the NumPy integrators operation by operation; the two backends agree to ~1e-13
-  after 1e3 steps (the tests check 1e-12).
-* ``"auto"`` (default): numba when it is installed, the method is compiled and the run is
-  long enough to pay for loading (or compiling) the kernel (:mod:`inertia.dynamics.compiled`),
-  else numpy.
-
-Both backends re-express the state in the principal frame of the body once, integrate there,
-and convert the saved states back.
+schemes.  A method name runs in the compiled core (:mod:`inertia._ext.dynamics`): the state is
+moved to the principal frame of the body once, bodies go in chunks vectorised over the batch,
+disjoint chunks on ``threads`` threads (the GIL released), and every body runs the same code, so
+a body's result does not depend on the batch it is in, its place there or the thread count.  A
+step function passed as ``method`` runs a Python loop over
+:func:`inertia.dynamics.transition.step_principal`.
 """
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
+import os
 
 import numpy as np
 
 from .._core.errors import InputError, IntegrationError
 from .._core.validation import as_count, as_float_array, as_time_step, as_unit_quat
+from .._ext import dynamics as _k
 from .body import RigidBody, check_body
-from .compiled import BACKENDS, check_backend, numba_available, use_compiled
-from .integrator_kernels import KERNELS, NEWTON_MAX_ITER
 from .integrators import DEFAULT_METHOD
+from .segments import METHOD_NAMES, NEWTON_MAX_ITER
 from .state import FORCE, INPUT_SIZE, Q_WORLD_BODY, STATE_SIZE, TORQUE_BODY
 from .transition import check_force_frame, resolve_method, state_from_principal, state_to_principal, step_principal
 
-__all__ = ["rollout", "COMPILED_METHODS", "BACKENDS", "numba_available"]
+__all__ = ["rollout"]
 
-#: Methods with a compiled (numba) kernel: all of them.
-COMPILED_METHODS = tuple(KERNELS)
-
-#: From this many body-steps on, the numba backend splits the bodies over
-#: ``numba.get_num_threads()`` threads (the kernels release the GIL); below, one thread.
+#: From this many body-steps on, ``threads=None`` uses every core the process may run on.
 _THREADS_MIN_WORK = 200_000
-
-#: A rollout's NumPy step (6-DOF, principal-frame bookkeeping) against integrate's
-_NUMPY_SCALE = 2.0
-#: CPU seconds to compile one method's rollout kernel with a cold numba cache (bench/integrate.py --cold)
-_COMPILE_SECONDS = 4.0
-
-
-def _kernel_loader(method, bodies):
-    def load():
-        from . import _rollout_numba
-        return _rollout_numba.KERNELS[method]
-    return load
 
 
 def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, gravity=None, force_frame: str = "world",
-            backend: str = "auto", save_every=1) -> np.ndarray:
+            save_every=1, threads: int | None = None) -> np.ndarray:
     """Roll the 6-DOF transition function forward over many steps.
 
     Parameters
@@ -83,11 +56,13 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     gravity : (3,) float, m/s^2, world frame, or None.
     force_frame : {"world", "body"}
         Frame of the force.
-    backend : {"auto", "numpy", "numba"}
-        See the module docstring.
     save_every : int >= 1 or None
         Save the state at steps 0, save_every, 2 save_every, ..., n_steps (``n_steps`` must be
         a multiple).  None saves only the final state.
+    threads : int >= 1 or None
+        Threads over the bodies (whole chunks each; the result is the same for any count).
+        None: every core the process may use once the run has at least 200,000 body-steps,
+        else one.
 
     Returns
     -------
@@ -98,42 +73,36 @@ def rollout(x0, u, h, n_steps=None, *, body: RigidBody, method=DEFAULT_METHOD, g
     Raises
     ------
     InputError
-        Bad shapes or values, or ``backend="numba"`` with a method that is not compiled.
-    MissingDependencyError
-        ``backend="numba"`` without numba installed.
+        Bad shapes or values.
+    IntegrationError
+        An implicit method's Newton iteration did not converge (``h`` too large).
 
     Examples
     --------
     >>> from inertia.dynamics.state import pack_state
     >>> body = RigidBody(1.0, np.diag([0.0042, 0.0142, 0.0167]))
     >>> x0 = pack_state([0, 0, 0], [0, 0, 0], [1, 0, 0, 0], [0.01, 10.0, 0.01])
-    >>> rollout(x0, None, 1e-3, 100, body=body, backend="numpy").shape
+    >>> rollout(x0, None, 1e-3, 100, body=body).shape
     (101, 13)
-    >>> rollout(np.broadcast_to(x0, (5, 13)), np.zeros((100, 6)), 1e-3, body=body,
-    ...         backend="numpy", save_every=None).shape
+    >>> rollout(np.broadcast_to(x0, (5, 13)), np.zeros((100, 6)), 1e-3, body=body, save_every=None).shape
     (5, 13)
     """
     body = check_body(body)
     u, n, u_batch, held = _input_plan(u, n_steps)
     every = _save_plan(save_every, n)
     x0, hf, body_force, g, batch = _check_state(x0, h, force_frame, gravity, u, u_batch, held, body)
-    check_backend(backend)
     rot_step = resolve_method(method)
-    bodies = int(np.prod(batch, dtype=np.int64))
-    compiled = use_compiled(backend, method, COMPILED_METHODS, n, bodies, _kernel_loader(method, bodies),
-                            numpy_scale=_NUMPY_SCALE, compile_seconds=_COMPILE_SECONDS)
-
-    # everything in the principal frame, once
+    if threads is not None:
+        threads = as_count(threads, "threads", 1)
     x0 = np.broadcast_to(x0, batch + (STATE_SIZE,))
     u_P = _inputs_to_principal(body, u, body_force)  # (..., 6) held, or (n, ..., 6)
-
-    if compiled:
-        # the kernels move the states to P as they load them, and back as they store them
-        out = _rollout_numba(x0, u_P, held, n, hf, body, g, every, method, body_force, batch)
+    if isinstance(method, str):
+        # the kernel moves the states to P as it loads them, and back as it stores them
+        out = _rollout_compiled(x0, u_P, held, n, hf, body, g, every, method, body_force, batch, threads)
     else:
         x_P, _ = state_to_principal(body, x0, np.zeros(INPUT_SIZE), False)
-        out = _rollout_numpy(x_P, u_P, held, n, hf, body, g, every, rot_step, body_force, batch)
-        out = state_from_principal(body, out)
+        out = state_from_principal(body, _rollout_python(x_P, u_P, held, n, hf, body, g, every, rot_step,
+                                                         body_force, batch))
     return out[0] if every == 0 else out
 
 
@@ -192,8 +161,8 @@ def _inputs_to_principal(body, u, body_force):
     return np.concatenate([np.broadcast_to(F, shape + (3,)), np.broadcast_to(tau_P, shape + (3,))], axis=-1)
 
 
-def _rollout_numpy(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, batch):
-    """Reference path: a Python loop over :func:`inertia.dynamics.transition.step_principal`."""
+def _rollout_python(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, batch):
+    """A step function of the caller's: a Python loop over :func:`inertia.dynamics.transition.step_principal`."""
     S = 1 if every == 0 else n // every + 1
     out = np.empty((S,) + batch + (STATE_SIZE,))
     mass = body.mass[..., None]
@@ -211,45 +180,32 @@ def _rollout_numpy(x_P, u_P, held, n, h, body, g, every, rot_step, body_force, b
 
 
 def _kernel_array(a) -> np.ndarray:
-    """float64, C-contiguous, aligned and writeable: one numba type per rank, so one compilation."""
-    return np.require(a, dtype=np.float64, requirements=["C", "A", "W"])
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
-def _run_threads(kernel, N: int, n: int, args) -> None:
-    """``kernel(lo, hi, *args)`` over the bodies, split in whole chunks over the threads numba is set to."""
-    import numba
-
-    from ._rollout_numba import CHUNK
-
-    chunks = -(-N // CHUNK)
-    threads = min(numba.get_num_threads(), chunks) if N * n >= _THREADS_MIN_WORK else 1
-    if threads <= 1:
-        kernel(0, N, *args)
-        return
-    bounds = [min(N, (chunks * k // threads) * CHUNK) for k in range(threads + 1)]
-    with ThreadPoolExecutor(threads) as pool:
-        list(pool.map(lambda lo_hi: kernel(lo_hi[0], lo_hi[1], *args), zip(bounds[:-1], bounds[1:])))
+def _threads(threads, N: int, n: int) -> int:
+    if threads is not None:
+        return threads
+    if N * n < _THREADS_MIN_WORK:
+        return 1
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
-def _rollout_numba(x0, u_P, held, n, h, body, g, every, method, body_force, batch):
-    """Compiled path: flatten the batch, call the kernel, restore the batch shape."""
-    from . import _rollout_numba as _k
-
+def _rollout_compiled(x0, u_P, held, n, h, body, g, every, method, body_force, batch, threads):
+    """Flatten the batch, call the kernel, restore the batch shape."""
     N = int(np.prod(batch, dtype=np.int64))
     x_flat = _kernel_array(np.broadcast_to(x0, batch + (STATE_SIZE,)).reshape(N, STATE_SIZE))
     # inputs: (T, Nu, 6) with T in {1, n} and Nu in {1, N}
-    u_b = u_P
-    u_batch = u_b.shape[:-1] if held else u_b.shape[1:-1]
+    u_batch = u_P.shape[:-1] if held else u_P.shape[1:-1]
     shared = all(s == 1 for s in u_batch)
     if held:
-        u_k = u_b.reshape(1, 1, INPUT_SIZE) if shared else \
-            np.broadcast_to(u_b, batch + (INPUT_SIZE,)).reshape(1, N, INPUT_SIZE)
+        u_k = u_P.reshape(1, 1, INPUT_SIZE) if shared else \
+            np.broadcast_to(u_P, batch + (INPUT_SIZE,)).reshape(1, N, INPUT_SIZE)
     else:
-        u_k = u_b.reshape(n, 1, INPUT_SIZE) if shared else \
-            np.broadcast_to(u_b, (n,) + batch + (INPUT_SIZE,)).reshape(n, N, INPUT_SIZE)
-    u_k = _kernel_array(u_k)
-    if u_k.shape[0] == 0:
-        u_k = np.zeros((1, 1, INPUT_SIZE))
+        u_P = u_P.reshape((u_P.shape[0],) + (1,) * (len(batch) - len(u_batch)) + u_P.shape[1:])  # batch right-aligned
+        u_k = u_P.reshape(n, 1, INPUT_SIZE) if shared else \
+            np.broadcast_to(u_P, (n,) + batch + (INPUT_SIZE,)).reshape(n, N, INPUT_SIZE)
+    u_k = _kernel_array(u_k) if u_k.shape[0] else np.zeros((1, 1, INPUT_SIZE))
     # bodies: (Nb, 3) and (Nb,) with Nb in {1, N}
     if body.batch_shape:
         moments = _kernel_array(np.broadcast_to(body.moments, batch + (3,)).reshape(N, 3))
@@ -262,15 +218,15 @@ def _rollout_numba(x0, u_P, held, n, h, body, g, every, method, body_force, batc
     if body.principal_is_body:
         frame = np.zeros((0, 13))
     else:
-        fr = np.concatenate([body.q_body_principal, body.R_body_principal.reshape(body.R_body_principal.shape[:-2]
-                                                                                  + (9,))], axis=-1)
+        R = body.R_body_principal
+        fr = np.concatenate([body.q_body_principal, R.reshape(R.shape[:-2] + (9,))], axis=-1)
         frame = _kernel_array(fr.reshape(1, 13) if not body.batch_shape else
                               np.broadcast_to(fr, batch + (13,)).reshape(N, 13))
     S = 1 if every == 0 else n // every + 1
     out = np.empty((S, N, STATE_SIZE))
-    status = np.full(N, -1, dtype=np.int64)
-    args = (x_flat, u_k, moments, mass, frame, gravity, float(h), int(n), int(every), bool(body_force), out, status)
-    _run_threads(_k.KERNELS[method], N, n, args)
+    status = np.empty(N, dtype=np.int64)
+    _k.rollout(METHOD_NAMES.index(method), x_flat, u_k, moments, mass, frame, gravity, float(h), int(n), int(every),
+               bool(body_force), _threads(threads, N, n), out, status)
     failed = np.flatnonzero(status >= 0)
     if failed.size:
         b = int(failed[0])

@@ -1,10 +1,11 @@
-"""Run an integrator over segments of fixed steps: the engine of ``integrate`` and ``inertia simulate``.
+"""Run an integrator over segments of fixed steps: the engine of the step functions, ``integrate``
+and ``inertia simulate``.
 
 A run is a list of segments; segment k takes ``counts[k]`` steps of size ``hs[k]`` and the
-state at its end is recorded.  :func:`run_segments` does it on the NumPy kernels
-(:mod:`.integrator_kernels`, the reference) or in one compiled loop
-(:mod:`._integrate_numba`), with the body angular momentum ``m = I w`` as the state in both,
-and reports progress between pieces of the run when asked.
+state at its end is recorded.  The compiled loop (:mod:`inertia._ext.dynamics`, ``advance``)
+takes one body at a time with the body angular momentum ``m = I w`` as the state; with a
+progress callback the run is cut into pieces of about :data:`PROGRESS_WORK` body-steps and
+reported between them (the state carries over, so the pieces change no bit).
 """
 
 from __future__ import annotations
@@ -14,40 +15,28 @@ from typing import Callable
 import numpy as np
 
 from .._core.errors import IntegrationError
-from .compiled import use_compiled
-from .integrator_kernels import KERNELS
+from .._ext import dynamics as _k
 
-__all__ = ["run_segments", "COMPILED_METHODS", "PROGRESS_WORK"]
+__all__ = ["run_segments", "METHOD_NAMES", "NEWTON_MAX_ITER", "PROGRESS_WORK"]
 
-#: methods with a compiled loop (all of them)
-COMPILED_METHODS = tuple(KERNELS)
+#: The integrators of the compiled core, in the order of its method index.
+METHOD_NAMES: tuple = tuple(_k.METHODS)
+
+#: Newton iterations allowed to the implicit methods (dmv, dmv4, midpoint) per step.
+NEWTON_MAX_ITER: int = int(_k.NEWTON_MAX_ITER)
 
 #: With a progress callback, the compiled loop returns to Python after about this many
-#: body-steps (10-100 ms) to report; the NumPy loop reports every PROGRESS_WORK / 1000.
+#: body-steps (10-100 ms) to report.
 PROGRESS_WORK = 1 << 20
 
-
-def _compiled_kernel(method):
-    def load():
-        from . import _integrate_numba
-        return _integrate_numba.SEGMENTS[method]
-    return load
+_INDEX = {name: i for i, name in enumerate(METHOD_NAMES)}
 
 
-def run_segments(method, q, w, I, tau, counts, hs, *, backend="auto", progress: Callable[[int], None] | None = None):
-    """States at the start and after each segment: ``(qs (S+1, B..., 4), ws (S+1, B..., 3))``.
-
-    q, w, I (and tau, or None) are already validated and broadcast to one batch shape;
-    counts (S,) int >= 0 and hs (S,) float non-zero.  ``progress(n)`` is called with the
-    number of steps (per body) done since its previous call.
-    """
-    counts = np.asarray(counts, dtype=np.int64)
-    hs = np.asarray(hs, dtype=float)
-    batch = w.shape[:-1]
-    bodies = int(np.prod(batch, dtype=np.int64))
-    if use_compiled(backend, method, COMPILED_METHODS, int(counts.sum()), bodies, _compiled_kernel(method)):
-        return _run_compiled(method, q, w, I, tau, counts, hs, progress)
-    return _run_numpy(method, q, w, I, tau, counts, hs, progress)
+def newton_failure(method, h, residual) -> IntegrationError:
+    """The error of an implicit step whose Newton iteration did not converge."""
+    return IntegrationError(f"{method}: the implicit step equation did not converge in {NEWTON_MAX_ITER} Newton "
+                            f"iterations (relative residual {residual:.3g}); the time step h = {h!r} is too large "
+                            f"for this angular velocity: reduce h")
 
 
 def _diverged(method, step, t, h):
@@ -55,60 +44,37 @@ def _diverged(method, step, t, h):
                             f"velocity is no longer finite; reduce h or use a stable method such as 'splitting'")
 
 
-def _run_numpy(method, q, w, I, tau, counts, hs, progress):
-    kernel = KERNELS[method]
-    batch = w.shape[:-1]
-    S = len(counts)
-    qs = np.empty((S + 1,) + batch + (4,))
-    ws = np.empty((S + 1,) + batch + (3,))
-    qs[0], ws[0] = q, w
-    m = I * w
-    every = max(1, PROGRESS_WORK // 1000 // max(1, int(np.prod(batch, dtype=np.int64))))
-    done = pending = 0
-    t = 0.0
-    with np.errstate(over="ignore", invalid="ignore"):
-        for k in range(S):
-            h = float(hs[k])
-            for j in range(int(counts[k])):
-                q, m = kernel(q, m, I, h, tau)
-                done += 1
-                if not np.isfinite(m).all():
-                    raise _diverged(method, done, t + (j + 1) * h, h)
-                pending += 1
-                if progress is not None and pending >= every:
-                    progress(pending)
-                    pending = 0
-            qs[k + 1], ws[k + 1] = q, m / I
-            t += counts[k] * h
-    if progress is not None and pending:
-        progress(pending)
-    return qs, ws
-
-
 def _flat(a, k):
-    """A C-contiguous, writeable float64 copy (k columns): one numba type, inputs never modified."""
+    """A C-contiguous, writeable float64 copy with k columns (inputs are never modified)."""
     return np.array(np.reshape(a, (-1, k)), dtype=np.float64, order="C", copy=True)
 
 
-def _run_compiled(method, q, w, I, tau, counts, hs, progress):
-    from . import _integrate_numba as nb
+def run_segments(method, q, w, I, tau, counts, hs, *, progress: Callable[[int], None] | None = None,
+                 stop_if_not_finite: bool = True):
+    """States at the start and after each segment: ``(qs (S+1, B..., 4), ws (S+1, B..., 3))``.
 
+    q, w, I (and tau, or None) are already validated and broadcast to one batch shape;
+    counts (S,) int >= 0 and hs (S,) float non-zero.  ``progress(n)`` is called with the
+    number of steps (per body) done since its previous call.  A step whose state is no
+    longer finite raises IntegrationError unless ``stop_if_not_finite`` is False (a lone step
+    function returns what it computed); a Newton failure always raises.
+    """
+    counts = np.asarray(counts, dtype=np.int64)
+    hs = np.asarray(hs, dtype=np.float64)
     batch = w.shape[:-1]
     S = len(counts)
     qf, wf, If = _flat(q, 4), _flat(w, 3), _flat(I, 3)
-    tf = np.zeros_like(wf) if tau is None else _flat(tau, 3)
+    tf = np.zeros((0, 3)) if tau is None else _flat(tau, 3)
     mf = If * wf
     B = qf.shape[0]
     qs = np.empty((S + 1, B, 4))
     ws = np.empty((S + 1, B, 3))
     qs[0], ws[0] = qf, wf
-    failure = np.zeros(2, dtype=np.int64)
-    kernel = nb.SEGMENTS[method]
     done, t = 0, 0.0
     for c, h, slots in _pieces(counts, hs, progress, B):
-        b = kernel(qf, mf, If, tf, c, h, slots, qs, ws, failure)
+        b, steps, kind, residual = _k.advance(_INDEX[method], qf, mf, If, tf, c, h, slots, qs, ws, stop_if_not_finite)
         if b >= 0:
-            _raise_failure(method, qf[b], mf[b], If[b], None if tau is None else tf[b], h, c, done, t, failure)
+            _raise_failure(method, h, c, steps, kind, residual, done, t)
         n = int(c.sum())
         done += n
         t += float(np.sum(c * h))
@@ -140,13 +106,12 @@ def _pieces(counts, hs, progress, bodies):
         yield pc[lo:hi], hs[seg[lo:hi]], ps[lo:hi]
 
 
-def _raise_failure(method, q, m, I, tau, hs, counts, done, t, failure):
-    """Name the failing step; the NumPy kernel, re-run on it, words a Newton failure itself."""
-    steps = int(failure[0])                         # steps done in this call before the failure
+def _raise_failure(method, hs, counts, steps, kind, residual, done, t):
+    """Name the failing step: ``steps`` were done in this call before it."""
     ends = np.cumsum(counts)
     k = int(np.searchsorted(ends, steps, side="right"))
     h = float(hs[k])
+    if kind == 1:
+        raise newton_failure(method, h, residual)
     t += float(np.sum(counts[:k] * hs[:k])) + (steps - (ends[k - 1] if k else 0) + 1) * h
-    if failure[1] == 1:
-        KERNELS[method](q[None], m[None], I[None], h, None if tau is None else tau[None])
     raise _diverged(method, done + steps + 1, t, h)

@@ -128,8 +128,8 @@ def step_principal(x_P, u_P, h, mass, moments, rot_step, gravity, body_force: bo
     """One step of a state expressed in the principal frame: ``x_P = [p_W, v_W, q_WP, w_P]``.
 
     ``u_P = [F, tau_P]`` with F in the world frame, or in P when ``body_force``.  ``mass``
-    (..., 1) kg, ``moments`` (..., 3).  No checks; shared by :func:`step` and the NumPy path
-    of :mod:`inertia.dynamics.rollouts` (whose numba kernels transcribe it).
+    (..., 1) kg, ``moments`` (..., 3).  No checks; shared by :func:`step` and the rollouts of a
+    caller's step function (:mod:`inertia.dynamics.rollouts`; the compiled rollout transcribes it).
     """
     p, v, q, w = x_P[..., P_WORLD], x_P[..., V_WORLD], x_P[..., Q_WORLD_BODY], x_P[..., OMEGA_BODY]
     F, tau = u_P[..., FORCE], u_P[..., TORQUE_BODY]

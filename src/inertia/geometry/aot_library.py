@@ -19,10 +19,6 @@ from .._core.errors import InertiaError
 
 EXPORTS = {
     "inertia.geometry._topology_numba": {
-        "stl_weld_and_merge": "u4[:,:,:], f8",
-        "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
-        "weld_map": "f8[:,::1]",
-        "weld_compact": "f8[:,::1], i8[:,::1]",
         "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!, i8[:,::1]!",
         "winding_numbers": "f8[:,::1], f8[:,:,::1]",
     },

@@ -4,12 +4,12 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 "solid"), OBJ, PLY, OFF, GLB/GLTF (every mesh of the scene, with its node transform).
 
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
-dependency; with numba, its per-face vertex copies are welded in one compiled pass over
-the records, with the same result as the general route).  ASCII STL and OBJ are read by
-the compiled text readers of :mod:`._text_readers` (no dependency), which name the file,
-line and text of anything malformed.  PLY, OFF and glTF go through the optional dependency
-trimesh, with ``process=False`` (trimesh changes nothing).  Text (STL, OBJ, PLY, OFF, glTF) in
-UTF-8 with or without a byte-order mark, UTF-16 or UTF-32 is read alike.  Then
+dependency; its per-face vertex copies are welded in one compiled pass over the records, with
+the same result as the general route).  ASCII STL and OBJ are read by the compiled text
+readers of :mod:`._text_readers` (no dependency), which name the file, line and text of
+anything malformed.  PLY, OFF and glTF go through the optional dependency trimesh, with
+``process=False`` (trimesh changes nothing).  Text (STL, OBJ, PLY, OFF, glTF) in UTF-8 with
+or without a byte-order mark, UTF-16 or UTF-32 is read alike.  Then
 vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
 files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
@@ -21,7 +21,6 @@ from __future__ import annotations
 import os
 import re
 import stat
-import sys
 import warnings
 from pathlib import Path
 
@@ -30,6 +29,7 @@ import numpy as np
 from .._core.errors import InputError, MeshFileError
 from .._core.optional import require
 from .._core.units import LENGTH_UNITS
+from .._ext import topology as _k
 from .mesh_arrays import faces_in_range, validate_inputs
 
 __all__ = ["load_mesh", "UNITS", "SUPPORTED_EXTENSIONS", "MERGE_RTOL"]
@@ -61,78 +61,42 @@ def _unit_factor(units) -> float:
         raise InputError(f"unknown length unit {units!r}; valid units: {', '.join(UNITS)}") from None
 
 
-#: merging never joins vertices farther apart than this fraction of the short face edges
-MERGE_EDGE_FRACTION = 0.25
-
-
-def edge_capped_tolerance(v: np.ndarray, f: np.ndarray, tol: float) -> float:
-    """``tol``, at most MERGE_EDGE_FRACTION of the short edges of the faces (their 1st
-    percentile): merging joins copies of a vertex, never the mesh's own features, whatever
-    its size or its distance from the origin (a 1 um part 1e7 m out keeps its faces)."""
-    d = v[f] - v[np.roll(f, -1, axis=1)]
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # scaled: no under- or overflow
-        big = np.abs(d).max(axis=2)
-        e = (big * np.linalg.norm(d / big[..., None], axis=2)).ravel()
-    e = e[(e > 0) & np.isfinite(e)]
-    if len(e) == 0 or tol <= MERGE_EDGE_FRACTION * e.min():
-        return tol
-    return min(tol, MERGE_EDGE_FRACTION * float(np.sort(e)[(len(e) - 1) // 100]))
-
-
 def _merge_close_vertices(vertices: np.ndarray, faces: np.ndarray, rtol: float):
     """Merge vertices within ``rtol`` of the mesh size; drop unreferenced ones.
 
     Exactly equal vertices are welded first; the rest is found among pairs within the
-    tolerance, joined transitively.  Each group takes the coordinates of its lowest-index
-    member.  With numba: one compiled call (hash-table weld, grid-hash pairs); without: a sort
-    and a k-d tree.  Both give the same groups.
+    tolerance (``rtol`` x the bounding-box diagonal, or 64 ulps of the largest coordinate when
+    larger, capped at a quarter of the short face edges), joined transitively.  Each group
+    takes the coordinates of its lowest-index member.  One compiled call (hash-table weld,
+    grid-hash merge); a k-d tree where the grid cannot number its cells (a tolerance below
+    1e-20 of the coordinates).
     """
-    from .mesh_arrays import compact_vertices, connected_components, near_pairs, topology_kernels, weld_vertices
+    v, f = validate_inputs(vertices, faces)
+    if not faces_in_range(f, len(v)):
+        raise InputError(f"faces index vertices outside 0..{len(v) - 1}", code="bad_index")
+    if len(f) == 0:
+        return v[:0], f
+    v, f, pending = _k.weld_and_merge(v, f, float(rtol))
+    return _merge_on_tree(v, f, pending) if pending > 0 else (v, f)
 
-    kernels = topology_kernels(len(faces))
-    if kernels is not None:  # compiled: hash-table weld and grid-hash merge, same groups
-        v, f = validate_inputs(vertices, faces)
-        if not faces_in_range(f, len(v)):
-            raise InputError(f"faces index vertices outside 0..{len(v) - 1}", code="bad_index")
-        if len(f) == 0:
-            return v[:0], f
-        v, f, done = kernels.weld_and_merge(np.ascontiguousarray(v), np.ascontiguousarray(f), float(rtol))
-        if done:
-            return v, f
-    else:
-        v, f = weld_vertices(vertices, faces)
-    if len(v) < 2 or rtol <= 0 or not np.isfinite(v).all():
-        return v, f
-    # within rtol of the mesh size, or within 64 ulps of the largest coordinate (rounding noise
-    # of coordinates computed far from the origin)
-    extent = v.max(axis=0) - v.min(axis=0)
-    scale = float(extent.max())
-    if not np.isfinite(scale):
-        return v, f   # coordinates near the float64 limit: nothing sensible to merge
-    diag = scale * float(np.sqrt(np.sum((extent / scale) ** 2))) if scale > 0 else 0.0  # no overflow
-    tol = float(max(rtol * diag, 64 * np.finfo(np.float64).eps * float(np.abs(v).max())))
-    if not 0 < tol < np.inf:
-        return v, f
-    tol = edge_capped_tolerance(v, f, tol)
+
+def _merge_on_tree(v: np.ndarray, f: np.ndarray, tol: float):
+    """Merge the welded ``v, f`` within ``tol`` with a k-d tree (the grid's cells cannot be numbered)."""
+    from scipy.spatial import cKDTree
+
+    from .mesh_arrays import compact_vertices, connected_components
+
     if not float(np.abs(v).max()) / tol < 1e150:
         return v, f   # the tree's squared distances would overflow (the checks refuse such coordinates)
-    pairs = near_pairs(v, tol)       # pure NumPy; None: coordinates too far out in units of tol
-    if pairs is None:
-        from scipy.spatial import cKDTree
-
-        if np.isfinite(tol * tol) and tol * tol > 0:
-            pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
-        else:  # tol^2 would overflow (or underflow) inside the tree: measure in units of tol
-            pairs = cKDTree(v / tol).query_pairs(1.0, output_type="ndarray")
+    if np.isfinite(tol * tol) and tol * tol > 0:
+        pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    else:  # tol^2 would overflow (or underflow) inside the tree: measure in units of tol
+        pairs = cKDTree(v / tol).query_pairs(1.0, output_type="ndarray")
     if len(pairs) == 0:
         return v, f
-    n = len(v)
-    _, label = connected_components(n, pairs[:, 0], pairs[:, 1])
-    # representative = lowest index of each group
-    rep_of_label = np.full(label.max() + 1, n, dtype=np.int64)
-    np.minimum.at(rep_of_label, label, np.arange(n))
-    fm = rep_of_label[label][f]
-    return compact_vertices(v, fm)
+    _, label = connected_components(len(v), pairs[:, 0], pairs[:, 1])
+    lowest = np.unique(label, return_index=True)[1]      # each component's lowest vertex stands for it
+    return compact_vertices(v, lowest[label][f])
 
 
 def _scene_triangles(trimesh, loaded, path: Path):
@@ -159,10 +123,6 @@ def _scene_triangles(trimesh, loaded, path: Path):
     if not fs:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     return np.concatenate(vs), np.concatenate(fs)
-
-
-#: one triangle of a binary STL: normal, three corners (float32), attribute byte count
-_STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
 
 
 def stl_kind(p: Path) -> int:
@@ -205,43 +165,14 @@ def _stl_kind_of(head: bytes, size: int, p) -> int:
                         code="malformed")
 
 
-#: the same records with the corners as raw 32-bit words (for welding by bits)
-_STL_BITS = np.dtype([("normal", "<u4", (3,)), ("corners", "<u4", (3, 3)), ("attribute", "<u2")])
-
-
-def _read_binary_stl(p: Path, n: int, data: bytes | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The corners of a binary STL of ``n`` triangles as float64 (3 n, 3), faces ``arange``.
-
-    The same arrays as ``trimesh.load(..., process=False)`` gives, without trimesh's objects.
-    ``data``: the file's bytes, when already read.
-    """
-    if data is None:
-        records = np.fromfile(p, dtype=_STL_RECORD, count=n, offset=84)
-    else:
-        records = np.frombuffer(data, dtype=_STL_RECORD, count=n, offset=84)
-    vertices = records["corners"].astype(np.float64).reshape(-1, 3)
-    return vertices, np.arange(3 * n, dtype=np.int64).reshape(n, 3)
-
-
-def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: bytes | None = None):
-    """``_merge_close_vertices(*_read_binary_stl(p, n), merge_rtol)`` in one compiled pass
-    over the file's records (no float64 triangle soup); None without numba or when the
-    compiled merge declines (the caller then takes the general route)."""
-    from .mesh_arrays import topology_kernels
-
-    kernels = topology_kernels(n)
-    if kernels is None or sys.byteorder != "little":  # the kernel reads little-endian words natively
-        return None
-    if data is None:
-        try:
-            data = p.read_bytes()
-        except OSError as exc:
-            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: np.ndarray):
+    """The ``n`` triangles of a binary STL (``data``: the file's bytes, uint8), welded and merged
+    as :func:`_merge_close_vertices` merges the soup of their corners (float32 read exactly as
+    float64), in one compiled pass over the file's records, without building that soup."""
     if len(data) != 84 + 50 * n:
         raise MeshFileError(f"{p}: malformed binary STL: the file changed size while being read", code="malformed")
-    records = np.frombuffer(data, dtype=_STL_BITS, count=n, offset=84)
-    vertices, faces, done = kernels.stl_weld_and_merge(records["corners"], float(merge_rtol))
-    return (vertices, faces) if done else None
+    vertices, faces, pending = _k.stl_weld_and_merge(data, n, float(merge_rtol))
+    return _merge_on_tree(vertices, faces, pending) if pending > 0 else (vertices, faces)
 
 
 _COLLADA_UNIT = re.compile(rb"""<unit\b[^>]*?\bmeter\s*=\s*["']([^"']+)["']""")
@@ -356,10 +287,8 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
         if ext == ".stl":
             n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
-        merged = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
-        if merged is not None:
-            return (merged[0] * factor if factor != 1.0 else merged[0]), merged[1]
-        vertices, faces = _read_binary_stl(p, n_binary, data)
+        vertices, faces = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
+        return (vertices * factor if factor != 1.0 else vertices), faces
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: compiled text readers

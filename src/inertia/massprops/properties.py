@@ -40,6 +40,11 @@ class MassProperties:
         Volume of the solid when known (NaN otherwise, e.g. for point masses or thin shells).
     warnings : tuple of str
         Warnings raised while computing the value (e.g. mesh defects accepted on request).
+    precision : float
+        Relative precision of ``inertia_com`` that the input allows (0: exact input).  A mesh
+        whose coordinates are float32 values carries about 1e-7; a robust result its error
+        bound.  Principal moments closer than ``max(REPEATED_MOMENTS_RTOL, precision)`` times
+        the largest count as repeated: the data cannot tell them apart.
 
     Construction validates by default (positive mass, finite, symmetric, positive definite,
     triangle inequality) and raises :class:`inertia.errors.InvalidInertiaError`; pass
@@ -53,6 +58,7 @@ class MassProperties:
     volume: float = math.nan
     warnings: tuple = ()
     validate: bool = field(default=True, repr=False)
+    precision: float = 0.0
 
     def __post_init__(self):
         try:
@@ -66,6 +72,10 @@ class MassProperties:
         object.__setattr__(self, "inertia_com", frozen_array(inertia))
         object.__setattr__(self, "volume", float(self.volume))
         object.__setattr__(self, "warnings", tuple(self.warnings))
+        precision = float(self.precision)
+        if not (0.0 <= precision < 1.0):
+            raise InputError(f"precision must be a relative precision in [0, 1), got {self.precision!r}")
+        object.__setattr__(self, "precision", precision)
         if not isinstance(self.frame, str):
             raise InputError(f"frame must be a string name, got {self.frame!r}")
         if self.validate:
@@ -76,7 +86,7 @@ class MassProperties:
     # ------------------------------------------------------------------ constructors
     @classmethod
     def _computed(cls, mass: float, com: np.ndarray, inertia: np.ndarray, *, frame: str = "body",
-                  volume: float = math.nan, warnings: tuple = ()) -> "MassProperties":
+                  volume: float = math.nan, warnings: tuple = (), precision: float = 0.0) -> "MassProperties":
         """Internal: a value this package has just computed (``com`` (3,) and ``inertia`` (3, 3)
         fresh float64 arrays, ``mass`` a float): validated for physics as every value is, without
         re-checking shapes and types (the per-call cost of a small mesh)."""
@@ -85,7 +95,8 @@ class MassProperties:
         com.setflags(write=False)
         inertia.setflags(write=False)
         for name, value in (("mass", float(mass)), ("com", com), ("inertia_com", inertia), ("frame", frame),
-                            ("volume", float(volume)), ("warnings", tuple(warnings)), ("validate", True)):
+                            ("volume", float(volume)), ("warnings", tuple(warnings)), ("validate", True),
+                            ("precision", float(precision))):
             object.__setattr__(obj, name, value)
         return obj
 
@@ -154,16 +165,24 @@ class MassProperties:
         I = self.inertia_com if about is None else self.about(about)
         return {k: float(v) for k, v in _t.elements_from_inertia(I, convention=convention).items()}
 
-    def principal(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    def principal(self, *, rtol: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(moments, axes)``: moments ascending (3,) kg m^2 and axes as columns of a proper rotation (3, 3).
 
-        See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules.
+        See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules; ``rtol``
+        (default: :attr:`moments_rtol`) decides which moments are repeated.
         """
         pf = self.principal_frame(rtol=rtol)
         return pf.moments, pf.R_body_principal
 
-    def principal_frame(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> PrincipalFrame:
-        """Principal moments, axes and the report of repeated moments."""
+    @property
+    def moments_rtol(self) -> float:
+        """The relative tolerance under which principal moments count as repeated:
+        ``REPEATED_MOMENTS_RTOL``, or the input's :attr:`precision` when coarser."""
+        return max(REPEATED_MOMENTS_RTOL, self.precision)
+
+    def principal_frame(self, *, rtol: float | None = None) -> PrincipalFrame:
+        """Principal moments, axes and the report of repeated moments (``rtol``: see :meth:`principal`)."""
+        rtol = self.moments_rtol if rtol is None else rtol
         # the value is immutable (read-only arrays), so the decomposition is computed once
         cache = self.__dict__.setdefault("_principal_cache", {})
         pf = cache.get(rtol)
@@ -171,13 +190,13 @@ class MassProperties:
             pf = cache[rtol] = principal_frame(self.inertia_com, rtol=rtol)
         return pf
 
-    def canonical(self, *, rtol: float = REPEATED_MOMENTS_RTOL) -> "CanonicalForm":
+    def canonical(self, *, rtol: float | None = None) -> "CanonicalForm":
         """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
         pf = self.principal_frame(rtol=rtol)
         props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
-                               volume=self.volume, warnings=self.warnings, validate=False)
+                               volume=self.volume, warnings=self.warnings, validate=False, precision=self.precision)
         return CanonicalForm(props=props, R_body_principal=pf.R_body_principal, p_body_com=self.com,
-                             degenerate=pf.degenerate, rtol=rtol, frame=self.frame)
+                             degenerate=pf.degenerate, rtol=pf.rtol, frame=self.frame)
 
     def check(self) -> list[Violation]:
         """Every physical-validity violation (empty when valid); see :mod:`inertia.massprops.validity`."""
@@ -199,7 +218,7 @@ class MassProperties:
     # ------------------------------------------------------------------ transforms
     def _replace(self, **kw) -> "MassProperties":
         args = dict(mass=self.mass, com=self.com, inertia_com=self.inertia_com, frame=self.frame,
-                    volume=self.volume, warnings=self.warnings, validate=False)
+                    volume=self.volume, warnings=self.warnings, validate=False, precision=self.precision)
         args.update(kw)
         return MassProperties(**args)
 
@@ -337,7 +356,7 @@ def combine(bodies, signs=None, *, frame=None, allow_negative: bool = False, val
     vol = float(vols.sum()) if np.all(np.isfinite(vols)) else math.nan
     warnings = tuple(w for b in bodies for w in b.warnings)
     return MassProperties(M, com, 0.5 * (I + I.T), frame=frame or bodies[0].frame, volume=vol,
-                          warnings=warnings, validate=validate)
+                          warnings=warnings, validate=validate, precision=max(b.precision for b in bodies))
 
 
 def point_masses(masses, positions, *, frame: str = "body", validate: bool = True):

@@ -39,6 +39,12 @@ import numpy as np
 from .._core.tolerances import SIMULATOR_MIN_VALUE
 from .geometry import geometry_bounds, link_geometry_properties
 
+#: the validity checks' tolerance, relative to the trace: the rounding of the principal moments
+#: of a tensor written in float64 (a few ulps), so that a moment of 1e-12 beside 1 (which MuJoCo
+#: compiles) is positive, while a triangle inequality broken by 1e-13 (which MuJoCo refuses) is
+#: broken.  MuJoCo's absolute floor for moving bodies is the tree checks' (:mod:`.floors`).
+ROUNDING_RTOL = 8 * float(np.finfo(float).eps)
+
 MOMENT_RATIO_LIMIT = 3.0
 AXIS_ANGLE_LIMIT_DEG = 45.0
 COM_MARGIN = 0.05
@@ -72,9 +78,11 @@ class CheckReport:
     links: list
     #: links with no mass that simulators accept (fixed joints, or welded to a body with mass)
     massless_frames: list = field(default_factory=list)
-    #: findings about the file as a whole (no links; joints that cannot be read)
+    #: findings about the file as a whole (no links; joints that cannot be read; what the
+    #: reader read although other tools would not)
     errors: list = field(default_factory=list)
     notes: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
 
     @property
     def n_errors(self) -> int:
@@ -82,12 +90,20 @@ class CheckReport:
 
     @property
     def n_warnings(self) -> int:
-        return sum(len(lk.warnings) for lk in self.links)
+        return len(self.warnings) + sum(len(lk.warnings) for lk in self.links)
 
     def to_dict(self) -> dict:
         return {"file": self.file, "links": [lk.to_dict() for lk in self.links],
                 "massless_frames": list(self.massless_frames), "errors": [e.to_dict() for e in self.errors],
-                "notes": [n.to_dict() for n in self.notes]}
+                "warnings": [w.to_dict() for w in self.warnings], "notes": [n.to_dict() for n in self.notes]}
+
+
+def inertia_violations(inertia, mass=None) -> list:
+    """:func:`~inertia.massprops.validity.check_inertia` at :data:`ROUNDING_RTOL`: the one
+    judgement of a tensor that ``check`` and ``fix`` share."""
+    from ..massprops.validity import check_inertia
+
+    return check_inertia(inertia, mass, rtol=ROUNDING_RTOL)
 
 
 def flip_products(inertia) -> np.ndarray:
@@ -103,16 +119,17 @@ def _principal(inertia):
     return principal_axes(inertia)
 
 
-def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str | None = None) -> LinkReport:
-    """The findings for one link (``where`` is ``file:line`` for messages)."""
-    from ..massprops.validity import check_inertia
-
+def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str | None = None,
+               warnings: bool = True, compiler: dict | None = None) -> LinkReport:
+    """The findings for one link (``where`` is ``file:line`` for messages); ``warnings=False``
+    skips the comparisons with the geometry, which give warnings only (the errors are the same).
+    ``compiler``: MJCF's ``<compiler>`` mass options for the body (MuJoCo repairs what they cover)."""
     rep = LinkReport(link.name, link.line)
     for code, msg in link.notes:
         rep.warnings.append(Finding(code, msg))
     inertial = link.inertial
     if link.inertia_from_geoms:  # MJCF: MuJoCo computes this body's inertia from its geoms
-        return _check_from_geoms(link, rep, where, mesh_units)
+        return _check_from_geoms(link, rep, where, mesh_units, warnings)
     if inertial is None:
         return rep
     at = f"{inertial_where or where}: link {link.name!r}"  # errors point at the <inertial> itself
@@ -124,11 +141,11 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
                                   "needs a positive mass (a massless frame has mass 0 and a zero tensor)"))
     codes = {"mass_not_positive": None, "not_finite": "not_positive_definite", "not_symmetric": "not_symmetric",
              "not_positive_definite": "not_positive_definite", "triangle_inequality": "triangle_inequality"}
-    violations = check_inertia(inertial.inertia_declared)
+    violations = inertia_violations(inertial.inertia_declared)
     hint = ""
     if any(v.code in ("triangle_inequality", "not_positive_definite") for v in violations):
         flipped = flip_products(inertial.inertia_declared)
-        if not check_inertia(flipped) and not np.array_equal(flipped, inertial.inertia_declared):
+        if not inertia_violations(flipped) and not np.array_equal(flipped, inertial.inertia_declared):
             hint = ("; with the signs of its products of inertia flipped it is physical: they were probably "
                     "copied from CAD, which lists positive products (this format wants the tensor elements "
                     "ixy = -sum m x y); 'inertia fix --flip-products' flips them")
@@ -137,7 +154,15 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         if code:
             extra = hint if code in ("triangle_inequality", "not_positive_definite") else ""
             rep.errors.append(Finding(code, f"{at}: {v.message}{extra}"))
-    if rep.errors:
+    if inertial.form == "fullinertia" and not any(e.code == "not_positive_definite" for e in rep.errors):
+        least = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_declared + inertial.inertia_declared.T))[0])
+        if not least >= SIMULATOR_MIN_VALUE:  # MuJoCo's rule for fullinertia, moving body or not
+            rep.errors.append(Finding("not_positive_definite", (
+                f"{at}: fullinertia's smallest principal moment is {least:.3g} kg m^2, below {SIMULATOR_MIN_VALUE:g}: "
+                "MuJoCo refuses it (\"inertia must have positive eigenvalues\" in fullinertia)")))
+    if rep.errors and compiler:
+        _compiler_repairs(rep, compiler)
+    if violations or rep.errors or not warnings:
         return rep  # comparisons with the geometry need a valid tensor
 
     bounds = geometry_bounds(link, mesh_units=mesh_units)
@@ -186,6 +211,26 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
     return rep
 
 
+def _compiler_repairs(rep, compiler: dict) -> None:
+    """Errors MuJoCo's compiler repairs become warnings (``compiler_repairs_inertia``): a zero
+    mass under ``boundmass``, a moment under ``boundinertia``, a broken triangle inequality under
+    ``balanceinertia`` (the moments become their mean)."""
+    from .urdf_sdf import floats
+
+    repairs = {"non_positive_mass": floats(compiler["boundmass"], 1, "<compiler>", "boundmass")[0] > 0,
+               "not_positive_definite": floats(compiler["boundinertia"], 1, "<compiler>", "boundinertia")[0] > 0,
+               "triangle_inequality": compiler["balanceinertia"] == "true"}
+    option = {"non_positive_mass": "boundmass", "not_positive_definite": "boundinertia",
+              "triangle_inequality": "balanceinertia"}
+    if not all(repairs.get(e.code) for e in rep.errors) or any("is -" in e.message for e in rep.errors):
+        return  # something MuJoCo refuses remains (a negative mass is refused whatever the bounds)
+    for e in rep.errors:
+        rep.warnings.append(Finding("compiler_repairs_inertia", f"{e.message}; MuJoCo's <compiler "
+                                    f"{option[e.code]}={compiler[option[e.code]]!r}> repairs it when it compiles "
+                                    "the model (the file itself stays invalid for other tools)"))
+    rep.errors.clear()
+
+
 def _mark_skipped(rep, problem: str, suffix: str) -> None:
     """Add ``suffix`` to the reader's mesh_not_found warning for the shape ``problem`` names
     (``"line N: ..."``), instead of a second message about the same mesh."""
@@ -195,22 +240,22 @@ def _mark_skipped(rep, problem: str, suffix: str) -> None:
             w.message += suffix
 
 
-def _check_from_geoms(link, rep, where, mesh_units):
+def _check_from_geoms(link, rep, where, mesh_units, warnings: bool = True):
     """A body whose inertia MuJoCo takes from its geoms: check what it would compute."""
-    from ..massprops.validity import check_inertia
-
     at = f"{where}: body {link.name!r}"
     props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units, simulator=True)
     for code, msg in problems:
         rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
     if props is not None:
-        for v in check_inertia(props.inertia_com, props.mass):
+        from ..massprops.validity import check_inertia
+
+        for v in check_inertia(props.inertia_com, props.mass):  # sums of shapes: the default rounding
             rep.errors.append(Finding(v.code if v.code != "mass_not_positive" else "non_positive_mass",
                                       f"{at}: the inertia computed from its geoms: {v.message}"))
         if link.inertial is not None:
             rep.notes.append(Finding("inertial_ignored", f"{at}: inertiafromgeom=\"true\": the declared "
                                      "<inertial> is replaced by the geoms' inertia"))
-        if not rep.errors:
+        if not rep.errors and warnings:
             _compare_legacy(link, props, rep, at, mesh_units)
     return rep
 
@@ -268,29 +313,49 @@ def _axes_angle(moments_a, R_a, moments_b, R_b):
     return worst
 
 
-def check_model(model, *, mesh_units: str = "m") -> CheckReport:
+def check_model(model, *, mesh_units: str = "m", warnings: bool = True) -> CheckReport:
     """Every link's findings (:func:`check_link`), then those that need the kinematic tree
     (:mod:`inertia.robots.floors`): moving bodies below the simulators' floor, massless moving
-    links, implausible radii of gyration, and the list of massless frames."""
+    links, planes in moving MJCF bodies, implausible radii of gyration, kinematic loops, and
+    the list of massless frames.  ``warnings=False``: the errors only (what ``fix`` asks)."""
     links = []
     doc = model.document
+    main_compiler = None
+    if model.format == "mjcf" and doc is not None:
+        from .whole import compiler_mass_attrs
+
+        main_compiler = compiler_mass_attrs(doc.root.findall("compiler"))
     for link in model.links:
         if doc is not None and link.element is not None:
             where = doc.where(link.element)
             inertial_where = doc.where(link.inertial.element) if link.inertial is not None else where
         else:
             where = inertial_where = f"{model.path}:{link.line}" if link.line else str(model.path)
-        links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where))
+        compiler = main_compiler
+        if main_compiler is not None and link.mjcf_compilers is not None:
+            from .whole import compiler_mass_attrs
+
+            compiler = compiler_mass_attrs(link.mjcf_compilers)
+        links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where,
+                                warnings=warnings, compiler=compiler))
     report = CheckReport(str(model.path), links)
-    if not model.links:
-        report.errors.append(Finding("no_links", f"{model.path}: the file holds no link (body): nothing to simulate "
-                                     "or check (urdfdom and MuJoCo refuse such a robot)"))
+    for code, message in getattr(doc, "notes", ()):
+        report.warnings.append(Finding(code, message))
+    if not model.links and model.format == "mjcf":
+        report.notes.append(Finding("no_bodies", f"{model.path}: the file holds no body: nothing to check (MuJoCo "
+                                    "compiles it: an include fragment of defaults, assets or keyframes, or a "
+                                    "scene without bodies)"))
         return report
-    _tree_checks(model, report, mesh_units)
+    if not model.links:
+        report.errors.append(Finding("no_links", f"{model.path}: the file holds no link: nothing to simulate or "
+                                     f"check ({'urdfdom' if model.format == 'urdf' else 'libsdformat'} refuses "
+                                     "such a robot)"))
+        return report
+    _tree_checks(model, report, mesh_units, warnings)
     return report
 
 
-def _tree_checks(model, report: CheckReport, mesh_units: str) -> None:
+def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = True) -> None:
     from .._core.errors import InertiaError
     from . import floors
     from .whole import link_mass_properties
@@ -315,8 +380,32 @@ def _tree_checks(model, report: CheckReport, mesh_units: str) -> None:
                 known[id(link)] = None
         return known[id(link)]
 
+    if model.format == "mjcf":  # what MuJoCo simulates: after boundmass, boundinertia, balanceinertia
+        from .whole import mujoco_compiler_adjustments
+
+        local = [(props_of(lk), "declared") for lk in model.links]
+        for lk, (props, _) in zip(model.links, mujoco_compiler_adjustments(model, local, [])):
+            known[id(lk)] = props
+
+    loops = getattr(model, "loop_joints", [])
+    if loops:
+        report.notes.append(Finding("kinematic_loop", (
+            f"{model.path}: {len(loops)} joint{'s close' if len(loops) > 1 else ' closes'} a kinematic loop: "
+            + "; ".join(f"line {j.line}: joint {j.name!r} (its child link {child!r} already has a parent)"
+                        for j, child in loops[:10]) + (" ..." if len(loops) > 10 else "")
+            + ". Mass properties need no tree: each link is counted once, at the pose of the tree without "
+            "these joints")))
     moving = floors.moving_links(model)
-    for g, members in floors.welded_groups(model, moving).items():
+    groups = floors.welded_groups(model, moving)
+    if model.format == "mjcf":
+        _static_zero_moments(model, report, {i for members in groups.values() for i, _, _ in members})
+    for g, members in groups.items():
+        for i, _, _ in members:
+            for what in model.links[i].static_only:
+                report.links[i].errors.append(Finding("plane_in_moving_body", (
+                    f"{what}: body {model.links[i].name!r} moves (it or a body it is welded to has a joint), and "
+                    "MuJoCo refuses it: \"plane only allowed in static bodies\"")))
+    for g, members in groups.items():
         rep = report.links[g]
         if rep.errors:
             continue
@@ -343,8 +432,21 @@ def _tree_checks(model, report: CheckReport, mesh_units: str) -> None:
         if model.format == "sdf" and link.inertial is None:
             rep.notes.append(Finding("sdf_default_inertial", f"{_where(model, i)}: link {link.name!r} has no "
                                      "<inertial>: Gazebo simulates it with mass 1 kg and moments 1 kg m^2"))
-        if link.inertial is not None and not rep.errors:
+        if link.inertial is not None and not rep.errors and warnings:
             _gyration(model, i, link, rep, mesh_units, floors)
+
+
+def _static_zero_moments(model, report, in_motion: set) -> None:
+    """A body welded to the world with a ``diaginertia`` moment of exactly 0 (a rod, a point):
+    MuJoCo compiles it (it never moves), so the error becomes a warning."""
+    for i, (link, rep) in enumerate(zip(model.links, report.links)):
+        inertial = link.inertial
+        if i in in_motion or inertial is None or inertial.form != "diaginertia":
+            continue
+        if [e.code for e in rep.errors] == ["not_positive_definite"] and np.diag(inertial.inertia_declared).min() == 0:
+            rep.warnings += [Finding("static_degenerate_inertia", f"{e.message}; the body is welded to the world "
+                                     "(it never moves), and MuJoCo compiles it") for e in rep.errors]
+            rep.errors.clear()
 
 
 def _where(model, i: int) -> str:

@@ -26,8 +26,7 @@ import numpy as np
 
 from .._core.errors import InputError
 from .._core.tolerances import SIMULATOR_MIN_VALUE
-from ..massprops.validity import check_inertia
-from .check import flip_products
+from .check import flip_products, inertia_violations
 from .edit import SourceEditor
 from .geometry import link_geometry_properties
 from .io import read_robot
@@ -58,7 +57,7 @@ def nearest_physical_inertia(inertia, *, min_rtol: float = MIN_MOMENT_RTOL) -> n
     declared principal axes.  A tensor that is already physical is returned unchanged.
     """
     I = 0.5 * (np.asarray(inertia, float) + np.asarray(inertia, float).T)
-    if not check_inertia(I):
+    if not inertia_violations(I):
         return I
     w, V = np.linalg.eigh(I)
     floor = max(min_rtol * max(abs(float(np.sum(w))), float(np.abs(w).max())), SIMULATOR_MIN_VALUE)
@@ -180,7 +179,8 @@ def _set_sdf(ed: SourceEditor, el, props, mass_scale: float) -> None:
     if pose is None:
         ed.append_child(el, f"<pose>{format_vector(props.com)} 0 0 0</pose>")
     else:
-        ed.remove_attribute(pose, "relative_to")
+        for a in ("relative_to", "degrees", "rotation_format"):
+            ed.remove_attribute(pose, a)
         ed.set_text_numbers(pose, [*props.com, 0.0, 0.0, 0.0])
     m = el.find("mass")
     if m is None:
@@ -218,7 +218,7 @@ def _moments(I) -> str:
 def _fix_flip(ed, fmt, inertial, own, mass_scale, report, name) -> None:
     """Negate the products where the declared tensor is not physical and the flipped one is."""
     flipped = flip_products(own)
-    if check_inertia(own) and not check_inertia(flipped) and not below_floor(flipped):
+    if inertia_violations(own) and not inertia_violations(flipped) and not below_floor(flipped):
         report.changed[name] = "products of inertia negated (CAD sign -> tensor elements)"
         _set_tensor(ed, fmt, inertial.element, flipped, mass_scale)
         return inertial.mass * mass_scale, flipped
@@ -263,13 +263,28 @@ def _fix_geometry(ed, setter, link, mass, report, *, role, density, mesh_units, 
     return props.mass, props.inertia_com
 
 
+class _Elsewhere:
+    """An editor for inertials of other files (an MJCF ``<include>`` or ``<attach>``): it edits
+    nothing, and records that a change was asked for."""
+
+    def __init__(self):
+        self.asked = False
+
+    def __getattr__(self, name):
+        def record(*args, **kwargs):
+            self.asked = True
+        return record
+
+
 def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,
              in_place: bool = False, search_paths=(), mesh_units: str = "m", mass_scale: float = 1.0) -> FixReport:
     """Write the corrected copy (see the module docstring); returns what changed.
 
     The output is the input's bytes with only the changed numbers (or inertial elements)
-    replaced; with nothing to change it is identical (``report.identical``).  Links still
-    invalid in the output are in ``report.remaining`` (link name -> why).
+    replaced; with nothing to change it is identical (``report.identical``).  Whether the
+    output is valid is :func:`~inertia.robots.check.check_model`'s judgement of it (its
+    errors), the same as ``inertia check`` of the written file: ``report.remaining`` maps each
+    link it still finds errors in (and ``"(file)"`` for the file as a whole) to them.
     ``mass_scale`` is the file's mass unit in kg (1e-3 for grams): declared values are read
     and written in the file's units.
     """
@@ -278,11 +293,6 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
         raise InputError(f"mode must be 'nearest', 'geometry' or 'flip', got {mode!r}")
     output = _output_path(path, output, in_place)
     model = read_robot(path, search_paths=search_paths)
-    included = getattr(model.document, "included", [])
-    if included:
-        names = ", ".join(p.name for p in included)
-        raise InputError(f"{path} includes or attaches other files ({names}); fix the file that holds the "
-                         "inertials instead, so that no change is lost")
     if getattr(model.document, "generated_by", None) == "xacro":
         raise InputError(f"{path} is a xacro file: its inertials come from macros and arguments, so no fix can be "
                          "written back into it; fix its expanded file instead (xacro FILE > robot.urdf)")
@@ -290,35 +300,53 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     setter = {"urdf": _set_urdf, "sdf": _set_sdf, "mjcf": _set_mjcf}[model.format]
     report = FixReport(str(output))
     edited: set = set()
+    elsewhere: list = []
     for link in model.links:
         inertial = link.inertial
         if inertial is None or id(inertial.element) in edited:
             continue    # an MJCF <replicate> copies one <inertial>: it is fixed once, for every copy
         edited.add(id(inertial.element))
         own, mass = inertial.inertia_declared * mass_scale, inertial.mass * mass_scale
+        this = ed if model.document.start_byte(inertial.element) is not None else _Elsewhere()
         if mode == "flip":
-            final = _fix_flip(ed, model.format, inertial, own, mass_scale, report, link.name)
+            _fix_flip(this, model.format, inertial, own, mass_scale, report, link.name)
         elif mode == "nearest":
-            final = _fix_nearest(ed, model.format, inertial, own, mass_scale, report, link.name)
+            _fix_nearest(this, model.format, inertial, own, mass_scale, report, link.name)
         else:
-            final = _fix_geometry(ed, setter, link, mass, report, role=role, density=density,
-                                  mesh_units=mesh_units, mass_scale=mass_scale)
-        why = _remaining_problems(*(final or (mass, own)))
-        if why:
-            report.remaining[link.name] = why
+            _fix_geometry(this, setter, link, mass, report, role=role, density=density,
+                          mesh_units=mesh_units, mass_scale=mass_scale)
+        if this is not ed and this.asked:
+            elsewhere.append(f"{link.name!r} ({model.document.where(inertial.element)})")
+    if elsewhere:
+        raise InputError(f"{path}: the inertials to fix are in files it includes or attaches: "
+                         f"{', '.join(elsewhere[:5])}{' ...' if len(elsewhere) > 5 else ''}; fix the file that holds "
+                         "them instead, so that no change is lost")
     data = ed.result()
     report.identical = data == model.document.source
+    report.remaining = _output_errors(model, data, path, search_paths, mesh_units, mass_scale)
     from .._core.atomic import write_bytes_atomic
 
     write_bytes_atomic(output, data)
     return report
 
 
-def _remaining_problems(mass: float, own) -> str | None:
-    """Why a link's final inertial (mass in kg, tensor in kg m^2) is still invalid, or None."""
-    if mass <= 0 and not np.any(own):
-        return None  # a massless frame
-    problems = [v.message for v in check_inertia(own, mass)]
-    if not problems and below_floor(own):
-        problems.append(f"its largest principal moment is below {SIMULATOR_MIN_VALUE:g} kg m^2 (MuJoCo refuses it)")
-    return "; ".join(problems) or None
+def _output_errors(model, data: bytes, path: Path, search_paths, mesh_units: str, mass_scale: float) -> dict:
+    """``inertia check``'s errors on the output ``data``, read as if it stood at ``path`` (its
+    meshes and includes where the input's are): link name (``"(file)"``) -> messages."""
+    from . import mjcf, urdf_sdf
+    from .check import check_model
+    from .xmlsafe import parse_xml_bytes
+
+    doc = parse_xml_bytes(data, path)
+    reader = {"urdf": urdf_sdf.read_urdf, "sdf": urdf_sdf.read_sdf, "mjcf": mjcf.read_mjcf}[model.format]
+    fixed = reader(path, search_paths=search_paths, document=doc)
+    for link in fixed.links:
+        if link.inertial is not None and mass_scale != 1.0:
+            link.inertial.mass *= mass_scale
+            link.inertial.inertia_declared = link.inertial.inertia_declared * mass_scale
+    found = check_model(fixed, mesh_units=mesh_units, warnings=False)
+    out = {"(file)": "; ".join(e.message for e in found.errors)} if found.errors else {}
+    for lk in found.links:
+        if lk.errors:
+            out[lk.name] = "; ".join(f"{e.code}: {e.message}" for e in lk.errors)
+    return out

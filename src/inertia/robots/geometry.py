@@ -8,6 +8,7 @@ scaled to that total mass (the declared one, when checking a file).
 
 from __future__ import annotations
 
+import logging
 import math
 import warnings
 
@@ -60,20 +61,63 @@ _MESH_CACHE: dict = {}
 _MESH_CACHE_SIZE = 64
 
 
+#: what the mesh reader's dependencies said while reading a file (trimesh logs a traceback for a
+#: COLLADA texture it cannot load), by path: one line each, reported as a note on the shape
+_MESH_MESSAGES: dict = {}
+
+
+class _Collect(logging.Handler):
+    """A logging handler that keeps each record as one line (its message and exception, no traceback)."""
+
+    def __init__(self, lines: list):
+        super().__init__(logging.WARNING)
+        self.lines = lines
+
+    def emit(self, record) -> None:
+        line = record.getMessage().strip().splitlines()[0] if record.getMessage().strip() else record.levelname
+        if record.exc_info and record.exc_info[1] is not None:
+            line += f" ({type(record.exc_info[1]).__name__}: {str(record.exc_info[1]).splitlines()[0][:160]})"
+        if line not in self.lines:
+            self.lines.append(line)
+
+
+def _load_quietly(path, mesh_units: str):
+    """:func:`~inertia.geometry.mesh_io.load_mesh`, with trimesh's log records kept as lines in
+    :data:`_MESH_MESSAGES` instead of tracebacks on stderr."""
+    from ..geometry.mesh_io import load_mesh
+
+    lines: list = []
+    logger = logging.getLogger("trimesh")
+    handler, propagate = _Collect(lines), logger.propagate
+    logger.addHandler(handler)
+    logger.propagate = False
+    try:
+        return load_mesh(path, units=mesh_units, quads="shorter")
+    finally:
+        logger.removeHandler(handler)
+        logger.propagate = propagate
+        if lines:
+            _MESH_MESSAGES[str(path)] = lines
+
+
+def mesh_messages(geom) -> list:
+    """What the mesh reader's dependencies said about the geometry's mesh file (see :data:`_MESH_MESSAGES`)."""
+    path = geom.params.get("path") if geom.kind == "mesh" else None
+    return _MESH_MESSAGES.get(str(path), []) if path is not None else []
+
+
 def _load_cached(path, mesh_units: str):
     """The mesh file's arrays, cached; OBJ quadrilaterals split along their shorter diagonal, as
     MuJoCo's OBJ reader splits them (a robot file's numbers are the simulator's)."""
-    from ..geometry.mesh_io import load_mesh
-
     try:
         st = path.stat()
         key = (str(path), st.st_size, st.st_mtime_ns, mesh_units)
     except OSError:
-        return load_mesh(path, units=mesh_units, quads="shorter")
+        return _load_quietly(path, mesh_units)
     if key not in _MESH_CACHE:
         if len(_MESH_CACHE) >= _MESH_CACHE_SIZE:
             _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
-        v, f = load_mesh(path, units=mesh_units, quads="shorter")
+        v, f = _load_quietly(path, mesh_units)
         v.setflags(write=False)
         f.setflags(write=False)
         _MESH_CACHE[key] = (v, f)
@@ -196,10 +240,14 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
                 part = shape_properties(g, density=density, mesh_units=mesh_units, simulator=simulator)
             except InertiaError as exc:
                 missing = g.kind == "mesh" and g.params.get("path") is None
+                said = f" (its reader said: {'; '.join(mesh_messages(g))})" if mesh_messages(g) else ""
                 problems.append(("mesh_not_found" if missing else "geometry_unusable",
-                                 f"line {g.line}: {r} {g.kind}: {_short(exc, g)}"))
+                                 f"line {g.line}: {r} {g.kind}: {_short(exc, g)}{said}"))
                 continue
             total = part if total is None else total + part
+            if mesh_messages(g):
+                notes.append(("mesh_reader_message", f"line {g.line}: {r} mesh {g.params.get('path')}: its reader "
+                              f"said: {'; '.join(mesh_messages(g))} (the triangles were read)"))
             if any("overlapping_shells accepted" in w or "self_intersecting accepted" in w for w in part.warnings):
                 notes.append((SUMMED_OVERLAP, f"line {g.line}: {r} mesh {g.params.get('path')}: closed parts of "
                               "the mesh overlap; summed as the simulator sums them (the overlap counts twice)"))

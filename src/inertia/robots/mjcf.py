@@ -2,9 +2,12 @@
 
 Supported, following MuJoCo's compiler:
 
-* ``<compiler angle="degree|radian" eulerseq="xyz" meshdir assetdir inertiafromgeom>``
-  (MuJoCo's default angle unit is degrees; euler sequences with lower-case letters rotate
-  with the frame, upper-case ones about fixed axes);
+* ``<compiler angle="degree|radian" eulerseq="xyz" meshdir assetdir inertiafromgeom
+  inertiagrouprange fitaabb>`` (MuJoCo's default angle unit is degrees; euler sequences with
+  lower-case letters rotate with the frame, upper-case ones about fixed axes).  Every
+  ``<compiler>`` of the model, those of included files too, is merged in document order and
+  holds for the whole model (:func:`merged_compiler`); geoms outside ``inertiagrouprange``
+  carry no mass; ``exactmeshinertia`` (removed from MJCF) is refused as MuJoCo refuses it;
 * default classes (``<default class=...>``, nested, inherited), ``class`` on elements and
   ``childclass`` on bodies, for ``geom``, ``inertial`` and ``mesh`` attributes;
 * orientations ``quat`` (w x y z), ``euler``, ``axisangle``, ``xyaxes``, ``zaxis``;
@@ -70,17 +73,52 @@ def _choice(el, attr: str, default: str, allowed: tuple, where: str) -> str:
     return value
 
 
+#: ``<compiler>`` attributes MuJoCo's schema refused in this version, and why
+_REMOVED_COMPILER = {"exactmeshinertia": "MuJoCo 3.2 replaced it by <mesh inertia=\"exact\">; MuJoCo refuses the "
+                                         "attribute (\"unrecognized attribute\")"}
+
+
+def merged_compiler(elements) -> tuple[dict, dict]:
+    """``(attributes, element that set each)`` of a model's ``<compiler>`` elements.
+
+    MuJoCo reads every ``<compiler>`` of the model (those of included files too) before any
+    other section, in document order, each setting only the attributes it gives: the last
+    value of each attribute holds for the whole model, wherever the element stands.
+    """
+    attrs: dict = {}
+    owner: dict = {}
+    for el in elements:
+        for k, v in el.attrib.items():
+            attrs[k], owner[k] = v, el
+    return attrs, owner
+
+
 class _Compiler:
-    def __init__(self, el, where):
-        self.degree = _choice(el, "angle", "degree", ("degree", "radian"), where) == "degree"
-        seq = el.get("eulerseq", "xyz") if el is not None else "xyz"
+    """A model's compiler settings (see :func:`merged_compiler`); ``where(attr)`` names the
+    element that set ``attr``."""
+
+    def __init__(self, elements, doc, default_where: str):
+        a, owner = merged_compiler(elements)
+        self.where = lambda k: doc.where(owner[k]) if k in owner else default_where
+        for k in _REMOVED_COMPILER:
+            if k in a:
+                raise RobotFileError(f"{self.where(k)}: <compiler {k}=...> is not MJCF any more: "
+                                     f"{_REMOVED_COMPILER[k]}")
+        self.degree = _choice(a, "angle", "degree", ("degree", "radian"), self.where("angle")) == "degree"
+        seq = a.get("eulerseq", "xyz")
         if len(seq) != 3 or any(c.lower() not in _AXES for c in seq):
-            raise RobotFileError(f"{where}: compiler eulerseq {seq!r} must be three of x, y, z, X, Y, Z")
+            raise RobotFileError(f"{self.where('eulerseq')}: compiler eulerseq {seq!r} must be three of x, y, z, "
+                                 "X, Y, Z")
         self.eulerseq = seq
-        self.meshdir = el.get("meshdir") if el is not None else None
-        self.assetdir = el.get("assetdir") if el is not None else None
-        self.inertiafromgeom = _choice(el, "inertiafromgeom", "auto", ("false", "true", "auto"), where)
-        self.fitaabb = _choice(el, "fitaabb", "false", ("false", "true"), where) == "true"
+        self.meshdir = a.get("meshdir")
+        self.assetdir = a.get("assetdir")
+        self.inertiafromgeom = _choice(a, "inertiafromgeom", "auto", ("false", "true", "auto"),
+                                       self.where("inertiafromgeom"))
+        self.fitaabb = _choice(a, "fitaabb", "false", ("false", "true"), self.where("fitaabb")) == "true"
+        text = a.get("inertiagrouprange", "0 5")
+        lo, hi = floats(text, 2, self.where("inertiagrouprange"), "compiler inertiagrouprange")
+        #: geoms whose group is outside this range carry no mass (MuJoCo's inertiagrouprange)
+        self.inertiagroups = (lo, hi)
 
     def angle(self, v: float) -> float:
         return math.radians(v) if self.degree else v
@@ -178,9 +216,8 @@ class _Scope:
         models[self.path.resolve()] = self
         _expand_includes(doc, self.base, set())
         root = doc.root
-        comp_el = root.find("compiler")
-        self.comp = _Compiler(comp_el, doc.where(comp_el) if comp_el is not None else str(path))
         self.compilers = root.findall("compiler")
+        self.comp = _Compiler(self.compilers, doc, str(path))
         self.defaults: dict = {}
         for d in root.findall("default"):
             _collect_defaults(d, {}, self.defaults)
@@ -312,7 +349,7 @@ def _inertial(a: dict, comp: _Compiler, where: str, line, element) -> Inertial:
         I = np.diag(floats(a["diaginertia"], 3, where, "diaginertia"))
     else:
         raise RobotFileError(f"{where} needs diaginertia or fullinertia")
-    return Inertial(mass, pos, R, I, line, element)
+    return Inertial(mass, pos, R, I, line, element, "fullinertia" if "fullinertia" in a else "diaginertia")
 
 
 #: MJCF joint types and what they do to the body (hinge and slide move by their value)
@@ -457,6 +494,8 @@ def _mesh_asset(doc, m, attrs: dict, mesh_dir: Path, search_paths):
 def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
     where = f"{doc.where(el)}: body {link.name!r}: <geom>"
     kind = a.get("type", "sphere")
+    if kind == "plane":  # MuJoCo refuses it in a body that moves (the tree checks say so)
+        link.static_only.append(f"{where} type=\"plane\"")
     if kind in ("plane", "hfield", "sdf"):
         return None
     size = floats(a.get("size", ""), None, where, "geom size")
@@ -516,8 +555,11 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
         return None
     if kind in need and a.get("shellinertia", "false") == "true":
         params["shell"] = True  # hollow: density per unit area (MuJoCo's shellinertia)
-    if (mass is None and density == 0) or mass == 0:
-        # no mass in MuJoCo (a visual geom), but its shape still describes the body: kept for
-        # the checks as a "visual" shape of uniform density
+    group = floats(a.get("group", "0"), 1, where, "geom group")[0]
+    lo, hi = comp.inertiagroups
+    if (mass is None and density == 0) or mass == 0 or not lo <= group <= hi:
+        # no mass in MuJoCo (a visual geom, or one outside <compiler inertiagrouprange>), but
+        # its shape still describes the body: kept for the checks as a "visual" shape of
+        # uniform density
         return Geometry(kind, params, R, p, "visual", doc.line(el))
     return Geometry(kind, params, R, p, "collision", doc.line(el), density=density, mass=mass)

@@ -25,6 +25,8 @@ class Inertial:
     inertia_declared: np.ndarray
     line: int | None = None
     element: object = None
+    #: MJCF: how the tensor was written ("fullinertia" or "diaginertia"; MuJoCo judges them apart)
+    form: str | None = None
 
     @property
     def inertia_link(self) -> np.ndarray:
@@ -103,6 +105,8 @@ class Link:
     #: MJCF: the ``<compiler>`` elements whose mass bounds apply to this body when they are not
     #: the file's own (a body an ``<attach>`` brings from another model), else None
     mjcf_compilers: list | None = None
+    #: MJCF: geoms MuJoCo allows only in a static body (``type="plane"``), as ``file:line ...``
+    static_only: list = field(default_factory=list)
 
 
 @dataclass
@@ -116,6 +120,9 @@ class RobotModel:
     #: the name of the frame the link poses end in ("world"; URDF: the root link's frame), set
     #: with the kinematics (None: not read yet)
     root_frame: str | None = None
+    #: ``(Joint, child link name)`` of the joints that close kinematic loops (their child already
+    #: has a parent joint): named in the check's notes, not used for the poses
+    loop_joints: list = field(default_factory=list)
 
     def link(self, name: str) -> Link:
         """The link called ``name``; :class:`~inertia.errors.InputError` (also a KeyError) names the

@@ -21,12 +21,11 @@ universal, revolute2, screw and gearbox stay at their default.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .model import Joint
-from .urdf_sdf import floats, rpy_matrix
+from .numbers import floats, rpy_matrix
+from .sdf_frames import SdfFrames, sdf_frames
 from .xmlsafe import RobotFileError
 
 #: URDF joint type -> what it does (see :class:`~inertia.robots.model.Joint`)
@@ -74,6 +73,7 @@ def _name_index(model) -> dict:
 def _urdf_tree(model) -> None:
     doc = model.document
     index = _name_index(model)
+    model.loop_joints = []
     by_child: dict = {}
     for el in doc.root.findall("joint"):
         where = f"{doc.where(el)}: joint {el.get('name')!r}"
@@ -81,9 +81,10 @@ def _urdf_tree(model) -> None:
         if kind is None:
             raise RobotFileError(f"{where}: type={el.get('type')!r} must be one of {', '.join(URDF_KINDS)}")
         parent, child = (_urdf_link_ref(doc, el, tag, index, where) for tag in ("parent", "child"))
-        if child in by_child:
-            raise RobotFileError(f"{where}: link {model.links[child].name!r} already has a parent joint "
-                                 f"({by_child[child]}); a URDF is a tree")
+        if child in by_child:  # a kinematic loop (urdfdom reads it too): the first joint keeps the tree
+            model.loop_joints.append((Joint(el.get("name"), kind, el.get("type"), line=doc.line(el)),
+                                      model.links[child].name))
+            continue
         by_child[child] = where
         link = model.links[child]
         link.parent = parent
@@ -131,112 +132,10 @@ def _mimic(doc, el, where: str):
 # ------------------------------------------------------------------------------------- SDF
 
 
-def _sdf_version(doc) -> float:
-    text = doc.root.get("version", "1.7")
-    try:
-        major, minor = (int(x) for x in text.split(".")[:2])
-    except ValueError:
-        raise RobotFileError(f"{doc.where(doc.root)}: <sdf version={text!r}> is not a version number") from None
-    return major + minor / 100  # 1.10 after 1.9
-
-
-def _sdf_pose(doc, parent):
-    """``(relative_to or None, R, p)`` of ``parent``'s ``<pose>`` (rpy or quat_xyzw, degrees)."""
-    pose = parent.find("pose")
-    if pose is None:
-        return None, np.eye(3), np.zeros(3)
-    where = f"{doc.where(pose)}: <pose>"
-    fmt = pose.get("rotation_format", "euler_rpy")
-    v = floats(pose.text or "0 0 0 0 0 0", 7 if fmt == "quat_xyzw" else 6, where, "pose")
-    if fmt == "quat_xyzw":
-        from .._core.rotations import quat_normalize, quat_to_matrix
-
-        R = quat_to_matrix(quat_normalize([v[6], v[3], v[4], v[5]]))
-    elif fmt == "euler_rpy":
-        rpy = [math.radians(a) for a in v[3:]] if pose.get("degrees") == "true" else v[3:]
-        R = rpy_matrix(*rpy)
-    else:
-        raise RobotFileError(f"{where}: rotation_format={fmt!r} must be euler_rpy or quat_xyzw")
-    return pose.get("relative_to") or None, R, np.asarray(v[:3])
-
-
-class _Frames:
-    """The named frames of an SDF document and their poses in the root frame."""
-
-    def __init__(self, doc):
-        self.doc = doc
-        self.raw: dict = {}        # scoped name -> (relative_to scoped name or None, R, p, where)
-        self.done: dict = {None: (np.eye(3), np.zeros(3))}
-        self.joints: list = []     # (scope, element)
-        self.links: dict = {}      # id(element) -> scoped name
-        self.models: dict = {}     # scope -> model frame name
-
-    def add_model(self, m, scope: str, parent_scope: str, parent_frame, placed: bool) -> None:
-        """Record model ``m``'s frames under ``scope`` ("name::", "" for a lone model).
-
-        A frame's ``relative_to`` is kept as ``(scope, name)`` until its pose is asked for
-        (a name may refer to a frame declared further down)."""
-        doc = self.doc
-        frame = scope + "__model__"
-        rel, R, p = _sdf_pose(doc, m) if placed else (None, np.eye(3), np.zeros(3))
-        self.raw[frame] = ((parent_scope, rel) if rel else parent_frame, R, p, doc.where(m))
-        self.models[scope] = frame
-        for link in m.findall("link"):
-            name = scope + link.get("name", "")
-            rel, R, p = _sdf_pose(doc, link)
-            self.raw[name] = ((scope, rel) if rel else frame, R, p, doc.where(link))
-            self.links[id(link)] = name
-        for f in m.findall("frame"):
-            rel, R, p = _sdf_pose(doc, f)
-            self.raw[scope + f.get("name", "")] = ((scope, rel or f.get("attached_to") or "__model__"), R, p,
-                                                   doc.where(f))
-        for j in m.findall("joint"):
-            rel, R, p = _sdf_pose(doc, j)
-            self.raw[scope + j.get("name", "")] = ((scope, rel or (j.findtext("child") or "").strip()), R, p,
-                                                   doc.where(j))
-            self.joints.append((scope, j))
-        for nested in m.findall("model"):
-            inner = scope + nested.get("name", "") + "::"
-            self.add_model(nested, inner, scope, frame, True)
-            self.raw[scope + nested.get("name", "")] = (inner + "__model__", np.eye(3), np.zeros(3), doc.where(nested))
-
-    def resolve_name(self, name: str, scope: str, where: str):
-        """The scoped frame ``name`` means in ``scope`` ("world": None)."""
-        if name == "world":
-            return None
-        full = scope + name
-        if full in self.raw or full == scope + "__model__":
-            return full
-        raise RobotFileError(f"{where}: no frame named {name!r} (links, joints, frames and nested models of "
-                             "this model)")
-
-    def pose(self, name):
-        """``(R_root_frame, p_root_frame)`` of a scoped frame, following ``relative_to``."""
-        chain, seen = [], set()
-        while name not in self.done:
-            if name in seen:
-                raise RobotFileError(f"{self.raw[name][3]}: the poses' relative_to form a cycle through "
-                                     f"{', '.join(sorted(seen))}")
-            seen.add(name)
-            rel, R, p, where = self.raw[name]
-            if isinstance(rel, tuple):
-                rel = self.resolve_name(rel[1], rel[0], where) if rel[1] else rel[0] + "__model__"
-            chain.append((name, rel, R, p))
-            name = rel
-        for frame, rel, R, p in reversed(chain):
-            R0, p0 = self.done[rel]
-            self.done[frame] = (R0 @ R, R0 @ p + p0)
-        return self.done[chain[0][0]] if chain else self.done[name]
-
-
 def _sdf_tree(model) -> None:
     doc = model.document
-    frames = _Frames(doc)
-    worlds = doc.root.findall("world")
-    models = [m for w in worlds for m in w.findall("model")] if worlds else doc.root.findall("model")
-    lone = not worlds and len(models) == 1
-    for m in models:
-        frames.add_model(m, "" if lone else m.get("name", "") + "::", "", None, not lone)
+    frames = sdf_frames(doc)
+    models, lone = frames.top, frames.lone
     index = {}
     for i, lk in enumerate(model.links):
         name = frames.links.get(id(lk.element))
@@ -245,13 +144,14 @@ def _sdf_tree(model) -> None:
         index[name] = i
         lk.scoped_name = name if "::" in name else None
         lk.R_parent_link, lk.p_parent_link = frames.pose(name)
-    version = _sdf_version(doc)
+    version = frames.version
+    model.loop_joints = []
     for scope, el in frames.joints:
         _sdf_joint(model, frames, index, scope, el, version)
     model.root_frame = f"model {models[0].get('name')!r}" if lone else "world"
 
 
-def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: float) -> None:
+def _sdf_joint(model, frames: SdfFrames, index: dict, scope: str, el, version: float) -> None:
     doc = frames.doc
     where = f"{doc.where(el)}: joint {el.get('name')!r}"
     kind = SDF_KINDS.get(el.get("type"))
@@ -268,10 +168,12 @@ def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: flo
         ends.append(None if name is None else index[name])
     parent, child = ends
     link = model.links[child]
-    if link.joints:
-        raise RobotFileError(f"{where}: link {link.name!r} is already the child of joint {link.joints[0].name!r}")
+    if link.joints:  # a kinematic loop: the link keeps its first joint, this one is named in the report
+        model.loop_joints.append((Joint(scope + el.get("name", ""), kind, el.get("type"), line=doc.line(el)),
+                                  link.name))
+        return
     R_rc, p_rc = frames.pose(frames.links[id(link.element)])
-    R_rj, p_rj = frames.pose(scope + el.get("name", ""))
+    R_rj, p_rj = frames.pose(frames.joint_key(scope, el.get("name", "")))
     axis = np.array([0.0, 0.0, 1.0])
     if kind in ("hinge", "slide"):
         axis = R_rc.T @ _sdf_axis(frames, el, scope, version, R_rj, where)
@@ -283,7 +185,7 @@ def _sdf_joint(model, frames: _Frames, index: dict, scope: str, el, version: flo
         link.R_parent_link, link.p_parent_link = R_rp.T @ R_rc, R_rp.T @ (p_rc - p_rp)
 
 
-def _sdf_axis(frames: _Frames, el, scope: str, version: float, R_rj, where: str) -> np.ndarray:
+def _sdf_axis(frames: SdfFrames, el, scope: str, version: float, R_rj, where: str) -> np.ndarray:
     """The joint axis in the root frame, from ``<axis><xyz>`` and the version's rule."""
     doc = frames.doc
     axis_el = el.find("axis")

@@ -126,7 +126,7 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
 COMPILER_MASS = {"boundmass": "0", "boundinertia": "0", "balanceinertia": "false", "settotalmass": "-1"}
 
 
-def _compiler_mass_attrs(compilers) -> dict:
+def compiler_mass_attrs(compilers) -> dict:
     """:data:`COMPILER_MASS` as the ``<compiler>`` elements set them (later ones override)."""
     attrs = dict(COMPILER_MASS)
     for el in compilers:
@@ -152,8 +152,8 @@ def mujoco_compiler_adjustments(model, local: list, notes: list) -> list:
     from .urdf_sdf import floats
 
     where = f"{model.path}: <compiler>"
-    main = _compiler_mass_attrs(model.document.root.findall("compiler"))
-    per_link = [main if lk.mjcf_compilers is None else _compiler_mass_attrs(lk.mjcf_compilers) for lk in model.links]
+    main = compiler_mass_attrs(model.document.root.findall("compiler"))
+    per_link = [main if lk.mjcf_compilers is None else compiler_mass_attrs(lk.mjcf_compilers) for lk in model.links]
     total = floats(main["settotalmass"], 1, where, "settotalmass")[0]
     changed = list(dict.fromkeys(f"{k}={a[k]}" for k in COMPILER_MASS for a in [main, *per_link]
                                  if (k != "settotalmass" or a is main) and _active(a, k, where)))

@@ -112,6 +112,7 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     path = Path(path) if not isinstance(path, Path) else path
     source = data
     data, relocated = _relocated_declaration(data)
+    data, dashes = _comments_as_tinyxml2_reads_them(data)
     builder = ET.TreeBuilder(insert_comments=True)
     parser = expat.ParserCreate()
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
@@ -148,13 +149,17 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     parser.EntityDeclHandler = entity_decl
     parser.UnparsedEntityDeclHandler = lambda *a: _refuse(path, parser, "an unparsed entity declaration")
     parser.ExternalEntityRefHandler = external_ref
+    trailing = None
     try:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
-        msg = expat.ErrorString(exc.code)
-        if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
-            msg += " (entities are not supported in robot files)"
-        raise RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})") from None
+        root_end = max(ends.values()) if ends and not stack else None
+        if root_end is not None and _ignored_after_root(data[root_end:]):
+            # what follows the root element is what tinyxml2 (the parser of MuJoCo, urdfdom and
+            # libsdformat) ignores: the file is read as they read it, with a warning
+            trailing = exc.lineno
+        else:
+            raise _malformed(path, exc) from None
     except RobotFileError:
         raise
     except (LookupError, ValueError) as exc:  # an unknown or unusable encoding="..." (expat asks codecs)
@@ -165,6 +170,50 @@ def parse_xml_bytes(data: bytes, path="<string>") -> Document:
     root = builder.close()
     doc = Document(root, path, lines, source=source, starts=starts, ends=ends)
     if relocated:
-        doc.notes.append(f"{path}: the XML declaration follows a comment or blank lines (not allowed by XML); "
-                         "read anyway")
+        doc.notes.append(("xml_declaration_moved", f"{path}: the XML declaration follows a comment or blank lines "
+                          "(not allowed by XML); read anyway"))
+    if dashes is not None:
+        doc.notes.append(("comment_with_dashes", f"{path}:{dashes}: a comment holds '--' (a comment started inside "
+                          "another?), which XML forbids; read as MuJoCo, urdfdom and libsdformat (tinyxml2) read it, "
+                          "the comment ending at the first '-->'; other XML tools refuse the file"))
+    if trailing is not None:
+        doc.notes.append(("content_after_root", f"{path}:{trailing}: markup after the end of the root element "
+                          f"<{root.tag}> (e.g. a stray end tag) is ignored, as MuJoCo, urdfdom and libsdformat "
+                          "(tinyxml2) ignore it; other XML tools refuse the file: remove it"))
     return doc
+
+
+def _comments_as_tinyxml2_reads_them(data: bytes) -> tuple[bytes, int | None]:
+    """Comments holding ``--`` (XML forbids it; tinyxml2 ends a comment at the first ``-->``):
+    the dashes inside become spaces, byte for byte (offsets and lines unchanged; the source is
+    kept as it is).  Returns the data and the line of the first such comment (None: none)."""
+    first = None
+
+    def blank(m):
+        nonlocal first
+        body = m.group(1).replace(b"--", b"- ")
+        if body.endswith(b"-"):
+            body = body[:-1] + b" "
+        if body != m.group(1) and first is None:
+            first = data.count(b"\n", 0, m.start()) + 1
+        return b"<!--" + body + b"-->"
+
+    if b"<!--" not in data:
+        return data, None
+    out = re.sub(rb"<!--(.*?)-->", blank, data, flags=re.S)
+    return (out, first) if first is not None else (data, None)
+
+
+def _ignored_after_root(rest: bytes) -> bool:
+    """What follows the root's end tag (``rest`` starts with it) is ignored by tinyxml2: it stops
+    at a stray end tag (whatever follows), and reads further elements (no text) without using them."""
+    after = re.sub(rb"^(?:\s|<!--.*?-->)*", b"", rest[rest.find(b">") + 1:], flags=re.S)
+    return after.startswith(b"</") or not re.sub(rb"<[^<>]*>", b"", after).strip()
+
+
+def _malformed(path, exc) -> RobotFileError:
+    """The error for a document expat cannot read."""
+    msg = expat.ErrorString(exc.code)
+    if exc.code == expat.errors.codes.get(expat.errors.XML_ERROR_UNDEFINED_ENTITY):
+        msg += " (entities are not supported in robot files)"
+    return RobotFileError(f"{path}:{exc.lineno}: malformed XML: {msg} (column {exc.offset + 1})")
