@@ -377,7 +377,8 @@ nb::tuple cut_lists(Vertices V, Faces F, In1<bool> cert, double eps, int threads
             for (size_t b = 0; b < grid.T; ++b) kmax = std::max(kmax, grid.start[b + 1] - grid.start[b]);
             const size_t n_chunks = 64;
             std::vector<std::vector<std::pair<int64_t, int64_t>>> found(n_chunks);
-            parallel_for(n_chunks, threads, 8, [&](size_t c0, size_t c1) {
+            // threads for a large grid only (a chunk of a small one costs less than starting one)
+            parallel_for(n_chunks, grid.entry.size() < 65536 ? 1 : threads, 8, [&](size_t c0, size_t c1) {
                 std::vector<int64_t> hits(size_t(kmax) + 1);
                 for (size_t ch = c0; ch < c1; ++ch) grid.scan(grid.T * ch / n_chunks, grid.T * (ch + 1) / n_chunks, hits, found[ch]);
             });

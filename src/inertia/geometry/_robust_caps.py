@@ -268,18 +268,18 @@ def _coplanar_groups(caps, normal, lo, hi, eps, CV):
     K = len(caps.apex)
     group = np.arange(K)
     flat = np.flatnonzero(caps.near_flat)
+    diag = np.linalg.norm(hi - lo, axis=1)
     for i_, i in enumerate(flat):
-        for j in flat[i_ + 1:]:
-            c = float(normal[i] @ normal[j])
-            size = float(np.linalg.norm(hi[i] - lo[i]) + np.linalg.norm(hi[j] - lo[j]))
-            if abs(c) < 1.0 - 1e-9 or abs(float(normal[i] @ (caps.apex[j] - caps.apex[i]))) > 1e-3 * size + eps:
-                continue
-            if not _boxes_meet(lo, hi, i, j):
-                continue
+        js = flat[i_ + 1:]
+        size = diag[i] + diag[js]
+        near = ((np.abs(normal[js] @ normal[i]) >= 1.0 - 1e-9)
+                & (np.abs((caps.apex[js] - caps.apex[i]) @ normal[i]) <= 1e-3 * size + eps)
+                & ~np.any(lo[js] > hi[i], axis=1) & ~np.any(lo[i] > hi[js], axis=1))
+        for j, sz in zip(js[near], size[near]):
             gi, gj = group[i], group[j]
             members = np.flatnonzero((group == gi) | (group == gj))
             if all(float(normal[a] @ normal[b]) < 0.0 or not _boxes_meet(lo, hi, a, b)
-                   or _interiors_disjoint(caps, CV, normal[a], a, b, 1e-9 * size)
+                   or _interiors_disjoint(caps, CV, normal[a], a, b, 1e-9 * sz)
                    for a in members for b in members if a < b):
                 group[group == gj] = gi
     return np.unique(group, return_inverse=True)[1]
