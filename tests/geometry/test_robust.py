@@ -225,13 +225,13 @@ def test_kernels_check_every_index_from_outside():
     with pytest.raises(InputError, match=r"faces\[2, 1\] = 8 names no vertex"):
         k.dedupe_faces(np.where(np.arange(36).reshape(12, 3) == 7, 8, f), len(v))
     with pytest.raises(InputError, match=r"verts\[1\] = 9 is outside \[0, 8\)"):
-        k.vertex_pass(v, f, m, np.array([0, 9]), cert, nbr)
+        k.vertex_pass(v, f, m, np.array([0, 9]), cert, nbr, 1)
     with pytest.raises(InputError, match="multiplicities has length 3, expected 12"):
-        k.vertex_pass(v, f, m[:3], np.arange(8), cert, nbr)
+        k.vertex_pass(v, f, m[:3], np.arange(8), cert, nbr, 1)
     with pytest.raises(InputError, match=r"nbr\[5\] = 12 is outside \[-1, 12\)"):
         k.patch_reps(v, f, np.where(np.arange(36).reshape(12, 3) == 5, 12, nbr), np.zeros(len(f), bool))
     ptr, idx = np.zeros(13, np.int64), np.zeros(0, np.int64)
     with pytest.raises(InputError, match="cut_ptr must run from 0 to 0"):
-        k.classify_traces(v, f, m, ptr + 1, idx, 1e-9)
+        k.classify_traces(v, f, m, ptr + 1, idx, 1e-9, 1)
     with pytest.raises(InputError, match=r"owner\[0\] = 12 is outside \[0, 12\)"):
-        k.winding_excluding(v[:1], np.array([12]), v, f, m, ptr, idx, idx)
+        k.winding_excluding(v[:1], np.array([12]), v, f, m, ptr, idx, idx, 1)

@@ -40,7 +40,7 @@ double flat_cap_volume(double delta, double area, double perimeter, double diame
            2.0 * std::min(perimeter * r_max + PI * r_max * r_max, shadow) * (h_max + flat_tol);
 }
 
-double box_distance(const double *x, const double *lo, const double *hi) {
+double box_distance(const double* x, const double* lo, const double* hi) {
     double s = 0.0;
     for (int c = 0; c < 3; ++c) {
         const double d = std::max(0.0, std::max(lo[c] - x[c], x[c] - hi[c]));
@@ -49,7 +49,7 @@ double box_distance(const double *x, const double *lo, const double *hi) {
     return std::sqrt(s);
 }
 
-double segment_distance(const double *x, const double *E0, const double *E1) {
+double segment_distance(const double* x, const double* E0, const double* E1) {
     double d[3], q[3], r[3];
     sub(E1, E0, d);
     sub(x, E0, q);
@@ -62,12 +62,12 @@ double segment_distance(const double *x, const double *E0, const double *E1) {
 struct CapArrays {
     const double *CV, *CM, *face_lo, *face_hi, *E0, *E1, *EM, *area, *perimeter, *diameter, *normal, *apex, *flat_dev;
     const int64_t *CF, *face_ptr, *edge_ptr;
-    const bool *flat;
+    const bool* flat;
     size_t K;
     double eps;
 
     // Biot-Savart bound of |grad w| over the cell (x, rho) from loop edges e0..e1-1 (inf if one reaches it).
-    double loop_gradient(const double *x, double rho, int64_t e0, int64_t e1) const {
+    double loop_gradient(const double* x, double rho, int64_t e0, int64_t e1) const {
         double g = 0.0;
         for (int64_t e = e0; e < e1; ++e) {
             const double d = segment_distance(x, E0 + 3 * e, E1 + 3 * e) - rho;
@@ -80,8 +80,8 @@ struct CapArrays {
     }
 
     // One cell (centre x, half side `half`); writes status, which, delta, w_rest, contrib.
-    void classify(const double *x, double half, double thr, int64_t &status, int64_t &which, double &delta,
-                  double &w_rest, double &contrib) const {
+    void classify(const double* x, double half, double thr, int64_t& status, int64_t& which, double& delta,
+                  double& w_rest, double& contrib) const {
         const double rho = half * std::sqrt(3.0);
         double w_all = 0.0, g_fin = 0.0, best = -1.0, w_k = 0.0, g_k = 0.0;
         int n_inf = 0, n_cross = 0;
@@ -92,14 +92,17 @@ struct CapArrays {
             bool crossed = false;
             for (int64_t f = face_ptr[j]; f < face_ptr[j + 1]; ++f) {
                 if (box_distance(x, face_lo + 3 * f, face_hi + 3 * f) <= rho) crossed = true;
-                w += CM[f] * solid_angle(CV + 3 * CF[3 * f], CV + 3 * CF[3 * f + 1], CV + 3 * CF[3 * f + 2], x[0], x[1], x[2]);
+                w += CM[f] *
+                     solid_angle(CV + 3 * CF[3 * f], CV + 3 * CF[3 * f + 1], CV + 3 * CF[3 * f + 2], x[0], x[1], x[2]);
             }
             w /= FOUR_PI;
             const double g = loop_gradient(x, rho, edge_ptr[j], edge_ptr[j + 1]);
             w_all += w;
             n_cross += crossed;
-            if (g == INF) n_inf++;
-            else g_fin += g;
+            if (g == INF)
+                n_inf++;
+            else
+                g_fin += g;
             const double score = (crossed || g == INF) ? INF : std::abs(w) + rho * g;
             if (score > best || nk < 0) best = score, nk = int64_t(j), w_k = w, g_k = g, cross_k = crossed;
         }
@@ -112,9 +115,10 @@ struct CapArrays {
         // the other caps: no crossing, no loop edge within the cell, and small
         if (n_cross - cross_k > 0 || n_inf - (g_k == INF) > 0) return;
         double d = std::abs(w_all - w_k) + rho * (g_fin - (g_k < INF ? g_k : 0.0));
-        if (flat_dev[nk] > 0.0) d += flat_dev[nk] * loop_gradient(x, rho + flat_dev[nk], edge_ptr[nk], edge_ptr[nk + 1]);
+        if (flat_dev[nk] > 0.0)
+            d += flat_dev[nk] * loop_gradient(x, rho + flat_dev[nk], edge_ptr[nk], edge_ptr[nk + 1]);
         if (!(d < 0.1)) return;
-        const double *n = normal + 3 * nk;
+        const double* n = normal + 3 * nk;
         double q[3];
         sub(x, apex + 3 * nk, q);
         const double height = dot(q, n);
@@ -152,14 +156,29 @@ nb::tuple cap_cells(InN3<double> centers, double half, double thr, InN3<double> 
     check_length(E1.shape(0), ne, "E1");
     check_length(EM.shape(0), ne, "EM");
     check_ptr(edge_ptr.data(), edge_ptr.shape(0), K, ne, "edge_ptr");
-    for (auto *a : {&flat_dev, &area, &perimeter, &diameter}) check_length(a->shape(0), K, "cap group values");
+    for (auto* a : {&flat_dev, &area, &perimeter, &diameter}) check_length(a->shape(0), K, "cap group values");
     check_length(flat.shape(0), K, "flat");
     check_length(normal.shape(0), K, "normal");
     check_length(apex.shape(0), K, "apex");
-    const CapArrays caps{CV.data(),     CM.data(),     face_lo.data(),  face_hi.data(), E0.data(),
-                         E1.data(),     EM.data(),     area.data(),     perimeter.data(), diameter.data(),
-                         normal.data(), apex.data(),   flat_dev.data(), CF.data(),      face_ptr.data(),
-                         edge_ptr.data(), flat.data(), K,               eps};
+    const CapArrays caps{CV.data(),
+                         CM.data(),
+                         face_lo.data(),
+                         face_hi.data(),
+                         E0.data(),
+                         E1.data(),
+                         EM.data(),
+                         area.data(),
+                         perimeter.data(),
+                         diameter.data(),
+                         normal.data(),
+                         apex.data(),
+                         flat_dev.data(),
+                         CF.data(),
+                         face_ptr.data(),
+                         edge_ptr.data(),
+                         flat.data(),
+                         K,
+                         eps};
     const size_t n = centers.shape(0);
     std::vector<int64_t> status(n), which(n);
     std::vector<double> delta(n), w_rest(n), contrib(n);
@@ -170,24 +189,19 @@ nb::tuple cap_cells(InN3<double> centers, double half, double thr, InN3<double> 
                 caps.classify(centers.data() + 3 * i, half, thr, status[i], which[i], delta[i], w_rest[i], contrib[i]);
         });
     }
-    return nb::make_tuple(to_numpy(std::move(status), {n}), to_numpy(std::move(which), {n}), to_numpy(std::move(delta), {n}),
-                          to_numpy(std::move(w_rest), {n}), to_numpy(std::move(contrib), {n}));
+    return nb::make_tuple(to_numpy(std::move(status), {n}), to_numpy(std::move(which), {n}),
+                          to_numpy(std::move(delta), {n}), to_numpy(std::move(w_rest), {n}),
+                          to_numpy(std::move(contrib), {n}));
 }
 
 }  // namespace
 
-void bind_caps(nb::module_ &m) {
-    m.def("cap_cells", &cap_cells, nb::arg("centers"), nb::arg("half"), nb::arg("thr"), nb::arg("CV"), nb::arg("CF"),
-          nb::arg("CM"), nb::arg("face_ptr"), nb::arg("face_lo"), nb::arg("face_hi"), nb::arg("E0"), nb::arg("E1"),
-          nb::arg("EM"), nb::arg("edge_ptr"), nb::arg("flat"), nb::arg("area"), nb::arg("perimeter"),
-          nb::arg("diameter"), nb::arg("normal"), nb::arg("apex"), nb::arg("flat_dev"), nb::arg("eps"),
-          nb::arg("threads") = 0,
+void bind_caps(nb::module_& m) {
+    m.def("cap_cells", &cap_cells,
           "Octree cells against the cap region: (status, which, delta, w_rest, contrib), each (N,).");
-    m.def("flat_cap_volume", &flat_cap_volume, nb::arg("delta"), nb::arg("area"), nb::arg("perimeter"),
-          nb::arg("diameter"), nb::arg("flat_tol"), nb::arg("shadow"),
+    m.def("flat_cap_volume", &flat_cap_volume,
           "Bound of the volume where |w_k| >= 1/2 - delta near a flat polygon, over `shadow` of its plane.");
-    m.def("flat_cap_heights", &flat_cap_heights, nb::arg("delta"), nb::arg("diameter"),
-          "(h_in, r_max, h_max) of flat_cap_volume.");
+    m.def("flat_cap_heights", &flat_cap_heights, "(h_in, r_max, h_max) of flat_cap_volume.");
 }
 
 }  // namespace inertia::robust

@@ -15,20 +15,20 @@
 namespace inertia::robust {
 namespace {
 
-constexpr int LMAX = 16;             // most lines a piece is clipped by (more: split it)
-constexpr int CMAX = 160;            // most cells of a clipped piece
-constexpr int PMAX = 3 + LMAX + 1;   // most vertices of a cell
-constexpr int PSTRIDE = PMAX + 1;    // room for the vertex that overflows it
-constexpr size_t BLOCK = 64;         // pieces summed in order per block, blocks in order
+constexpr int LMAX = 16;            // most lines a piece is clipped by (more: split it)
+constexpr int CMAX = 160;           // most cells of a clipped piece
+constexpr int PMAX = 3 + LMAX + 1;  // most vertices of a cell
+constexpr int PSTRIDE = PMAX + 1;   // room for the vertex that overflows it
+constexpr size_t BLOCK = 64;        // pieces summed in order per block, blocks in order
 
 struct Traces {
     const int64_t *ptr, *idx, *type;
     const double *P, *J;
-    const double *pt(int64_t k, int i) const { return P + 9 * k + 3 * i; }
+    const double* pt(int64_t k, int i) const { return P + 9 * k + 3 * i; }
 };
 
-Traces traces_of(const Mesh &m, const In1<int64_t> &cut_ptr, const In1<int64_t> &cut_idx, const In1<int64_t> &tr_type,
-                 const In3x3<double> &tr_P, const In1<double> &tr_J) {
+Traces traces_of(const Mesh& m, const In1<int64_t>& cut_ptr, const In1<int64_t>& cut_idx, const In1<int64_t>& tr_type,
+                 const In3x3<double>& tr_P, const In1<double>& tr_J) {
     const size_t K = cut_idx.shape(0);
     check_ptr(cut_ptr.data(), cut_ptr.shape(0), m.nf, K, "cut_ptr");
     check_range(cut_idx.data(), K, 0, int64_t(m.nf), "cut_idx");
@@ -39,7 +39,7 @@ Traces traces_of(const Mesh &m, const In1<int64_t> &cut_ptr, const In1<int64_t> 
     return {cut_ptr.data(), cut_idx.data(), tr_type.data(), tr_P.data(), tr_J.data()};
 }
 
-double unit_normal(const Mesh &m, int64_t f, double *n) {
+double unit_normal(const Mesh& m, int64_t f, double* n) {
     double u[3], v[3];
     sub(m.at(f, 1), m.at(f, 0), u);
     sub(m.at(f, 2), m.at(f, 0), v);
@@ -50,14 +50,15 @@ double unit_normal(const Mesh &m, int64_t f, double *n) {
 }
 
 // Largest coordinate extent of face f from its first corner: the scale of its tolerances.
-double face_size(const Mesh &m, int64_t f) {
+double face_size(const Mesh& m, int64_t f) {
     double size = 0.0;
     for (int c = 0; c < 3; ++c)
-        size = std::max(size, std::max(std::abs(m.at(f, 1)[c] - m.at(f, 0)[c]), std::abs(m.at(f, 2)[c] - m.at(f, 0)[c])));
+        size =
+            std::max(size, std::max(std::abs(m.at(f, 1)[c] - m.at(f, 0)[c]), std::abs(m.at(f, 2)[c] - m.at(f, 0)[c])));
     return size;
 }
 
-double edge_squares(const Mesh &m, int64_t f) {
+double edge_squares(const Mesh& m, int64_t f) {
     double s = 0.0;
     for (int e = 0; e < 3; ++e)
         for (int c = 0; c < 3; ++c) {
@@ -69,10 +70,11 @@ double edge_squares(const Mesh &m, int64_t f) {
 
 // Faces f and g lie in one plane: all six corners within eps of the plane of the better shaped
 // of the two (largest |n| / sum of squared edges; ties: lower index).
-bool coplanar(const Mesh &m, int64_t f, int64_t g, double lf, double lg, const double *nf, const double *ng, double eps) {
+bool coplanar(const Mesh& m, int64_t f, int64_t g, double lf, double lg, const double* nf, const double* ng,
+              double eps) {
     const double qf = lf / edge_squares(m, f), qg = lg / edge_squares(m, g);
     const int64_t h = (qf > qg || (qf == qg && f < g)) ? f : g;
-    const double *n = h == f ? nf : ng;
+    const double* n = h == f ? nf : ng;
     for (int64_t o : {g, f})
         for (int i = 0; i < 3; ++i) {
             double q[3];
@@ -84,7 +86,7 @@ bool coplanar(const Mesh &m, int64_t f, int64_t g, double lf, double lg, const d
 
 // The trace of cutter g = cut_idx[k] in the plane of face f (the module comment): type,
 // points (type 1: the segment P0, P1; type 2: g's corners counter-clockwise about n_f), jump.
-void classify_one(const Mesh &m, int64_t f, int64_t g, double eps, int64_t &type, double *P, double &J) {
+void classify_one(const Mesh& m, int64_t f, int64_t g, double eps, int64_t& type, double* P, double& J) {
     double nf[3], ng[3], dg[3];
     type = 0, J = 0.0;
     const double lf = unit_normal(m, f, nf), lg = unit_normal(m, g, ng);
@@ -146,7 +148,7 @@ void classify_one(const Mesh &m, int64_t f, int64_t g, double eps, int64_t &type
 }
 
 // Unit in-plane normal of the line P0 -> P1 (n_f x e / |e|); returns |e| (0: a point).
-double line_of(const double *P0, const double *P1, const double *nf, double *nl) {
+double line_of(const double* P0, const double* P1, const double* nf, double* nl) {
     double e[3];
     sub(P1, P0, e);
     const double le = norm(e);
@@ -159,7 +161,7 @@ double line_of(const double *P0, const double *P1, const double *nf, double *nl)
     return le;
 }
 
-double point_side(const double *nl, const double *A0, const double *x) {
+double point_side(const double* nl, const double* A0, const double* x) {
     double q[3];
     sub(x, A0, q);
     return dot(nl, q);
@@ -168,7 +170,7 @@ double point_side(const double *nl, const double *A0, const double *x) {
 // Where the segment A0 -> A1 (in f's plane) stands with respect to the triangle P: 0 its line
 // misses P's interior (beyond tol), 1 it crosses P completely, 2 its line crosses P but the
 // segment does not reach it, 3 otherwise (an end in or near P).  nl: the line's unit normal.
-int segment_vs_piece(const double *P, const double *A0, const double *A1, const double *nf, double tol, double *nl) {
+int segment_vs_piece(const double* P, const double* A0, const double* A1, const double* nf, double tol, double* nl) {
     const double le = line_of(A0, A1, nf, nl);
     if (le == 0.0) return 3;
     double u[3];
@@ -203,7 +205,7 @@ int segment_vs_piece(const double *P, const double *A0, const double *A1, const 
 
 // Sum of the jumps of f's type-1 traces crossed going from a to b (both in f); false when a
 // crossing is within tol of an end of either segment.
-bool walk(const Traces &tr, int64_t f, const double *a, const double *b, const double *nf, double tol, double &jump) {
+bool walk(const Traces& tr, int64_t f, const double* a, const double* b, const double* nf, double tol, double& jump) {
     jump = 0.0;
     for (int64_t k = tr.ptr[f]; k < tr.ptr[f + 1]; ++k) {
         if (tr.type[k] != 1) continue;
@@ -232,7 +234,7 @@ bool walk(const Traces &tr, int64_t f, const double *a, const double *b, const d
 
 // Net multiplicity of the coplanar stack at x on f; false when x is within tol of a coplanar
 // cutter's edge.
-bool stack_at(const Traces &tr, const Mesh &m, int64_t f, const double *x, const double *nf, double tol, double &net) {
+bool stack_at(const Traces& tr, const Mesh& m, int64_t f, const double* x, const double* nf, double tol, double& net) {
     net = m.M[f];
     for (int64_t k = tr.ptr[f]; k < tr.ptr[f + 1]; ++k) {
         if (tr.type[k] != 2) continue;
@@ -250,7 +252,7 @@ bool stack_at(const Traces &tr, const Mesh &m, int64_t f, const double *x, const
 }
 
 // x lies within tol of the shadow, in f's plane, of a type-3 cutter.
-bool near_type3(const Traces &tr, const Mesh &m, int64_t f, const double *x, const double *nf, double tol) {
+bool near_type3(const Traces& tr, const Mesh& m, int64_t f, const double* x, const double* nf, double tol) {
     for (int64_t k = tr.ptr[f]; k < tr.ptr[f + 1]; ++k) {
         if (tr.type[k] != 3) continue;
         const int64_t g = tr.idx[k];
@@ -268,7 +270,7 @@ bool near_type3(const Traces &tr, const Mesh &m, int64_t f, const double *x, con
 }
 
 // x is farther than tol from every type-1 segment of f.
-bool clear_of_traces(const Traces &tr, int64_t f, const double *x, double tol) {
+bool clear_of_traces(const Traces& tr, int64_t f, const double* x, double tol) {
     for (int64_t k = tr.ptr[f]; k < tr.ptr[f + 1]; ++k) {
         if (tr.type[k] != 1) continue;
         double e[3], q[3], d[3];
@@ -283,7 +285,8 @@ bool clear_of_traces(const Traces &tr, int64_t f, const double *x, double tol) {
 }
 
 // A point of x's face f clear of its traces (its stack decided): the checks of reference_points.
-bool clear_point(const Traces &tr, const Mesh &m, int64_t f, const double *x, const double *nf, double tol, double &net) {
+bool clear_point(const Traces& tr, const Mesh& m, int64_t f, const double* x, const double* nf, double tol,
+                 double& net) {
     return clear_of_traces(tr, f, x, tol) && !near_type3(tr, m, f, x, nf, tol) && stack_at(tr, m, f, x, nf, tol, net);
 }
 
@@ -296,12 +299,12 @@ struct Scratch {
     int64_t ncv[CMAX], sides[CMAX];
     double cen[CMAX][3], w_cell[CMAX], areas[CMAX], neg[PSTRIDE][3], tmp_d[PSTRIDE];
     bool known[CMAX], live[CMAX];
-    double *cell(int c, int i) { return &cells[(size_t(c) * PSTRIDE + i) * 3]; }
+    double* cell(int c, int i) { return &cells[(size_t(c) * PSTRIDE + i) * 3]; }
 };
 
 // Split every cell by the line (unit normal nl through L0); the + part gets `bit`.  Returns the
 // number of cells, -1 when CMAX or PMAX would be exceeded.
-int clip(Scratch &s, int n_cells, const double *nl, const double *L0, int64_t bit) {
+int clip(Scratch& s, int n_cells, const double* nl, const double* L0, int64_t bit) {
     int n = n_cells;
     for (int c = 0; c < n_cells; ++c) {
         const int m = int(s.ncv[c]);
@@ -309,8 +312,10 @@ int clip(Scratch &s, int n_cells, const double *nl, const double *L0, int64_t bi
         for (int i = 0; i < m; ++i) {
             const double d = point_side(nl, L0, s.cell(c, i));
             s.tmp_d[i] = d;
-            if (d > 0.0) has_pos = true;
-            else if (d < 0.0) has_neg = true;
+            if (d > 0.0)
+                has_pos = true;
+            else if (d < 0.0)
+                has_neg = true;
         }
         if (!(has_pos && has_neg)) {
             if (has_pos) s.sides[c] |= bit;
@@ -341,9 +346,9 @@ int clip(Scratch &s, int n_cells, const double *nl, const double *L0, int64_t bi
 }
 
 // Signed area (about nf) and centroid (into out) of the convex polygon cell c.
-double cell_area_centroid(Scratch &s, int c, const double *nf, double *out) {
+double cell_area_centroid(Scratch& s, int c, const double* nf, double* out) {
     double cen[3] = {0.0, 0.0, 0.0}, area = 0.0;
-    const double *c0 = s.cell(c, 0);
+    const double* c0 = s.cell(c, 0);
     for (int i = 1; i + 1 < s.ncv[c]; ++i) {
         double u[3], v[3], w[3];
         sub(s.cell(c, i), c0, u);
@@ -360,20 +365,22 @@ double cell_area_centroid(Scratch &s, int c, const double *nf, double *out) {
 
 // acc (10,) += weight x the tetrahedron sums (apex p) of the fan of cell c; or with `bound`,
 // out (13,) += their absolute bounds.
-void add_cell(Scratch &s, int c, double weight, const double *p, double *acc, bool bound) {
+void add_cell(Scratch& s, int c, double weight, const double* p, double* acc, bool bound) {
     for (int i = 1; i + 1 < s.ncv[c]; ++i) {
         double y[3][3];
         sub(s.cell(c, 0), p, y[0]);
         sub(s.cell(c, i), p, y[1]);
         sub(s.cell(c, i + 1), p, y[2]);
-        if (bound) tetra_abs(acc, 1.0, y[0], y[1], y[2]);
-        else tetra_add(acc, weight, y[0], y[1], y[2]);
+        if (bound)
+            tetra_abs(acc, 1.0, y[0], y[1], y[2]);
+        else
+            tetra_add(acc, weight, y[0], y[1], y[2]);
     }
 }
 
 // 1 + index of a line among lines[:nlines] equal to the line through x with unit normal nl
 // (negative: opposite normal), 0 if none.
-int same_line(const Scratch &s, int nlines, const double *nl, const double *x, double tol) {
+int same_line(const Scratch& s, int nlines, const double* nl, const double* x, double tol) {
     for (int li = 0; li < nlines; ++li) {
         const double c = dot(&s.lines[li][3], nl);
         if (std::abs(c) < 1.0 - 1e-12) continue;
@@ -383,10 +390,11 @@ int same_line(const Scratch &s, int nlines, const double *nl, const double *x, d
 }
 
 // Does the piece come within tol of the shadow of face g in f's plane (no separating axis)?
-bool piece_near_type3(const Mesh &m, int64_t g, const double *Pi, const double *nf, double tol) {
+bool piece_near_type3(const Mesh& m, int64_t g, const double* Pi, const double* nf, double tol) {
     for (int t = 0; t < 2; ++t)
         for (int e = 0; e < 3; ++e) {
-            const double *a = t == 0 ? m.at(g, e) : Pi + 3 * e, *b = t == 0 ? m.at(g, (e + 1) % 3) : Pi + 3 * ((e + 1) % 3);
+            const double *a = t == 0 ? m.at(g, e) : Pi + 3 * e,
+                         *b = t == 0 ? m.at(g, (e + 1) % 3) : Pi + 3 * ((e + 1) % 3);
             double nl[3];
             if (line_of(a, b, nf, nl) == 0.0) continue;
             double lo1 = INF, hi1 = -INF, lo2 = INF, hi2 = -INF;
@@ -404,8 +412,8 @@ bool piece_near_type3(const Mesh &m, int64_t g, const double *Pi, const double *
 // bounded in bnd (13,), windings met in w_seen), 1 to split.  The piece is clipped by the full
 // line of every trace reaching it; each cell's w_front comes from a walk from the reference
 // point (or from a cell already known).
-int resolve_one(Scratch &s, const Mesh &m, const Traces &tr, const double *Pi, int64_t f, const double *ref, double w_ref,
-                const double *p, double rel_tol, double *acc, double *bnd, double *w_seen) {
+int resolve_one(Scratch& s, const Mesh& m, const Traces& tr, const double* Pi, int64_t f, const double* ref,
+                double w_ref, const double* p, double rel_tol, double* acc, double* bnd, double* w_seen) {
     double nf[3], nl[3];
     unit_normal(m, f, nf);
     const double tol = rel_tol * face_size(m, f);
@@ -472,7 +480,8 @@ int resolve_one(Scratch &s, const Mesh &m, const Traces &tr, const double *Pi, i
         // mesh may line the centroid up with a trace's end)
         for (int trial = 0; trial <= s.ncv[c]; ++trial) {
             double q[3], jmp;
-            for (int k = 0; k < 3; ++k) q[k] = trial == 0 ? s.cen[c][k] : 0.7 * s.cen[c][k] + 0.3 * s.cell(c, trial - 1)[k];
+            for (int k = 0; k < 3; ++k)
+                q[k] = trial == 0 ? s.cen[c][k] : 0.7 * s.cen[c][k] + 0.3 * s.cell(c, trial - 1)[k];
             if (walk(tr, f, ref, q, nf, tol, jmp)) {
                 s.w_cell[c] = w_ref + jmp;
                 s.known[c] = true;
@@ -508,7 +517,8 @@ int resolve_one(Scratch &s, const Mesh &m, const Traces &tr, const double *Pi, i
             for (int e = 0; e < 3; ++e) {
                 const size_t slot = size_t(3 * (k - k0) + e);
                 const int64_t li = s.line_of_[slot];
-                inside = inside && (li >= 0 ? (((s.sides[c] >> li) & 1) == 1) != bool(s.flip[slot]) : s.side_fixed[slot] > 0);
+                inside = inside &&
+                         (li >= 0 ? (((s.sides[c] >> li) & 1) == 1) != bool(s.flip[slot]) : s.side_fixed[slot] > 0);
             }
             if (inside) {
                 net += tr.J[k];
@@ -540,10 +550,12 @@ nb::tuple classify_traces(Vertices V, Faces F, In1<double> M, In1<int64_t> cut_p
         const int64_t *ptr = cut_ptr.data(), *idx = cut_idx.data();
         parallel_for(m.nf, threads, 4096, [&](size_t f0, size_t f1) {
             for (size_t f = f0; f < f1; ++f)
-                for (int64_t k = ptr[f]; k < ptr[f + 1]; ++k) classify_one(m, int64_t(f), idx[k], eps, type[k], &P[9 * k], J[k]);
+                for (int64_t k = ptr[f]; k < ptr[f + 1]; ++k)
+                    classify_one(m, int64_t(f), idx[k], eps, type[k], &P[9 * k], J[k]);
         });
     }
-    return nb::make_tuple(to_numpy(std::move(type), {K}), to_numpy(std::move(P), {K, 3, 3}), to_numpy(std::move(J), {K}));
+    return nb::make_tuple(to_numpy(std::move(type), {K}), to_numpy(std::move(P), {K, 3, 3}),
+                          to_numpy(std::move(J), {K}));
 }
 
 // A point of each face of `faces` away (rel_tol x its size) from every trace: its centroid or
@@ -609,7 +621,7 @@ Arr1 winding_excluding(InN3<double> pts, In1<int64_t> owner, Vertices V, Faces F
         const int64_t *ptr = cut_ptr.data(), *idx = cut_idx.data(), *type = tr_type.data();
         parallel_for(n, threads, 1 + 100000 / (m.nf + 1), [&](size_t i0, size_t i1) {
             for (size_t i = i0; i < i1; ++i) {
-                const double *x = pts.data() + 3 * i;
+                const double* x = pts.data() + 3 * i;
                 const int64_t o = owner.data()[i];
                 double s = 0.0;
                 for (size_t f = 0; f < m.nf; ++f)
@@ -646,7 +658,7 @@ nb::tuple walk_pairs(Vertices V, Faces F, In1<double> M, InN4<int64_t> pairs, In
         nb::gil_scoped_release unlocked;
         parallel_for(n, threads, 256, [&](size_t i0, size_t i1) {
             for (size_t i = i0; i < i1; ++i) {
-                const int64_t *pr = pairs.data() + 4 * i;
+                const int64_t* pr = pairs.data() + 4 * i;
                 double mid[3], na[3] = {0.0, 0.0, 0.0}, total = 0.0, extra_a = 0.0;
                 for (int c = 0; c < 3; ++c) mid[c] = 0.5 * (m.V[3 * pr[2] + c] + m.V[3 * pr[3] + c]);
                 bool good = true;
@@ -703,7 +715,7 @@ nb::tuple resolve_pieces(In3x3<double> P, In1<int64_t> owner, In1<int64_t> slot,
         parallel_for(n_blocks, threads, 2, [&](size_t b0, size_t b1) {
             auto s = std::make_unique<Scratch>();
             for (size_t b = b0; b < b1; ++b) {
-                double *out = &blk[25 * b];
+                double* out = &blk[25 * b];
                 out[23] = INF, out[24] = -INF;
                 for (size_t i = BLOCK * b; i < std::min(n, BLOCK * b + BLOCK); ++i) {
                     double a[10] = {}, d[13] = {}, w_seen[2] = {INF, -INF};
@@ -723,30 +735,21 @@ nb::tuple resolve_pieces(In3x3<double> P, In1<int64_t> owner, In1<int64_t> slot,
             w_lo = std::min(w_lo, blk[25 * b + 23]), w_hi = std::max(w_hi, blk[25 * b + 24]);
         }
     }
-    return nb::make_tuple(to_numpy(std::move(status), {n}), to_numpy(std::move(acc), {10}), to_numpy(std::move(bnd), {13}),
-                          w_lo, w_hi);
+    return nb::make_tuple(to_numpy(std::move(status), {n}), to_numpy(std::move(acc), {10}),
+                          to_numpy(std::move(bnd), {13}), w_lo, w_hi);
 }
 
 }  // namespace
 
-void bind_clip(nb::module_ &m) {
-    m.def("classify_traces", &classify_traces, nb::arg("V"), nb::arg("F"), nb::arg("M"), nb::arg("cut_ptr"),
-          nb::arg("cut_idx"), nb::arg("eps"), nb::arg("threads") = 0,
+void bind_clip(nb::module_& m) {
+    m.def("classify_traces", &classify_traces,
           "Trace of each cutter in its face's plane: (type (K,), points (K, 3, 3), jump (K,)).");
-    m.def("reference_points", &reference_points, nb::arg("V"), nb::arg("F"), nb::arg("M"), nb::arg("faces"),
-          nb::arg("cut_ptr"), nb::arg("cut_idx"), nb::arg("tr_type"), nb::arg("tr_P"), nb::arg("tr_J"),
-          nb::arg("rel_tol"), nb::arg("threads") = 0,
+    m.def("reference_points", &reference_points,
           "A point of each face clear of its traces: (ref (n, 3), net multiplicity (n,), found (n,)).");
-    m.def("winding_excluding", &winding_excluding, nb::arg("pts"), nb::arg("owner"), nb::arg("V"), nb::arg("F"),
-          nb::arg("M"), nb::arg("cut_ptr"), nb::arg("cut_idx"), nb::arg("tr_type"), nb::arg("threads") = 0,
+    m.def("winding_excluding", &winding_excluding,
           "Winding numbers at pts without face owner[i] and its coplanar cutters.");
-    m.def("walk_pairs", &walk_pairs, nb::arg("V"), nb::arg("F"), nb::arg("M"), nb::arg("pairs"), nb::arg("ref"),
-          nb::arg("face_slot"), nb::arg("cut_ptr"), nb::arg("cut_idx"), nb::arg("tr_type"), nb::arg("tr_P"),
-          nb::arg("tr_J"), nb::arg("rel_tol"), nb::arg("threads") = 0,
-          "Front-winding jumps across manifold edges: (jump (n,), ok (n,)).");
-    m.def("resolve_pieces", &resolve_pieces, nb::arg("P"), nb::arg("owner"), nb::arg("slot"), nb::arg("ref"),
-          nb::arg("w_ref"), nb::arg("V"), nb::arg("F"), nb::arg("M"), nb::arg("cut_ptr"), nb::arg("cut_idx"),
-          nb::arg("tr_type"), nb::arg("tr_P"), nb::arg("tr_J"), nb::arg("p"), nb::arg("rel_tol"), nb::arg("threads") = 0,
+    m.def("walk_pairs", &walk_pairs, "Front-winding jumps across manifold edges: (jump (n,), ok (n,)).");
+    m.def("resolve_pieces", &resolve_pieces,
           "Resolve pieces: (status (N,), sums (10,), sliver bounds (13,), least front, largest back winding).");
 }
 

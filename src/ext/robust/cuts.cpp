@@ -18,7 +18,7 @@ struct FaceGeom {
     Tri T;
 };
 
-FaceGeom face_geom(const Mesh &m, int64_t f) {
+FaceGeom face_geom(const Mesh& m, int64_t f) {
     FaceGeom a;
     m.load(f, a.T);
     for (int c = 0; c < 3; ++c) a.id[c] = m.F[3 * f + c];
@@ -31,19 +31,19 @@ FaceGeom face_geom(const Mesh &m, int64_t f) {
 }
 
 // Signed distances (times |n_A|) of B's corners to A's plane.
-void plane_dist(const FaceGeom &a, const Tri &B, double *d) {
+void plane_dist(const FaceGeom& a, const Tri& B, double* d) {
     double q[3];
     for (int k = 0; k < 3; ++k) sub(B[k], a.T[0], q), d[k] = dot(a.n, q);
 }
 
-bool one_side(const double *d, double tol) {
+bool one_side(const double* d, double tol) {
     return (d[0] > tol && d[1] > tol && d[2] > tol) || (d[0] < -tol && d[1] < -tol && d[2] < -tol);
 }
 
 // 2-D separating-axis test of two coplanar triangles (axes: in-plane edge normals, n A's normal).
-bool coplanar_overlap(const Tri &A, const Tri &B, const double *n, double eps) {
+bool coplanar_overlap(const Tri& A, const Tri& B, const double* n, double eps) {
     for (int t = 0; t < 2; ++t) {
-        const Tri &T = t == 0 ? A : B;
+        const Tri& T = t == 0 ? A : B;
         for (int e = 0; e < 3; ++e) {
             double d[3], ax[3];
             sub(T[(e + 1) % 3], T[e], d);
@@ -63,7 +63,7 @@ bool coplanar_overlap(const Tri &A, const Tri &B, const double *n, double eps) {
 }
 
 // Interval of T (meeting the other plane, distances d) along the direction D.
-void line_interval(const Tri &T, const double *d, double tol, const double *D, double &lo, double &hi) {
+void line_interval(const Tri& T, const double* d, double tol, const double* D, double& lo, double& hi) {
     lo = INF, hi = -INF;
     for (int k = 0; k < 3; ++k) {
         if (std::abs(d[k]) <= tol) {
@@ -84,7 +84,7 @@ void line_interval(const Tri &T, const double *d, double tol, const double *D, d
 // May triangles a and b share a point (closed sets, within eps)?  Separating planes first
 // (Moeller 1997), coplanar pairs by separating axes, else the intervals both cut from the
 // line of the two planes overlap.
-bool tris_cut(const FaceGeom &a, const FaceGeom &b, double eps) {
+bool tris_cut(const FaceGeom& a, const FaceGeom& b, double eps) {
     double dB[3], dA[3];
     plane_dist(a, b.T, dB);
     const double tolA = eps * a.ln;
@@ -107,7 +107,7 @@ bool tris_cut(const FaceGeom &a, const FaceGeom &b, double eps) {
 }
 // Direction d in T's sector at corner s (normal n): in the closed sector, strictly inside
 // (angles below ANGLE_TOL count as on the sector's edge).
-void sector_flags(const Tri &T, int s, const double *d, const double *n, bool &closed, bool &strict) {
+void sector_flags(const Tri& T, int s, const double* d, const double* n, bool& closed, bool& strict) {
     double e1[3], e2[3], c[3];
     sub(T[(s + 1) % 3], T[s], e1);
     sub(T[(s + 2) % 3], T[s], e2);
@@ -122,7 +122,7 @@ void sector_flags(const Tri &T, int s, const double *d, const double *n, bool &c
 }
 
 // Direction d strictly (beyond ANGLE_TOL) inside T's sector at corner s (n: the common plane's normal).
-bool strictly_inside(const Tri &T, int s, const double *d, const double *n) {
+bool strictly_inside(const Tri& T, int s, const double* d, const double* n) {
     double e1[3], e2[3], c[3];
     sub(T[(s + 1) % 3], T[s], e1);
     sub(T[(s + 2) % 3], T[s], e2);
@@ -139,7 +139,7 @@ bool strictly_inside(const Tri &T, int s, const double *d, const double *n) {
 
 // Coplanar triangles sharing corner v: their sectors at v overlap (beyond ANGLE_TOL) iff an
 // edge direction or the bisector of one lies strictly inside the other.
-bool sectors_overlap(const Tri &A, int sa, const Tri &B, int sb, const double *n) {
+bool sectors_overlap(const Tri& A, int sa, const Tri& B, int sb, const double* n) {
     for (int t = 0; t < 2; ++t) {
         const Tri &T = t == 0 ? A : B, &U = t == 0 ? B : A;
         const int s = t == 0 ? sa : sb, su = t == 0 ? sb : sa;
@@ -155,7 +155,7 @@ bool sectors_overlap(const Tri &A, int sa, const Tri &B, int sb, const double *n
 }
 
 // In-plane side of point q relative to the edge from A[i0] along e (sign of a dot with A's normal).
-double side(const Tri &A, const double *n, int i0, const double *e, const double *q) {
+double side(const Tri& A, const double* n, int i0, const double* e, const double* q) {
     double r[3], c[3];
     sub(q, A[i0], r);
     cross(e, r, c);
@@ -166,7 +166,7 @@ double side(const Tri &A, const double *n, int i0, const double *e, const double
 // edge: only a fold (coplanar, opposite corners on the same side); a shared corner: the
 // planes' line through it meets both triangles in segments pointing the same way; no shared
 // corner: tris_cut.
-bool faces_cut(const FaceGeom &a, const FaceGeom &b, double eps) {
+bool faces_cut(const FaceGeom& a, const FaceGeom& b, double eps) {
     const Tri &A = a.T, &B = b.T;
     int ns = 0, sa = -1, sb = -1, sum_a = 0, sum_b = 0;
     for (int i = 0; i < 3; ++i)
@@ -180,7 +180,7 @@ bool faces_cut(const FaceGeom &a, const FaceGeom &b, double eps) {
     if (a.ln == 0.0 || b.ln == 0.0) return true;
     const double tolA = eps * a.ln, tolB = eps * b.ln;
     if (ns == 2) {
-        const int oa = 3 - sum_a, ob = 3 - sum_b;  // corners off the shared edge
+        const int oa = 3 - sum_a, ob = 3 - sum_b;   // corners off the shared edge
         if (std::abs(dB[ob]) > tolA) return false;  // not coplanar: they meet along the edge only
         // coplanar: a fold when the opposite corners are on the same side of the edge
         const int i0 = (oa + 1) % 3, i1 = (oa + 2) % 3;
@@ -226,8 +226,8 @@ struct Entry {
 };
 
 struct Grid {
-    const Mesh &m;
-    const double *box;  // (F, 6): lo, hi
+    const Mesh& m;
+    const double* box;  // (F, 6): lo, hi
     const bool *small, *cert;
     int mode;
     double eps;
@@ -236,7 +236,7 @@ struct Grid {
     std::vector<int64_t> start;
     std::vector<Entry> entry;
 
-    Grid(const Mesh &m_, const double *box_, const bool *small_, const bool *cert_, int mode_, const double *origin,
+    Grid(const Mesh& m_, const double* box_, const bool* small_, const bool* cert_, int mode_, const double* origin,
          double cell, double eps_)
         : m(m_), box(box_), small(small_), cert(cert_), mode(mode_), eps(eps_), ilo(3 * m.nf), ihi(3 * m.nf) {
         size_t n_entries = 0;
@@ -253,7 +253,7 @@ struct Grid {
         while (T < n_entries) T *= 2;
         const uint64_t mask = T - 1;
         start.assign(T + 1, 0);
-        auto cells = [&](size_t f, auto &&visit) {
+        auto cells = [&](size_t f, auto&& visit) {
             for (int64_t i = ilo[3 * f]; i <= ihi[3 * f]; ++i)
                 for (int64_t j = ilo[3 * f + 1]; j <= ihi[3 * f + 1]; ++j)
                     for (int64_t k = ilo[3 * f + 2]; k <= ihi[3 * f + 2]; ++k) visit(cell_hash(i, j, k) & mask);
@@ -286,29 +286,30 @@ struct Grid {
 
     // Cutting pairs (f < g) found in buckets b0..b1-1.  The box test and the certified-corner
     // test are branch-free; their survivors go on to the low-corner bucket, then faces_cut.
-    void scan(size_t b0, size_t b1, std::vector<int64_t> &hits, std::vector<std::pair<int64_t, int64_t>> &out) const {
+    void scan(size_t b0, size_t b1, std::vector<int64_t>& hits, std::vector<std::pair<int64_t, int64_t>>& out) const {
         const uint64_t mask = T - 1;
         for (size_t b = b0; b < b1; ++b) {
             const int64_t e1 = start[b + 1];
             for (int64_t ea = start[b]; ea < e1; ++ea) {
-                const Entry &a = entry[ea];
+                const Entry& a = entry[ea];
                 const int64_t f = a.face;
                 if (mode == 1 && small[f]) continue;  // mode 1: pairs with a big face, scanned from that face
-                const float *bf = a.box;
+                const float* bf = a.box;
                 const int32_t c0 = a.corner[0], c1 = a.corner[1], c2 = a.corner[2];
                 const bool k0 = cert[c0], k1 = cert[c1], k2 = cert[c2];
                 size_t nh = 0;
                 for (int64_t eb = mode == 1 ? start[b] : ea + 1; eb < e1; ++eb) {
-                    const float *bg = entry[eb].box;
+                    const float* bg = entry[eb].box;
                     const int32_t g0 = entry[eb].corner[0], g1 = entry[eb].corner[1], g2 = entry[eb].corner[2];
                     hits[nh] = eb;
                     nh += (bg[0] <= bf[3]) & (bg[3] >= bf[0]) & (bg[1] <= bf[4]) & (bg[4] >= bf[1]) & (bg[2] <= bf[5]) &
                           (bg[5] >= bf[2]) &
-                          !((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) | (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2))) |
+                          !((k0 & ((c0 == g0) | (c0 == g1) | (c0 == g2))) |
+                            (k1 & ((c1 == g0) | (c1 == g1) | (c1 == g2))) |
                             (k2 & ((c2 == g0) | (c2 == g1) | (c2 == g2))));
                 }
                 for (size_t h = 0; h < nh; ++h) {
-                    const Entry &e = entry[hits[h]];
+                    const Entry& e = entry[hits[h]];
                     const int64_t g = e.face;
                     if (g == f || (mode == 1 && !small[g] && g < f)) continue;
                     const int64_t i = std::max(a.low[0], e.low[0]), j = std::max(a.low[1], e.low[1]),
@@ -331,7 +332,8 @@ nb::tuple cut_lists(Vertices V, Faces F, In1<bool> cert, double eps, int threads
     check_length(cert.shape(0), m.nv, "cert");
     if (!(eps >= 0.0)) input_error("eps must be a non-negative length");
     const size_t nf = m.nf;
-    if (nf >= size_t(INT32_MAX) || m.nv >= size_t(INT32_MAX)) input_error("cut_lists takes fewer than 2^31 faces and vertices");
+    if (nf >= size_t(INT32_MAX) || m.nv >= size_t(INT32_MAX))
+        input_error("cut_lists takes fewer than 2^31 faces and vertices");
     std::vector<int64_t> ptr(nf + 1, 0), idx;
     {
         nb::gil_scoped_release unlocked;
@@ -361,14 +363,14 @@ nb::tuple cut_lists(Vertices V, Faces F, In1<bool> cert, double eps, int threads
             if (nf % 2 == 0) median = (*std::max_element(sorted.begin(), sorted.begin() + h) + median) / 2.0;
         }
         const double cell = std::max(std::max(2.0 * median, span_all / 1e6), 1e-300);
-        for (double &o : origin) o -= 2.0 * eps;
+        for (double& o : origin) o -= 2.0 * eps;
         std::vector<char> small_c(nf);
         double big = -INF;
         for (size_t f = 0; f < nf; ++f) {
             small_c[f] = ext[f] <= 4.0 * cell;
             if (!small_c[f]) big = std::max(big, ext[f]);
         }
-        const bool *small = reinterpret_cast<const bool *>(small_c.data());
+        const bool* small = reinterpret_cast<const bool*>(small_c.data());
         std::vector<std::pair<int64_t, int64_t>> pairs;
         for (int mode = 0; mode < (big > -INF ? 2 : 1); ++mode) {
             const Grid grid(m, box.data(), small, cert.data(), mode, origin,
@@ -380,9 +382,10 @@ nb::tuple cut_lists(Vertices V, Faces F, In1<bool> cert, double eps, int threads
             // threads for a large grid only (a chunk of a small one costs less than starting one)
             parallel_for(n_chunks, grid.entry.size() < 65536 ? 1 : threads, 8, [&](size_t c0, size_t c1) {
                 std::vector<int64_t> hits(size_t(kmax) + 1);
-                for (size_t ch = c0; ch < c1; ++ch) grid.scan(grid.T * ch / n_chunks, grid.T * (ch + 1) / n_chunks, hits, found[ch]);
+                for (size_t ch = c0; ch < c1; ++ch)
+                    grid.scan(grid.T * ch / n_chunks, grid.T * (ch + 1) / n_chunks, hits, found[ch]);
             });
-            for (auto &v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+            for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
         }
         std::sort(pairs.begin(), pairs.end());
         pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
@@ -407,13 +410,14 @@ nb::ndarray<nb::numpy, double, nb::ndim<1>> winding_rest(InN3<double> pts, In1<i
     std::vector<double> out(n);
     {
         nb::gil_scoped_release unlocked;
-        const double *P = pts.data();
-        const int64_t *o = owner.data();
+        const double* P = pts.data();
+        const int64_t* o = owner.data();
         parallel_for(n, threads, 1 + 100000 / (m.nf + 1), [&](size_t i0, size_t i1) {
             for (size_t i = i0; i < i1; ++i) {
                 double s = 0.0;
                 for (size_t f = 0; f < m.nf; ++f)
-                    if (int64_t(f) != o[i]) s += m.M[f] * solid_angle(m, int64_t(f), P[3 * i], P[3 * i + 1], P[3 * i + 2]);
+                    if (int64_t(f) != o[i])
+                        s += m.M[f] * solid_angle(m, int64_t(f), P[3 * i], P[3 * i + 1], P[3 * i + 2]);
                 out[i] = s / FOUR_PI;
             }
         });
@@ -423,11 +427,10 @@ nb::ndarray<nb::numpy, double, nb::ndim<1>> winding_rest(InN3<double> pts, In1<i
 
 }  // namespace
 
-void bind_cuts(nb::module_ &m) {
-    m.def("cut_lists", &cut_lists, nb::arg("V"), nb::arg("F"), nb::arg("cert"), nb::arg("eps"), nb::arg("threads") = 0,
+void bind_cuts(nb::module_& m) {
+    m.def("cut_lists", &cut_lists,
           "Faces that may cut each face: CSR (cut_ptr (F + 1,), cut_idx), both ways, increasing.");
-    m.def("winding_rest", &winding_rest, nb::arg("pts"), nb::arg("owner"), nb::arg("V"), nb::arg("F"), nb::arg("M"),
-          nb::arg("threads") = 0, "Winding numbers at pts of every face but owner[i].");
+    m.def("winding_rest", &winding_rest, "Winding numbers at pts of every face but owner[i].");
 }
 
 }  // namespace inertia::robust

@@ -8,7 +8,7 @@ namespace inertia::robust {
 namespace {
 
 // CSR of faces by their lowest corner, in increasing face order.
-void faces_by_lowest(const int64_t *F, size_t nf, size_t nv, std::vector<int64_t> &ptr, std::vector<int64_t> &idx) {
+void faces_by_lowest(const int64_t* F, size_t nf, size_t nv, std::vector<int64_t>& ptr, std::vector<int64_t>& idx) {
     ptr.assign(nv + 1, 0);
     auto low = [&](size_t f) { return std::min(F[3 * f], std::min(F[3 * f + 1], F[3 * f + 2])); };
     for (size_t f = 0; f < nf; ++f) ptr[low(f) + 1]++;
@@ -31,7 +31,7 @@ bool odd_perm(int64_t a, int64_t b, int64_t c) {
 // their net multiplicity (copies oriented like the first +1, others -1); cancelled groups
 // dropped, a negative group written flipped.
 nb::tuple dedupe_faces(Faces faces, size_t n_vertices) {
-    const int64_t *F = faces.data();
+    const int64_t* F = faces.data();
     const size_t nf = faces.shape(0);
     check_faces(F, nf, n_vertices);
     std::vector<int64_t> out;
@@ -85,7 +85,7 @@ struct Corner {
 
 // The corners of the faces around each vertex (CSR, increasing face order), of the faces with
 // keep[f] (all if keep is empty).
-void vertex_corners(const Mesh &m, const std::vector<char> &keep, std::vector<int64_t> &ptr, std::vector<Corner> &out) {
+void vertex_corners(const Mesh& m, const std::vector<char>& keep, std::vector<int64_t>& ptr, std::vector<Corner>& out) {
     ptr.assign(m.nv + 1, 0);
     for (size_t f = 0; f < m.nf; ++f)
         if (keep.empty() || keep[f])
@@ -96,7 +96,8 @@ void vertex_corners(const Mesh &m, const std::vector<char> &keep, std::vector<in
     for (size_t f = 0; f < m.nf; ++f)
         if (keep.empty() || keep[f])
             for (int q = 0; q < 3; ++q)
-                out[fill[m.F[3 * f + q]]++] = {int64_t(f), m.F[3 * f + (q + 1) % 3], m.F[3 * f + (q + 2) % 3], m.M[f], q};
+                out[fill[m.F[3 * f + q]]++] = {int64_t(f), m.F[3 * f + (q + 1) % 3], m.F[3 * f + (q + 2) % 3], m.M[f],
+                                               q};
 }
 
 // The faces around one vertex v: corners after v (A, B), the face (W), its multiplicity (Mf),
@@ -111,10 +112,10 @@ struct Star {
     size_t k = 0;
     explicit Star(size_t kmax) : A(kmax), B(kmax), W(kmax), Q(kmax), Mf(kmax), L(kmax), flag(kmax), C(kmax) {}
 
-    void load(const std::vector<int64_t> &ptr, const std::vector<Corner> &corners, int64_t v) {
+    void load(const std::vector<int64_t>& ptr, const std::vector<Corner>& corners, int64_t v) {
         k = 0;
         for (int64_t i = ptr[v]; i < ptr[v + 1]; ++i, ++k) {
-            const Corner &c = corners[i];
+            const Corner& c = corners[i];
             A[k] = c.a, B[k] = c.b, W[k] = c.f, Q[k] = c.q, Mf[k] = c.m;
         }
     }
@@ -143,7 +144,7 @@ struct Star {
 };
 
 // Counts of open, inconsistently wound, non-manifold edges, with edge (m_out, m_in) added.
-void count_kind(int64_t *kinds, double m_out, double m_in) {
+void count_kind(int64_t* kinds, double m_out, double m_in) {
     const double n = m_out + m_in;
     if (n < 1.5)
         kinds[0]++;
@@ -153,7 +154,7 @@ void count_kind(int64_t *kinds, double m_out, double m_in) {
         kinds[2]++;
 }
 
-bool first_in(const std::vector<int64_t> &X, size_t t, int64_t x) {
+bool first_in(const std::vector<int64_t>& X, size_t t, int64_t x) {
     for (size_t u = 0; u < t; ++u)
         if (X[u] == x) return false;
     return true;
@@ -161,10 +162,10 @@ bool first_in(const std::vector<int64_t> &X, size_t t, int64_t x) {
 
 // Pair the faces of v's manifold edges {v, x}, x > v, into nbr; count the edge kinds; returns
 // the number of boundary edges (net multiplicity not 0).
-int64_t vertex_edges(const Star &s, int64_t v, int64_t *nbr, int64_t *kinds) {
+int64_t vertex_edges(const Star& s, int64_t v, int64_t* nbr, int64_t* kinds) {
     int64_t n_bnd = 0;
     for (size_t t = 0; t < s.k; ++t) {
-        const auto &L = s.L[t];
+        const auto& L = s.L[t];
         int64_t x = s.A[t];  // edge v -> A[t]
         if (x > v) {
             if (L[2] > 1 || L[5] > 1) {
@@ -207,7 +208,7 @@ int64_t vertex_edges(const Star &s, int64_t v, int64_t *nbr, int64_t *kinds) {
 
 // How the link edges connect: 2 one cycle, 1 one path, 0 neither (the tails distinct, the walk
 // along `next` from the start reaching all k edges, then stopping or closing).
-int fan_kind(Star &s) {
+int fan_kind(Star& s) {
     size_t start = 0, n_starts = 0;
     for (size_t t = 0; t < s.k; ++t) {
         if (s.L[t][2] > 1) return 0;
@@ -230,9 +231,9 @@ int fan_kind(Star &s) {
 
 // The fan around v projects along its mean normal into disjoint sectors: each face positive
 // beyond a 1e-9 relative margin, and the sectors cover the circle once (cycle) or less (path).
-bool fan_flat(Star &s, const double *V, int64_t v, int kind) {
-    const double *p = V + 3 * v;
-    auto &C = s.C;
+bool fan_flat(Star& s, const double* V, int64_t v, int kind) {
+    const double* p = V + 3 * v;
+    auto& C = s.C;
     double n[3] = {0.0, 0.0, 0.0};
     for (size_t t = 0; t < s.k; ++t) sub(V + 3 * s.A[t], p, &C[t][3]);
     for (size_t t = 0; t < s.k; ++t) {
@@ -246,7 +247,7 @@ bool fan_flat(Star &s, const double *V, int64_t v, int kind) {
     }
     const double ln = norm(n);
     if (!(ln > 0.0)) return false;
-    for (double &x : n) x /= ln;
+    for (double& x : n) x /= ln;
     for (size_t t = 0; t < s.k; ++t) {
         const double cn = dot(&C[t][0], n);  // cn > 1e-9 |c|, squared
         if (!(cn > 0.0 && cn * cn > 1e-18 * dot(&C[t][0], &C[t][0]))) return false;
@@ -279,7 +280,7 @@ bool fan_flat(Star &s, const double *V, int64_t v, int kind) {
     return true;
 }
 
-size_t max_valence(const std::vector<int64_t> &ptr) {
+size_t max_valence(const std::vector<int64_t>& ptr) {
     int64_t kmax = 1;
     for (size_t v = 0; v + 1 < ptr.size(); ++v) kmax = std::max(kmax, ptr[v + 1] - ptr[v]);
     return size_t(kmax);
@@ -315,9 +316,9 @@ nb::tuple vertex_pass(Vertices V, Faces F, In1<double> M, In1<int64_t> verts, Ou
         }
         vertex_corners(m, keep, ptr, corners);
         const size_t kmax = max_valence(ptr);
-        bool *ok = cert.data();
-        int64_t *nb_ = nbr.data();
-        const int64_t *vs = verts.data();
+        bool* ok = cert.data();
+        int64_t* nb_ = nbr.data();
+        const int64_t* vs = verts.data();
         parallel_for(nvv, threads, 2048, [&](size_t j0, size_t j1) {
             Star s(kmax);
             for (size_t j = j0; j < j1; ++j) {
@@ -355,7 +356,7 @@ nb::tuple vertex_pass(Vertices V, Faces F, In1<double> M, In1<int64_t> verts, Ou
                           to_numpy(std::move(emult), {ne}));
 }
 
-int64_t find_root(std::vector<int64_t> &parent, int64_t x) {
+int64_t find_root(std::vector<int64_t>& parent, int64_t x) {
     int64_t r = x;
     while (parent[r] != r) r = parent[r];
     while (parent[x] != r) {
@@ -378,8 +379,8 @@ nb::tuple patch_reps(Vertices V, Faces F, In2<int64_t> nbr, In1<bool> cut) {
     std::vector<int64_t> labels(nf), reps;
     {
         nb::gil_scoped_release unlocked;
-        const bool *cu = cut.data();
-        const int64_t *nb_ = nbr.data();
+        const bool* cu = cut.data();
+        const int64_t* nb_ = nbr.data();
         std::vector<int64_t> parent(nf);
         for (size_t f = 0; f < nf; ++f) parent[f] = int64_t(f);
         for (size_t f = 0; f < nf; ++f) {
@@ -388,8 +389,10 @@ nb::tuple patch_reps(Vertices V, Faces F, In2<int64_t> nbr, In1<bool> cut) {
                 const int64_t g = nb_[3 * f + e];
                 if (g < 0 || cu[g]) continue;
                 const int64_t rf = find_root(parent, int64_t(f)), rg = find_root(parent, g);
-                if (rf < rg) parent[rg] = rf;
-                else if (rg < rf) parent[rf] = rg;
+                if (rf < rg)
+                    parent[rg] = rf;
+                else if (rg < rf)
+                    parent[rf] = rg;
             }
         }
         int64_t n = 0;
@@ -458,12 +461,13 @@ nb::tuple piece_sums(In3x3<double> P, In1<double> p, double w) {
     return nb::make_tuple(to_numpy(std::move(sums), {10}), to_numpy(std::move(bnd), {13}));
 }
 
-double cross2(const double *P, int64_t a, int64_t b, int64_t c) {
-    return (P[2 * b] - P[2 * a]) * (P[2 * c + 1] - P[2 * a + 1]) - (P[2 * b + 1] - P[2 * a + 1]) * (P[2 * c] - P[2 * a]);
+double cross2(const double* P, int64_t a, int64_t b, int64_t c) {
+    return (P[2 * b] - P[2 * a]) * (P[2 * c + 1] - P[2 * a + 1]) -
+           (P[2 * b + 1] - P[2 * a + 1]) * (P[2 * c] - P[2 * a]);
 }
 
 // Closed segments ab and cd share a point (within tiny of the cross products).
-bool segments_meet(const double *P, int64_t a, int64_t b, int64_t c, int64_t d, double tiny) {
+bool segments_meet(const double* P, int64_t a, int64_t b, int64_t c, int64_t d, double tiny) {
     const double d1 = cross2(P, a, b, c), d2 = cross2(P, a, b, d), d3 = cross2(P, c, d, a), d4 = cross2(P, c, d, b);
     if ((d1 > tiny && d2 > tiny) || (d1 < -tiny && d2 < -tiny) || (d3 > tiny && d4 > tiny) ||
         (d3 < -tiny && d4 < -tiny))
@@ -485,7 +489,7 @@ nb::object ear_clip(In2<double> polygon) {
     check_length(polygon.shape(1), 2, "polygon's rows");
     const int64_t n = int64_t(polygon.shape(0));
     if (n < 3) return nb::none();
-    const double *P = polygon.data();
+    const double* P = polygon.data();
     std::vector<int64_t> out;
     {
         nb::gil_scoped_release unlocked;
@@ -532,8 +536,10 @@ nb::object ear_clip(In2<double> polygon) {
             }
             b = c;
         }
-        if (!simple) out.clear();
-        else out.insert(out.end(), {prv[b], b, nxt[b]});
+        if (!simple)
+            out.clear();
+        else
+            out.insert(out.end(), {prv[b], b, nxt[b]});
     }
     if (out.empty()) return nb::none();
     const size_t nt = out.size() / 3;
@@ -542,20 +548,16 @@ nb::object ear_clip(In2<double> polygon) {
 
 }  // namespace
 
-void bind_topo(nb::module_ &m) {
-    m.def("dedupe_faces", &dedupe_faces, nb::arg("faces"), nb::arg("n_vertices"),
-          "Faces with equal corner sets merged: (faces (n, 3), multiplicities (n,)).");
-    m.def("vertex_pass", &vertex_pass, nb::arg("V"), nb::arg("F"), nb::arg("M"), nb::arg("verts"), nb::arg("cert"),
-          nb::arg("nbr"), nb::arg("threads") = 0,
-          "Certified vertices and faces across manifold edges (in place); (edge kinds (3,), boundary edges "
+void bind_topo(nb::module_& m) {
+    m.def("dedupe_faces", &dedupe_faces, "Faces with equal corner sets merged: (faces (n, 3), multiplicities (n,)).");
+    m.def("vertex_pass", &vertex_pass,
+          "Certified vertices and the faces across manifold edges (in place); (edge kinds (3,), boundary edges "
           "(E, 2), their multiplicities (E,)).");
-    m.def("patch_reps", &patch_reps, nb::arg("V"), nb::arg("F"), nb::arg("nbr"), nb::arg("cut"),
-          "Patches of uncut faces: (labels (F,), largest face of each patch (n,)).");
-    m.def("weighted_sums", &weighted_sums, nb::arg("V"), nb::arg("F"), nb::arg("w"), nb::arg("p"),
-          nb::arg("threads") = 0, "Weighted signed-tetrahedron sums about p (10,), times 6, 24, 120.");
-    m.def("piece_sums", &piece_sums, nb::arg("P"), nb::arg("p"), nb::arg("w"),
+    m.def("patch_reps", &patch_reps, "Patches of uncut faces: (labels (F,), largest face of each patch (n,)).");
+    m.def("weighted_sums", &weighted_sums, "Weighted signed-tetrahedron sums about p (10,), times 6, 24, 120.");
+    m.def("piece_sums", &piece_sums,
           "Tetrahedron sums (10,) and absolute bounds (13,) of triangles P (N, 3, 3) about p, weight w.");
-    m.def("ear_clip", &ear_clip, nb::arg("polygon"), "Ear-clipping triangles (n - 2, 3) of a simple polygon, or None.");
+    m.def("ear_clip", &ear_clip, "Ear-clipping triangles (n - 2, 3) of a simple polygon, or None.");
 }
 
 }  // namespace inertia::robust
