@@ -140,8 +140,8 @@ def speed(data, rounds, against=None, threads=None):
             print(f"| {name} | | other / this | {np.median(r[0]):.2f} (median of rounds) | | | "
                   f"{np.median(r[1]):.2f} | |")
     print()
-    print("Peak RSS of a fresh process (MiB): imports and mesh loaded / after the exact path on the closed mesh / "
-          "after the robust call on the open one")
+    print("Memory of a fresh process (MiB): resident after imports and loading the mesh / peak during the exact "
+          "path on the closed mesh / peak during the robust call on the open one (VmHWM, reset before each call)")
     with tempfile.TemporaryDirectory() as d:
         for i, (name, v, fo, fc) in enumerate(cases):
             path = Path(d) / f"{i}.npz"
@@ -150,20 +150,25 @@ def speed(data, rounds, against=None, threads=None):
 
 
 def _rss(path, python):
-    """Peak RSS (MiB) of a fresh process of ``python``: after importing and loading the mesh,
-    after the exact path on the closed mesh, after the robust call on the open one."""
+    """Resident memory (MiB) of a fresh process of ``python``: after importing and loading the mesh,
+    the peak during the exact path on the closed mesh, the peak during the robust call on the
+    open one (Linux: the peak is reset through /proc/self/clear_refs before each call)."""
     code = f"""
-import resource, warnings
+import re, warnings
 import numpy as np, inertia
-rss = lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
+def mib(key):
+    return int(re.search(key + r":\\s+(\\d+)", open("/proc/self/status").read()).group(1)) // 1024
+def peak(call):
+    open("/proc/self/clear_refs", "w").write("5")
+    call()
+    return mib("VmHWM")
 a = np.load({str(path)!r})
 v, fo, fc = a["v"], a["fo"], a["fc"]
 warnings.simplefilter("ignore")
-r0 = rss()
-inertia.mesh_properties(v, fc, density=1.0)
-r1 = rss()
-inertia.mesh_properties(v, fo, density=1.0, robust=True)
-print(f"{{r0}} / {{r1}} / {{rss()}}")
+r0 = mib("VmRSS")
+r1 = peak(lambda: inertia.mesh_properties(v, fc, density=1.0))
+r2 = peak(lambda: inertia.mesh_properties(v, fo, density=1.0, robust=True))
+print(f"{{r0}} / {{r1}} / {{r2}}")
 """
     env = dict(os.environ)
     if python != sys.executable:
