@@ -9,11 +9,6 @@ load factor <= 1/2), so their cost is O(n) with no sort:
   (the same map as the NumPy ``checks._weld_map``);
 * :func:`near_merge_map` -- the lowest index of each group of vertices joined by pairs at
   distance <= ``tol`` (the same groups as ``cKDTree.query_pairs`` + connected components);
-* :func:`closed_single_shell` and :func:`clean_solid` (in :mod:`._solid_numba`, re-exported here) -- does a welded
-  mesh pass every check of :func:`inertia.geometry.checks.check_mesh` as one closed,
-  consistently wound, outward, non-degenerate component?  When it answers no (or cannot
-  tell), the caller runs the full NumPy analysis, which names each defect; so this kernel
-  never has to explain anything, only to be right when it answers yes.
 
 Repetition here is deliberate: the kernels are written as flat scalar arithmetic (numba
 compiles it to registers; a helper returning tuples, or a loop over the three coordinates,
@@ -30,10 +25,30 @@ _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`;
 #: ``python -m inertia.cli.warmup`` compiles them last)
-WARM_PROBE = ("clean_solid", "weld_map")
+WARM_PROBE = ("weld_map",)
 
-from ._shell_numba import find_root, union_low, winding_numbers  # noqa: E402,F401 - one module object for the callers
-from ._solid_numba import clean_solid, closed_single_shell  # noqa: E402,F401
+from .integrals import winding_numbers  # noqa: E402,F401 - compiled in inertia._ext.integrals
+
+
+# union-find with the lowest index as root (C++: src/ext/integrals/union_find.hpp)
+@nb.njit(**_JIT)
+def find_root(parent, i):
+    """Root of i, halving the path as it goes."""
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@nb.njit(**_JIT)
+def union_low(parent, a, b):
+    """Join the sets of a and b; the lower root becomes the root (so roots are group minima)."""
+    ra = find_root(parent, a)
+    rb = find_root(parent, b)
+    if ra < rb:
+        parent[rb] = ra
+    elif rb < ra:
+        parent[ra] = rb
 
 #: merging never joins vertices farther apart than this fraction of the short face edges
 MERGE_EDGE_FRACTION = 0.25

@@ -23,8 +23,6 @@ EXPORTS = {
         "weld_and_merge": "f8[:,::1], i8[:,::1], f8",
         "weld_map": "f8[:,::1]",
         "weld_compact": "f8[:,::1], i8[:,::1]",
-        "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!, i8[:,::1]!",
-        "winding_numbers": "f8[:,::1], f8[:,:,::1]",
     },
     "inertia.geometry._selfcross_numba": {
         "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",

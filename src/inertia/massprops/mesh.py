@@ -232,10 +232,7 @@ def _robust_direct(v, f, welded, *, density, mass, frame, what, tol, stacklevel)
     coordinates within the limit) goes to the robust solid, whose own pass names the defects;
     None otherwise (the full analysis then names the fatal ones)."""
     from ..geometry.checks import clean_analysis
-    from ..geometry.mesh_arrays import topology_kernels
 
-    if topology_kernels(len(f)) is None:
-        return None        # without the compiled check a clean mesh cannot be told apart cheaply
     clean = clean_analysis(v, f, welded=welded)
     if clean is not None and clean.solid_sums is not None:
         return _clean_solid_properties(clean.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
