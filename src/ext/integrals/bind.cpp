@@ -33,6 +33,8 @@ auto sums(const Vertices &v, const Faces &f, const In1<double> &p) {
 
 void bind_integrals(nb::module_ &m) {
     m.attr("STAR_RTOL") = STAR_RTOL;
+    m.attr("SUM_BLOCK") = SUM_BLOCK;
+    m.attr("SUM_CHUNK") = SUM_CHUNK;
     m.def("bbox_center", [](const Vertices &v) {
         check_at_least(v.shape(0), 1, "vertices");
         const V3 c = bbox_center(v.data(), v.shape(0));
