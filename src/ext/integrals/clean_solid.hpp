@@ -64,22 +64,18 @@ int64_t match_edges(const int32_t *end, size_t nv, HalfEdge *he, int32_t *parent
             }
             continue;
         }
-        for (size_t j = s0; j < s1; ++j) {
+        for (size_t j = s0; j < s1; j += 2) {  // the entries before j are matched pairs
             const int32_t u = he[j].upper;
-            if (u == 0) continue;  // matched already
-            size_t partner = 0;
-            bool found = false;
+            size_t partner = s1;
             for (size_t q = j + 1; q < s1; ++q) {
-                if (he[q].upper == u) return -1;  // the same way twice: inconsistent or non-manifold
-                if (he[q].upper == -u) {
-                    if (found) return -1;  // non-manifold
-                    partner = q;
-                    found = true;
-                }
+                if (std::abs(he[q].upper) != std::abs(u)) continue;
+                // the same way twice (inconsistent), or a third time (non-manifold)
+                if (he[q].upper == u || partner < s1) return -1;
+                partner = q;
             }
-            if (!found) return -1;  // met once: open
-            merged += join_faces<Join, Note>(parent, adj, he[j].owner, he[partner].owner);
-            he[partner].upper = 0;
+            if (partner == s1) return -1;  // met once: open
+            std::swap(he[j + 1], he[partner]);
+            merged += join_faces<Join, Note>(parent, adj, he[j].owner, he[j + 1].owner);
         }
     }
     return merged;
@@ -128,10 +124,11 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     // 3. per face: area check, volume sums, star certificate, half-edge filing (end[i] moves to
     // the end of vertex i's list)
     Buffer<detail::HalfEdge> he = scratch<detail::HalfEdge>(3 * nf);
-    StarTally star;
+    const bool prefetch = nv >= PREFETCH_MIN_ROWS;
+    m4 not_star = {}, through = {};  // lanes: some face off or grazed; -(faces the ray leaves through)
     const bool ok = blocked_sum<11>(nf, out, [&](size_t i, size_t m, d4 *t) INERTIA_INLINE {
         const int64_t *f = faces + 3 * i;
-        if (i + PREFETCH_FACES + 4 <= nf) {  // the rows and the half-edge slots of faces ahead
+        if (prefetch && i + PREFETCH_FACES + 4 <= nf) {  // the rows and the half-edge slots of faces ahead
             const int64_t *g = f + 3 * PREFETCH_FACES;
             prefetch_rows(v, g, 4);
             for (size_t j = 0; j < 12; ++j) __builtin_prefetch(&he[end[std::min(g[j], g[j % 3 == 2 ? j - 2 : j + 1])]], 1);
@@ -140,16 +137,19 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
         const V3x4 e1 = b - a, e2 = c - a, e3 = e2 - e1;
         const V3x4 nrm = cross(e1, e2);
         const d4 a2 = sqrt4(dot(nrm, nrm)), d = dot(a, nrm);
+        const m4 valid = first_lanes(m);
+        // zero area relative to the face's own size (longest edge squared), not the mesh's
         const d4 l1 = dot(e1, e1), l2 = dot(e2, e2), l3 = dot(e3, e3);
-        for (size_t l = 0; l < m; ++l) {
-            // zero area relative to the face's own size (longest edge squared), not the mesh's
-            if (!(0.5 * a2[l] > area_rtol * std::max({l1[l], l2[l], l3[l]}))) return false;
-            if (star.state == 0) star_face(lane(a, l), lane(e1, l), lane(e2, l), lane(nrm, l), d[l], star);
+        const d4 l12 = l1 > l2 ? l1 : l2;
+        if (any(~(0.5 * a2 > area_rtol * (l12 > l3 ? l12 : l3)) & valid)) return false;
+        const StarLanes star = star_faces(a, e1, e2, nrm, d);
+        not_star |= (star.off | star.graze) & valid;
+        through += star.hit & valid;
+        for (size_t l = 0; l < m; ++l)
             for (size_t k = 0; k < 3; ++k) {
                 const int32_t x = int32_t(f[3 * l + k]), y = int32_t(f[3 * l + (k == 2 ? 0 : k + 1)]);
                 he[end[std::min(x, y)]++] = {x < y ? y + 1 : -(x + 1), int32_t(4 * (i + l) + k)};
             }
-        }
         add_moments(t, d, a, b, c);
         t[10] += a2;
         return true;
@@ -159,7 +159,7 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     // of faces that all see p strictly inside has winding number >= 1 about p, and a ray leaves
     // it that many times, so one exit means one component.  Otherwise the faces of each edge are
     // joined by union-find: one component when F - 1 joins merged two.
-    const bool star_shaped = star.state == 0 && star.through == 1;
+    const bool star_shaped = !any(not_star) && through[0] + through[1] + through[2] + through[3] == -1;
     if (star_shaped) {
         if (detail::match_edges<false, false>(end.get(), nv, he.get(), nullptr, nullptr) < 0) return false;
     } else {

@@ -60,6 +60,7 @@ inline V3x4 corners(const double *v, const int64_t *f, size_t m, int k, const V3
 // meshes whose faces jump around the vertex array.  (Integer address arithmetic: a bad index is
 // only checked when its face is reached, and a prefetch never faults.)
 constexpr size_t PREFETCH_FACES = 16;
+constexpr size_t PREFETCH_MIN_ROWS = size_t(1) << 16;  // below (1.5 MB of rows) they stay in cache
 inline void prefetch_rows(const double *v, const int64_t *f, size_t m) {
     for (size_t j = 0; j < 3 * m; ++j)
         __builtin_prefetch(reinterpret_cast<const void *>(reinterpret_cast<uintptr_t>(v) + 24 * uint64_t(f[j])));
@@ -111,9 +112,10 @@ inline V3 bbox_center(const double *v, size_t nv) {
 template <bool Shell>
 void mesh_sums(const double *v, size_t nv, const int64_t *faces, size_t nf, const V3 &p, double *out) {
     const int64_t n = static_cast<int64_t>(nv);
+    const bool prefetch = nv >= PREFETCH_MIN_ROWS;
     blocked_sum<10>(nf, out, [&](size_t i, size_t m, d4 *t) INERTIA_INLINE {
         const int64_t *f = faces + 3 * i;
-        if (i + PREFETCH_FACES + 4 <= nf) prefetch_rows(v, f + 3 * PREFETCH_FACES, 4);
+        if (prefetch && i + PREFETCH_FACES + 4 <= nf) prefetch_rows(v, f + 3 * PREFETCH_FACES, 4);
         for (size_t j = 0; j < 3 * m; ++j)
             if (f[j] < 0 || f[j] >= n) bad_face(i + j / 3, f + j - j % 3, nv);
         const V3x4 a = corners(v, f, m, 0, p), b = corners(v, f, m, 1, p), c = corners(v, f, m, 2, p);

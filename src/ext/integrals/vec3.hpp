@@ -3,6 +3,7 @@
 // Every operation is the plain IEEE expression written left to right, lane by lane (no fused
 // multiply-add: -ffp-contract=off), so a lane gives the bits its scalar twin would.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 #pragma GCC diagnostic ignored "-Wpsabi"  // 32-byte vectors without AVX: inline only, no ABI crossed
@@ -10,6 +11,7 @@
 namespace inertia {
 
 typedef double d4 __attribute__((vector_size(32)));
+typedef int64_t m4 __attribute__((vector_size(32)));  // lane masks of d4 comparisons: -1 true, 0 false
 
 template <class T>
 struct Vec3 {
@@ -32,6 +34,10 @@ inline Vec3<T> cross(const Vec3<T> &a, const Vec3<T> &b) {
 inline V3 row(const double *xyz, int64_t i) { return {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; }
 // Lane l of a V3x4.
 inline V3 lane(const V3x4 &a, int l) { return {a.x[l], a.y[l], a.z[l]}; }
+// Some lane of a mask is true.
+inline bool any(const m4 &x) { return (x[0] | x[1] | x[2] | x[3]) != 0; }
+// The first m lanes true.
+inline m4 first_lanes(size_t m) { return m4{0, 1, 2, 3} < int64_t(m); }
 // The lanes' sum in a fixed order.
 inline double lanes_sum(const d4 &x) { return (x[0] + x[1]) + (x[2] + x[3]); }
 
