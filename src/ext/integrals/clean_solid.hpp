@@ -145,11 +145,15 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
         const StarLanes star = star_faces(a, e1, e2, nrm, d);
         not_star |= (star.off | star.graze) & valid;
         through += star.hit & valid;
-        for (size_t l = 0; l < m; ++l)
-            for (size_t k = 0; k < 3; ++k) {
-                const int32_t x = int32_t(f[3 * l + k]), y = int32_t(f[3 * l + (k == 2 ? 0 : k + 1)]);
-                he[end[std::min(x, y)]++] = {x < y ? y + 1 : -(x + 1), int32_t(4 * (i + l) + k)};
-            }
+        const int32_t h0 = int32_t(4 * i);
+        auto file = [&](size_t j) INERTIA_INLINE {  // half-edge j of the quad: corner j % 3 of face j / 3
+            const int32_t x = int32_t(f[j]), y = int32_t(f[j % 3 == 2 ? j - 2 : j + 1]);
+            he[end[std::min(x, y)]++] = {x < y ? y + 1 : -(x + 1), h0 + int32_t(j + j / 3)};
+        };
+        if (m == 4)
+            for (size_t j = 0; j < 12; ++j) file(j);
+        else
+            for (size_t j = 0; j < 3 * m; ++j) file(j);
         add_moments(t, d, a, b, c);
         t[10] += a2;
         return true;
