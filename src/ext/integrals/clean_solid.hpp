@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "integrals/buffer.hpp"
@@ -131,7 +130,8 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
         if (prefetch && i + PREFETCH_FACES + 4 <= nf) {  // the rows and the half-edge slots of faces ahead
             const int64_t *g = f + 3 * PREFETCH_FACES;
             prefetch_rows(v, g, 4);
-            for (size_t j = 0; j < 12; ++j) __builtin_prefetch(&he[end[std::min(g[j], g[j % 3 == 2 ? j - 2 : j + 1])]], 1);
+            for (size_t j = 0; j < 12; ++j)
+                __builtin_prefetch(&he[end[std::min(g[j], g[j % 3 == 2 ? j - 2 : j + 1])]], 1);
         }
         const V3x4 a = corners(v, f, m, 0, p), b = corners(v, f, m, 1, p), c = corners(v, f, m, 2, p);
         const V3x4 e1 = b - a, e2 = c - a, e3 = e2 - e1;
