@@ -376,3 +376,13 @@ def test_integrals_give_the_same_bits_in_every_call_and_in_a_fresh_process():
                          timeout=300, cwd=root)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == first
+
+
+def test_integrals_give_the_same_bits_on_threads():
+    """The kernels release the GIL and share nothing: calls on 4 threads at once give the bits of
+    a call alone."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    first = bits_of_a_run()
+    with ThreadPoolExecutor(4) as pool:
+        assert list(pool.map(lambda _: bits_of_a_run(), range(8))) == [first] * 8
