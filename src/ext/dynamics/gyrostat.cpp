@@ -24,7 +24,7 @@ namespace inertia::dynamics {
 
 namespace {
 
-constexpr size_t CHUNK = 16;  // bodies per chunk (the buffer of 6 wheels, 134 x 16 doubles, stays in L1)
+constexpr size_t CHUNK = 16;  // bodies per chunk (the buffer of 6 wheels, 135 x 16 doubles, stays in L1)
 constexpr size_t LANES = 8;   // the widest SIMD vector of doubles
 
 constexpr size_t plant_cols(size_t n) { return 10 + 5 * n; }
@@ -36,7 +36,7 @@ struct Rows {
     static constexpr size_t P = 0, V = 3, Q = 6, MOM = 10, W = 13, HW = 16, AX = HW + n, UMAX = AX + 3 * n,
                             HMAX = UMAX + n, AH = HMAX + n, AHH = AH + 3, TAU = AHH + 3, U = TAU + 3, K = U + n,
                             WREF = K + n * (3 + n), HREF = WREF + 3, UFF = HREF + n, SAX = UFF + n, TILT = SAX + 3,
-                            ROWS = TILT + 1;
+                            SIN2 = TILT + 1, ROWS = TILT + 2;
 };
 
 struct Job {
@@ -94,6 +94,7 @@ void load(double *b, const Job &J, size_t b0, size_t active, size_t lanes) {
             at(R::UFF + w) = ct[n * (3 + n) + 3 + n + w];
         }
         at(R::TILT) = 2.0;
+        at(R::SIN2) = -1.0;
     }
 }
 
@@ -140,16 +141,20 @@ __attribute__((noinline)) void plant_step(double *__restrict b, size_t lanes, do
     }
 }
 
-// The running least cosine between the monitored axis s and the total angular momentum m.
+// The running least cosine and largest squared sine of the angle between the monitored axis s and
+// the total angular momentum m (the sine from |s x m|: exact for small angles, where 1 - cos is not).
 template <size_t n>
 __attribute__((noinline)) void monitor(double *__restrict b, size_t lanes) {
     using R = Rows<n>;
     for (size_t i = 0; i < lanes; ++i) {
         auto at = [&](size_t row) -> double & { return b[row * CHUNK + i]; };
         const double m0 = at(R::MOM), m1 = at(R::MOM + 1), m2 = at(R::MOM + 2);
-        const double c = (at(R::SAX) * m0 + at(R::SAX + 1) * m1 + at(R::SAX + 2) * m2) /
-                         std::sqrt(m0 * m0 + m1 * m1 + m2 * m2);
+        const double s0 = at(R::SAX), s1 = at(R::SAX + 1), s2 = at(R::SAX + 2);
+        const double c0 = s1 * m2 - s2 * m1, c1 = s2 * m0 - s0 * m2, c2 = s0 * m1 - s1 * m0;
+        const double mm = m0 * m0 + m1 * m1 + m2 * m2;
+        const double c = (s0 * m0 + s1 * m1 + s2 * m2) / std::sqrt(mm);
         at(R::TILT) = std::min(at(R::TILT), c);
+        at(R::SIN2) = std::max(at(R::SIN2), (c0 * c0 + c1 * c1 + c2 * c2) / mm);
     }
 }
 
@@ -165,8 +170,12 @@ void save(double *b, const Job &J, size_t r, size_t b0, size_t active) {
         for (size_t w = 0; w < n; ++w) o[13 + w] = hw[w] = at(R::HW + w);
         wheel_sum<n>(b, i, hw, hP);
         for (size_t k = 0; k < 3; ++k) o[10 + k] = (at(R::MOM + k) - hP[k]) * at(R::W + k);
-        J.tilt[r * J.N + b0 + i] = std::acos(std::max(-1.0, std::min(1.0, at(R::TILT))));
+        // below 60 degrees (cos > 1/2) the sine orders the angles and keeps their digits
+        const double c = at(R::TILT);
+        J.tilt[r * J.N + b0 + i] = c > 0.5 ? std::asin(std::sqrt(std::min(1.0, at(R::SIN2))))
+                                           : std::acos(std::max(-1.0, c));
         at(R::TILT) = 2.0;
+        at(R::SIN2) = -1.0;
     }
 }
 

@@ -44,7 +44,7 @@ from .body import RigidBody, check_body
 from .segments import METHOD_NAMES
 
 __all__ = ["Gyrostat", "WheelFeedback", "GyrostatRun", "gyrostat_step", "gyrostat_jacobians", "gyrostat_rollout",
-           "saturate_wheel_torque", "GYROSTAT_METHODS", "MAX_WHEELS"]
+           "saturate_wheel_torque", "rollout_threads", "GYROSTAT_METHODS", "MAX_WHEELS"]
 
 #: The gyrostat integrators; the first is the default.
 GYROSTAT_METHODS = ("splitting", "rk4")
@@ -254,7 +254,9 @@ def _control(g: Gyrostat, fb: WheelFeedback | None, monitor_axis, batch, N):
     return _rows(row, batch, N)
 
 
-def _threads(threads, work: int) -> int:
+def rollout_threads(threads, work: int) -> int:
+    """The threads a rollout of ``work`` body-steps runs on: ``threads``, or for None every core the
+    process may use from :data:`THREADS_MIN_WORK` body-steps on, else one."""
     if threads is not None:
         return as_count(threads, "threads", 1)
     if work < THREADS_MIN_WORK:
@@ -344,7 +346,7 @@ def gyrostat_rollout(x0, h, n_steps, *, gyrostat: Gyrostat, u=None, feedback: Wh
     out = np.empty((S, N, 13 + n))
     tilt = np.empty((S, N))
     _k.gyro_rollout(_method_index(method), x_k, plant, control, _gravity(gravity), hf, sub, steps, every,
-                    _threads(threads, N * steps * sub), out, tilt)
+                    rollout_threads(threads, N * steps * sub), out, tilt)
     states = _states_from_principal(g.body, out.reshape((S,) + batch + (13 + n,)))
     t = np.arange(S) * (every * sub * hf) if every else np.array([steps * sub * hf])
     return GyrostatRun(t, states, None if monitor_axis is None else tilt.reshape((S,) + batch))
