@@ -58,6 +58,11 @@ def _dare_doubling(A, B, Q, R):
     from ``G = B R^-1 B'``, ``H = Q``; H converges to P."""
     eye = np.eye(A.shape[-1])
     Ak, Gk, Hk = A.copy(), B @ np.linalg.solve(R, _t(B)), Q.copy()
+    with np.errstate(over="ignore", invalid="ignore"):   # a system with no solution diverges: checked after
+        return _doubling_loop(eye, Ak, Gk, Hk)
+
+
+def _doubling_loop(eye, Ak, Gk, Hk):
     for _ in range(DOUBLING_MAX_ITER):
         W = eye + Gk @ Hk
         WA, WG = np.linalg.solve(W, Ak), np.linalg.solve(W, Gk)
@@ -94,16 +99,20 @@ def dlqr(A, B, Q, R) -> tuple[np.ndarray, np.ndarray]:
     batch = np.broadcast_shapes(A.shape[:-2], B.shape[:-2], Q.shape[:-2], R.shape[:-2])
     A, B = np.broadcast_to(A, batch + A.shape[-2:]), np.broadcast_to(B, batch + B.shape[-2:])
     Q, R = np.broadcast_to(Q, batch + Q.shape[-2:]), np.broadcast_to(R, batch + R.shape[-2:])
+    def scipy_dare(k=()):
+        try:
+            return solve_discrete_are(A[k], B[k], Q[k], R[k])
+        except (ValueError, np.linalg.LinAlgError) as e:
+            raise InputError(f"no stabilising LQR solution{' for system ' + str(k) if k else ''}: {e}") from None
+
     if batch:
         P = _dare_doubling(A, B, Q, R)
-        redo = ~(_dare_residual(A, B, Q, R, P) <= DARE_RTOL)
+        with np.errstate(over="ignore", invalid="ignore"):
+            redo = ~(_dare_residual(A, B, Q, R, P) <= DARE_RTOL)
         for k in zip(*np.nonzero(redo)):        # the few the doubling did not settle: scipy's QZ
-            P[k] = solve_discrete_are(A[k], B[k], Q[k], R[k])
+            P[k] = scipy_dare(tuple(int(i) for i in k))
     else:
-        try:
-            P = solve_discrete_are(A, B, Q, R)
-        except (ValueError, np.linalg.LinAlgError) as e:
-            raise InputError(f"no stabilising LQR solution: {e}") from None
+        P = scipy_dare()
     K = np.linalg.solve(R + _t(B) @ P @ B, _t(B) @ P @ A)
     radius = np.abs(np.linalg.eigvals(A - B @ K)).max(axis=-1)
     bad = ~(radius < 1.0) | ~(_dare_residual(A, B, Q, R, P) <= DARE_RTOL)
