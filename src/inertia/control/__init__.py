@@ -17,6 +17,7 @@ _EXPORTS = {
     "SpinSetup": "studies", "t_handle_setup": "studies", "basilisk_setup": "studies", "initial_state": "studies",
     "passive_sweep": "studies", "PassiveSweep": "studies", "active_run": "studies", "ActiveRun": "studies",
     "monte_carlo": "studies", "MonteCarlo": "studies", "perturbed_models": "studies",
+    "Showcase": "studies", "showcase": "studies", "saturate_wheel_torque": "inertia.dynamics.gyrostat",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

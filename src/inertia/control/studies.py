@@ -35,7 +35,8 @@ from .dual_spin import dual_spin_exponent, dual_spin_threshold
 from .lqr import SpinHold, design_spin_hold
 
 __all__ = ["SpinSetup", "t_handle_setup", "basilisk_setup", "initial_state", "PassiveSweep", "passive_sweep",
-           "ActiveRun", "active_run", "MonteCarlo", "monte_carlo", "perturbed_models", "DEPARTURE_FACTOR"]
+           "ActiveRun", "active_run", "MonteCarlo", "monte_carlo", "perturbed_models", "DEPARTURE_FACTOR", "Showcase",
+           "showcase"]
 
 #: The passive spin "departs" when its largest tilt exceeds this many times its initial tilt.  Near
 #: the threshold the departure grows like sqrt(1 - h/h_min) and the held wobble like
@@ -311,3 +312,26 @@ def monte_carlo(setup: SpinSetup, n_runs: int = 1000, *, seed: int = 0, moment_e
     final_rate = run.states[-1, :, 10:13] @ setup.spin_axis
     return MonteCarlo(setup, late, late <= setup.max_tilt, scale, angle, final_rate, t1 - t0, t2 - t1,
                       rollout_threads(threads, n * setup.n_steps * setup.substeps))
+
+
+# ---------------------------------------------------------------------------- the showcase
+#: The ratios h / h_min of the showcase's passive sweep (its table and plot).
+SHOWCASE_RATIOS = (0.0, 0.25, 0.5, 0.75, 0.9, 0.95, 0.98, 0.99, 1.01, 1.02, 1.05, 1.1, 1.25, 1.5)
+
+
+@dataclass(frozen=True)
+class Showcase:
+    """Everything ``inertia demo --control`` shows, per body (keys: the setups' names)."""
+
+    setups: dict
+    passive: dict
+    active: dict
+    monte_carlo: dict
+
+
+def showcase(n_runs: int = 1000, *, seed: int = 0, threads: int | None = None) -> Showcase:
+    """The passive sweep, the active hold and the Monte Carlo for the T-handle and Basilisk's body."""
+    setups = {s.name: s for s in (t_handle_setup(), basilisk_setup())}
+    return Showcase(setups, {k: passive_sweep(s, SHOWCASE_RATIOS) for k, s in setups.items()},
+                    {k: active_run(s) for k, s in setups.items()},
+                    {k: monte_carlo(s, n_runs, seed=seed, threads=threads) for k, s in setups.items()})
