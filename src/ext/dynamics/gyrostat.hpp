@@ -57,20 +57,6 @@ INERTIA_INLINE void gyro_rotor(T q[4], T m[3], const T hP[3], const double W[3],
     q[1 + l] = ql * ch - qk * sh;
 }
 
-// (dq/dt without its 1/2, dm/dt) at wheel momentum hP
-template <class T>
-INERTIA_INLINE void gyro_rate(const T q[4], const T m[3], const T hP[3], const double W[3], const T t[3], T dq[4],
-                              T dm[3]) {
-    const T a = (m[0] - hP[0]) * W[0], b = (m[1] - hP[1]) * W[1], c = (m[2] - hP[2]) * W[2];
-    dq[0] = -q[1] * a - q[2] * b - q[3] * c;
-    dq[1] = q[0] * a + q[2] * c - q[3] * b;
-    dq[2] = q[0] * b - q[1] * c + q[3] * a;
-    dq[3] = q[0] * c + q[1] * b - q[2] * a;
-    dm[0] = (m[1] * c - m[2] * b) + t[0];
-    dm[1] = (m[2] * a - m[0] * c) + t[1];
-    dm[2] = (m[0] * b - m[1] * a) + t[2];
-}
-
 // One step of h with the body torque t (P) and the wheels' torque dh = A u (P) held; hP the wheels'
 // momentum at the start.  Splitting: kick (t, dh over h/2), R1 R2 R3 R2 R1 with hP frozen, kick;
 // keeps |m| and the world L = R m to rounding (tau = 0), second order.  Rk4: classical RK4 on
