@@ -31,6 +31,8 @@ def test_dlqr_of_one_system_is_scipys_and_a_batch_by_doubling_agrees():
         K1, P1 = dlqr(A[k], B[k], Q[k], R[k])
         assert np.array_equal(P1, Ps) and np.abs(K[k] - K1).max() < 1e-9 * np.abs(K1).max()
         assert np.abs(np.linalg.eigvals(A[k] - B[k] @ K[k])).max() < 1
+    # each system of a batch stops on its own: the same bits in another batch
+    assert np.array_equal(dlqr(A[7:9], B[7:9], Q[7:9], R[7:9])[1], P[7:9])
 
 
 def test_dlqr_refuses_an_unstabilisable_system():

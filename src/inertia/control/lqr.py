@@ -55,23 +55,23 @@ def _dare_residual(A, B, Q, R, P):
 def _dare_doubling(A, B, Q, R):
     """Stabilising DARE solutions of a batch by structure-preserving doubling:
     ``A+ = A (I + G H)^-1 A``, ``G+ = G + A (I + G H)^-1 G A'``, ``H+ = H + A' H (I + G H)^-1 A``
-    from ``G = B R^-1 B'``, ``H = Q``; H converges to P."""
+    from ``G = B R^-1 B'``, ``H = Q``; H converges to P.  Each system stops on its own (so its
+    result does not depend on the others in the batch)."""
     eye = np.eye(A.shape[-1])
-    Ak, Gk, Hk = A.copy(), B @ np.linalg.solve(R, _t(B)), Q.copy()
+    Ak, Gk, Hk = A.copy(), B @ np.linalg.solve(R, _t(B)), np.array(Q)
+    todo = np.ones(A.shape[:-2], dtype=bool)
     with np.errstate(over="ignore", invalid="ignore"):   # a system with no solution diverges: checked after
-        return _doubling_loop(eye, Ak, Gk, Hk)
-
-
-def _doubling_loop(eye, Ak, Gk, Hk):
-    for _ in range(DOUBLING_MAX_ITER):
-        W = eye + Gk @ Hk
-        WA, WG = np.linalg.solve(W, Ak), np.linalg.solve(W, Gk)
-        H_next = Hk + _t(Ak) @ Hk @ WA
-        Gk, Ak = Gk + Ak @ WG @ _t(Ak), Ak @ WA
-        done = np.abs(H_next - Hk).max() <= 1e-14 * np.abs(H_next).max()
-        Hk = 0.5 * (H_next + _t(H_next))
-        if done:
-            break
+        for _ in range(DOUBLING_MAX_ITER):
+            a, g, h = Ak[todo], Gk[todo], Hk[todo]
+            W = eye + g @ h
+            WA, WG = np.linalg.solve(W, a), np.linalg.solve(W, g)
+            h_next = h + _t(a) @ h @ WA
+            Gk[todo], Ak[todo] = g + a @ WG @ _t(a), a @ WA
+            done = ~(np.abs(h_next - h).max(axis=(-2, -1)) > 1e-14 * np.abs(h_next).max(axis=(-2, -1)))
+            Hk[todo] = 0.5 * (h_next + _t(h_next))
+            todo[todo] = ~done
+            if not todo.any():
+                break
     return Hk
 
 
