@@ -10,9 +10,9 @@ and the largest real mesh of the shared data, koala_large.obj (loaded with
 
 What is timed, per call, from the same (vertices, faces) arrays in the same process:
 
-* ours: ``central_inertia(*solid_integrals(vertices, faces, backend=...), 1.0)``, i.e.
-  the whole of mesh_kernel's work from the arrays to (volume, COM, central inertia):
-  input checks, reference point, kernel pass(es), COM and inertia.
+* ours: ``central_inertia(*solid_integrals(vertices, faces), 1.0)``, i.e. the whole of the
+  integrals' work from the arrays to (volume, COM, central inertia): input checks, reference
+  point, kernel pass(es) (``inertia._ext.integrals``), COM and inertia.
 * trimesh: ``trimesh.triangles.mass_properties(vertices[faces])``.  This is exactly
   what ``Trimesh.mass_properties`` runs on a fresh mesh (it gathers ``triangles =
   vertices[faces]`` and their cross products, then integrates), without the Trimesh
@@ -22,7 +22,6 @@ What is timed, per call, from the same (vertices, faces) arrays in the same proc
 Each entry is the minimum over ``--repeat`` measurements (each measurement runs the
 call enough times to last ``--min-time`` seconds, garbage collector off, via timeit);
 ``spread`` is (median - min) / min over the repeats, a measure of machine noise.
-numba is warmed up (compiled or loaded from its cache) before any timing.
 """
 
 from __future__ import annotations
@@ -81,54 +80,34 @@ def main(argv=None) -> int:
 
     from inertia.geometry import integrals as mk
 
-    backends = ["numpy"]
-    try:
-        import numba
-        backends.append("numba")
-        numba_version = numba.__version__
-    except ImportError:
-        numba_version = "not installed"
-
-    print(f"python {platform.python_version()}, numpy {np.__version__}, numba {numba_version}, "
-          f"trimesh {trimesh.__version__}, {os.cpu_count()} CPUs ({platform.processor() or platform.machine()})")
+    print(f"python {platform.python_version()}, numpy {np.__version__}, trimesh {trimesh.__version__}, "
+          f"{os.cpu_count()} CPUs ({platform.processor() or platform.machine()})")
     print(f"min of {args.repeat} measurements of >= {args.min_time} s each; spread = (median - min) / min\n")
 
-    meshes = load_meshes()
-    # warm up: compile (or load from cache) the numba kernels, touch every code path once
-    v0, f0 = meshes[0][1], meshes[0][2]
-    for be in backends:
-        mk.central_inertia(*mk.solid_integrals(v0, f0, backend=be), 1.0)
-
-    cols = ["trimesh"] + backends
+    cols = ("trimesh", "ours")
     head = f"{'mesh':<16} {'faces':>9} | " + " | ".join(f"{c + ' Mface/s':>15} {'us/call':>10} {'spread':>6}"
                                                       for c in cols)
-    head += " | " + " ".join(f"{'x ' + b:>9}" for b in backends) + " | max rel diff"
+    head += f" | {'x ours':>9} | max rel diff"
     print(head)
     print("-" * len(head))
-    for name, v, f in meshes:
+    for name, v, f in load_meshes():
         n = len(f)
 
         def run_trimesh(v=v, f=f):
             return trimesh_mass_properties(v[f])
 
-        results = {"trimesh": time_call(run_trimesh, args.repeat, args.min_time)}
-        ref = run_trimesh()
-        scale = np.abs(ref.inertia).max()
-        diff = 0.0
-        for be in backends:
-            def run_ours(v=v, f=f, be=be):
-                return mk.central_inertia(*mk.solid_integrals(v, f, backend=be), 1.0)
+        def run_ours(v=v, f=f):
+            return mk.central_inertia(*mk.solid_integrals(v, f), 1.0)
 
-            results[be] = time_call(run_ours, args.repeat, args.min_time)
-            com, inertia = run_ours()
-            diff = max(diff, np.abs(inertia - ref.inertia).max() / scale)
+        results = {c: time_call(fn, args.repeat, args.min_time) for c, fn in zip(cols, (run_trimesh, run_ours))}
+        ref = run_trimesh()
+        diff = np.abs(run_ours()[1] - ref.inertia).max() / np.abs(ref.inertia).max()
         row = f"{name:<16} {n:>9} | "
         row += " | ".join(f"{n / results[c][0] / 1e6:>15.2f} {results[c][0] * 1e6:>10.1f} {results[c][1]:>6.1%}"
                           for c in cols)
-        row += " | " + " ".join(f"{results['trimesh'][0] / results[b][0]:>9.1f}" for b in backends)
-        row += f" | {diff:.1e}"
+        row += f" | {results['trimesh'][0] / results['ours'][0]:>9.1f} | {diff:.1e}"
         print(row, flush=True)
-    print("\nx <backend> = trimesh time / our time (throughput ratio, higher is better);"
+    print("\nx ours = trimesh time / our time (throughput ratio, higher is better);"
           " max rel diff = max |I_ours - I_trimesh| / max |I_trimesh| (both near the origin).")
     return 0
 

@@ -15,10 +15,7 @@ median seconds per call, and the ratio trimesh / ours:
 
 Meshes: icospheres of 1,280 and 1.31M faces (star-shaped: the self-crossing certificate
 proves them in the integrals' pass), tori of 5,000 and 1.31M faces (not star-shaped: the
-face-pair search runs; above SEARCH_MAX_FACES a note instead).  ``--mode auto`` (default) is
-what a user's process runs: the kernels of the ahead-of-time library (build it first with
-``inertia warm-up``), or numba's when it is absent; ``--mode always`` takes numba's.  The
-line above the table says which served.
+face-pair search runs; above SEARCH_MAX_FACES a note instead).
 """
 
 from __future__ import annotations
@@ -29,7 +26,7 @@ import statistics
 import sys
 import time
 
-import numpy as np  # noqa: E402
+import numpy as np
 
 
 def meshes():
@@ -60,19 +57,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--budget", type=float, default=0.3, help="seconds per measurement")
-    ap.add_argument("--mode", choices=("auto", "always"), default="auto",
-                    help="INERTIA_COMPILED for our calls (auto: the library when built, as users get)")
     args = ap.parse_args(argv)
-    os.environ["INERTIA_COMPILED"] = args.mode
     import trimesh
 
     import inertia
-    from inertia._core import compiled
-
-    compiled.prefer_compiled()        # no NumPy-path phase before numba, where the library is absent
-    served = getattr(compiled.kernels("inertia.geometry._topology_numba"), "holds_gil", False)
-    print(f"INERTIA_COMPILED={args.mode}: kernels from "
-          + ("the ahead-of-time library" if served else "numba (no ahead-of-time library: `inertia warm-up`)"))
 
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; {args.rounds} interleaved rounds")
     print(f"{'mesh':<18} {'ours best':>10} {'median':>9} {'trimesh best':>13} {'median':>9} {'x best':>7} "

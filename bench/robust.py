@@ -3,7 +3,7 @@ bound table on generated cases, the real imperfect meshes beside trimesh and MuJ
 
 Run from the repository root, e.g.::
 
-    PYTHONPATH=$PWD/src python bench/robust.py --speed --rounds 7
+    PYTHONPATH=$PWD/src python bench/robust.py --speed --rounds 7 [--against OTHER/bin/python] [--threads 1]
     PYTHONPATH=$PWD/src python bench/robust.py --table --cases 100
     PYTHONPATH=$PWD/src python bench/robust.py --real [--data ../shared/data]
     PYTHONPATH=$PWD/src python bench/robust.py --manifold /path/to/site-packages   (manifold3d)
@@ -11,8 +11,8 @@ Run from the repository root, e.g.::
 --speed: 100k-face open meshes through the whole public call
 ``inertia.mesh_properties(..., robust=True)``, interleaved rounds, best and median wall
 time, beside two anchors measured in the same rounds (the exact path on the closed mesh,
-and ``robust_integrals`` alone); the peak RSS of a fresh process running one call (after
-importing and compiling, and after the call).
+and ``robust_integrals`` alone), and with ``--against`` another install (e.g. the numba one)
+in the same interleaved rounds; the peak RSS of a fresh process running one call.
 --table: hundreds of generated cases (tests/geometry/_robust_cases.py) per kind: the worst
 ratio true error / bound (honest when <= 1), the largest true error, bounds, convergence.
 --real: teapot_open, soup, cycloidal (../shared/data): our answer and bounds, trimesh's mass
@@ -22,6 +22,7 @@ properties, MuJoCo's legacy mesh inertia (compiled from a tiny MJCF).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -68,54 +69,111 @@ def speed_cases(data):
     return out
 
 
-def speed(data, rounds):
-    print("## Speed: whole public call, 100k-face open meshes (wall s; best / median of interleaved rounds)")
-    print("| case | faces | public call robust=True | Mfaces/s (best) | robust_integrals alone "
-          "| exact path, closed mesh |")
-    print("|---|---|---|---|---|---|")
-    for name, v, fo, fc in speed_cases(data):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+def _round(cases, threads):
+    """One round of every case: wall seconds of the public call, ``robust_integrals`` alone and the
+    exact path on the closed mesh, and the CPU seconds of the public call."""
+    kw = {} if threads is None else {"threads": threads}
+    out = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for _, v, fo, fc in cases:
+            t, c = time.perf_counter(), time.process_time()
             inertia.mesh_properties(v, fo, density=1.0, robust=True)
-            t_pub, t_rob, t_cl = [], [], []
-            for _ in range(rounds):
-                t = time.perf_counter()
-                inertia.mesh_properties(v, fo, density=1.0, robust=True)
-                t_pub.append(time.perf_counter() - t)
-                t = time.perf_counter()
-                robust_integrals(v, fo)
-                t_rob.append(time.perf_counter() - t)
-                t = time.perf_counter()
-                inertia.mesh_properties(v, fc, density=1.0)
-                t_cl.append(time.perf_counter() - t)
-        fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
-        print(f"| {name} | {len(fo)} | {fmt(t_pub)} | {len(fo) / min(t_pub) / 1e6:.2f} | {fmt(t_rob)} "
-              f"| {fmt(t_cl)} |")
+            row = [time.perf_counter() - t, time.process_time() - c]
+            t = time.perf_counter()
+            robust_integrals(v, fo, **kw)
+            row.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            inertia.mesh_properties(v, fc, density=1.0)
+            out.append(row + [time.perf_counter() - t])
+    return out
+
+
+def _worker(data):
+    """``--speed-worker``: a round of :func:`_round` per line read, its figures printed as JSON (the
+    interpreter of another install, run beside ours by ``--speed --against``)."""
+    cases = speed_cases(data)
+    for _ in range(3):
+        _round(cases, None)          # warm: numba's cache, first-call costs
+    print("ready", flush=True)
+    for _ in sys.stdin:
+        print(json.dumps(_round(cases, None)), flush=True)
+
+
+def speed(data, rounds, against=None, threads=None):
+    """Interleaved rounds of ours and, with ``against`` (another install's Python), of that install."""
+    cases = speed_cases(data)
+    other = None
+    if against:
+        env = {k: x for k, x in os.environ.items() if k != "PYTHONPATH"}
+        other = subprocess.Popen([against, __file__, "--speed-worker", "--data", data], stdin=subprocess.PIPE,
+                                 stdout=subprocess.PIPE, text=True, env=env, cwd=REPO)
+        assert other.stdout.readline().strip() == "ready"
+    for _ in range(3):
+        _round(cases, threads)
+    ours, theirs = [], []
+    for _ in range(rounds):
+        ours.append(_round(cases, threads))
+        if other:
+            other.stdin.write("go\n")
+            other.stdin.flush()
+            theirs.append(json.loads(other.stdout.readline()))
+    if other:
+        other.stdin.close()
+        other.wait()
+    print("## Speed: whole public call, 100k-face open meshes (wall s; best / median of interleaved rounds)")
+    print(f"threads={threads} (None: one per core); the other install: {against or 'not run'}")
+    print("| case | faces | install | public call robust=True (wall) | CPU s of it | Mfaces/s (best) "
+          "| robust_integrals alone | exact path, closed mesh |")
+    print("|---|---|---|---|---|---|---|---|")
+    fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
+    for i, (name, _, fo, _) in enumerate(cases):
+        for label, runs in (("this", ours), ("other", theirs)):
+            if not runs:
+                continue
+            col = [np.array([r[i][j] for r in runs]) for j in range(4)]
+            print(f"| {name} | {len(fo)} | {label} | {fmt(col[0])} | {fmt(col[1])} | {len(fo) / col[0].min() / 1e6:.2f} "
+                  f"| {fmt(col[2])} | {fmt(col[3])} |")
+        if theirs:
+            r = [np.array([x[i][j] for x in runs]) / np.array([x[i][j] for x in ours]) for j, runs in
+                 ((0, theirs), (2, theirs))]
+            print(f"| {name} | | other / this | {np.median(r[0]):.2f} (median of rounds) | | | "
+                  f"{np.median(r[1]):.2f} | |")
     print()
-    print("Peak RSS of a fresh process (MiB): imports and mesh built / after the exact path on the closed mesh / "
-          "after the robust call on the open one")
-    for name, *_ in speed_cases(data):
-        print(f"  {name}: {_rss(name, data)}")
+    print("Memory of a fresh process (MiB): resident after imports and loading the mesh / peak during the exact "
+          "path on the closed mesh / peak during the robust call on the open one (VmHWM, reset before each call)")
+    with tempfile.TemporaryDirectory() as d:
+        for i, (name, v, fo, fc) in enumerate(cases):
+            path = Path(d) / f"{i}.npz"
+            np.savez(path, v=v, fo=fo, fc=fc)
+            print(f"  {name}: this {_rss(path, sys.executable)}" + (f"; other {_rss(path, against)}" if against else ""))
 
 
-def _rss(name, data):
-    """Peak RSS (MiB) of a fresh process: after importing and building the mesh, after the
-    exact path on the closed mesh, after the robust call on the open one."""
+def _rss(path, python):
+    """Resident memory (MiB) of a fresh process of ``python``: after importing and loading the mesh,
+    the peak during the exact path on the closed mesh, the peak during the robust call on the
+    open one (Linux: the peak is reset through /proc/self/clear_refs before each call)."""
     code = f"""
-import resource, sys, warnings
-sys.path.insert(0, {str(REPO / 'bench')!r})
-import robust as b, inertia
-rss = lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
-_, v, fo, fc = {{c[0]: c for c in b.speed_cases({str(data)!r})}}[{name!r}]
+import re, warnings
+import numpy as np, inertia
+def mib(key):
+    return int(re.search(key + r":\\s+(\\d+)", open("/proc/self/status").read()).group(1)) // 1024
+def peak(call):
+    open("/proc/self/clear_refs", "w").write("5")
+    call()
+    return mib("VmHWM")
+a = np.load({str(path)!r})
+v, fo, fc = a["v"], a["fo"], a["fc"]
 warnings.simplefilter("ignore")
-r0 = rss()
-inertia.mesh_properties(v, fc, density=1.0)
-r1 = rss()
-inertia.mesh_properties(v, fo, density=1.0, robust=True)
-print(f"{{r0}} / {{r1}} / {{rss()}}")
+r0 = mib("VmRSS")
+r1 = peak(lambda: inertia.mesh_properties(v, fc, density=1.0))
+r2 = peak(lambda: inertia.mesh_properties(v, fo, density=1.0, robust=True))
+print(f"{{r0}} / {{r1}} / {{r2}}")
 """
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "src"), os.environ.get("PYTHONPATH", "")]))
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    env = dict(os.environ)
+    if python != sys.executable:
+        env.pop("PYTHONPATH", None)
+    out = subprocess.run([python, "-c", code], capture_output=True, text=True, env=env)
     return out.stdout.strip() or out.stderr.strip().splitlines()[-1]
 
 
@@ -256,6 +314,10 @@ def manifold(path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--speed", action="store_true")
+    ap.add_argument("--against", default=None, metavar="PYTHON",
+                    help="with --speed: another install's Python, measured in the same interleaved rounds")
+    ap.add_argument("--threads", type=int, default=None, help="with --speed: robust_integrals(threads=...)")
+    ap.add_argument("--speed-worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--real", action="store_true")
     ap.add_argument("--manifold", default=None, metavar="PATH", help="directory holding manifold3d")
@@ -264,10 +326,12 @@ def main():
     ap.add_argument("--tol", type=float, default=1e-3)
     ap.add_argument("--data", default=str(REPO.parent / "shared" / "data"))
     a = ap.parse_args()
+    if a.speed_worker:
+        return _worker(a.data)
     if not (a.speed or a.table or a.real or a.manifold):
         a.speed = a.table = a.real = True
     if a.speed:
-        speed(a.data, a.rounds)
+        speed(a.data, a.rounds, a.against, a.threads)
     if a.table:
         table(a.cases, a.tol)
     if a.real:

@@ -10,7 +10,8 @@ import pytest
 
 import inertia
 
-SUBPACKAGES = ("errors", "geometry", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
+SUBPACKAGES = ("errors", "geometry", "massprops", "particles", "dynamics", "symbolic", "robots", "control", "viz",
+               "batch")
 
 
 def test_top_level_is_small_and_every_name_resolves():

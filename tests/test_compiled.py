@@ -72,33 +72,6 @@ def test_small_job_stays_on_numpy_and_never_imports_numba(tmp_path):
     assert 0.9 * 4 / 3 * np.pi < got["mass"] < 4 / 3 * np.pi
 
 
-def test_cold_cache_runs_numpy_and_starts_the_warmup(tmp_path):
-    pytest.importorskip("numba")
-    got = _run(tmp_path, 12, pre="import numba", env={"NUMBA_CACHE_DIR": str(tmp_path / "empty-cache")})
-    assert got["numba"] and not got["compiled"] and got["started"]
-    assert got["mass"] == pytest.approx(_reference(12).mass, rel=1e-13)
-
-
-def test_warm_cache_runs_the_compiled_kernel(tmp_path):
-    pytest.importorskip("numba")
-    from inertia._core import aot
-
-    _reference(12)                              # compiled here, so the default cache is warm
-    # no ahead-of-time library in this cache folder, and its build noted as failed for these
-    # sources: nothing to start
-    (tmp_path / "cache" / "aot").mkdir(parents=True)
-    env = {"INERTIA_CACHE_DIR": str(tmp_path / "cache")}
-    failed = tmp_path / "cache" / "aot" / (os.path.basename(aot.library_path()) + ".failed")
-    failed.write_text(aot.sources_hash(aot.library_sources()) + "\nOSError: no compiler\n")
-    got = _run(tmp_path, 12, pre="import numba", env=env)
-    assert got["numba"] and got["compiled"] and not got["started"]
-    assert got["mass"] == _reference(12).mass
-    # without that note, the warm-up is started to build the library
-    failed.unlink()
-    got = _run(tmp_path, 12, pre="import numba", env=env)
-    assert got["numba"] and got["compiled"] and got["started"]
-
-
 def test_never_keeps_everything_on_numpy_even_for_large_jobs(tmp_path):
     got = _run(tmp_path, 60, pre="import numba", env={"INERTIA_COMPILED": "never"})
     assert not got["compiled"] and not got["started"]

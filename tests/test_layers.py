@@ -3,6 +3,7 @@
     cli
     batch
     viz
+    control                               (controllers over dynamics)
     robots
     particles | dynamics | symbolic      (siblings: no imports between them)
     massprops
@@ -32,9 +33,11 @@ ALLOWED = {
     "dynamics": {"massprops", "geometry", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
     "symbolic": {"massprops", "geometry", "_core"},
     "robots": {"massprops", "geometry", "_core"},
-    "viz": {"particles", "dynamics", "massprops", "geometry", "_core"},
+    "control": {"dynamics", "massprops", "_core"},
+    "viz": {"control", "particles", "dynamics", "massprops", "geometry", "_core"},
     "batch": {"robots", "massprops", "geometry", "_core"},
-    "cli": {"batch", "viz", "robots", "symbolic", "dynamics", "particles", "massprops", "geometry", "_core"},
+    "cli": {"batch", "viz", "control", "robots", "symbolic", "dynamics", "particles", "massprops", "geometry",
+            "_core"},
 }
 FACADE = {"inertia", "inertia.errors"}
 

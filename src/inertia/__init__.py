@@ -9,7 +9,7 @@ assemblies, the validity check, the particle models, the equivalent solids and t
 errors.  Everything else lives in the subpackages, which follow the data flow:
 :mod:`inertia.geometry` (mesh files, checks, integrals) -> :mod:`inertia.massprops` (tensor
 operations, principal axes, canonical form, validity) -> :mod:`inertia.particles`,
-:mod:`inertia.dynamics`, :mod:`inertia.symbolic` -> :mod:`inertia.robots` ->
+:mod:`inertia.dynamics`, :mod:`inertia.symbolic` -> :mod:`inertia.robots` -> :mod:`inertia.control` ->
 :mod:`inertia.viz` -> :mod:`inertia.batch`; :mod:`inertia.errors` has every error type.
 
 Public names are imported lazily (PEP 562) so that ``import inertia`` and the
@@ -57,7 +57,8 @@ _EXPORTS = {
 }
 
 # capability sub-packages, reachable as attributes (``inertia.dynamics``) without an import
-_SUBPACKAGES = ("errors", "geometry", "massprops", "particles", "dynamics", "symbolic", "robots", "viz", "batch")
+_SUBPACKAGES = ("errors", "geometry", "massprops", "particles", "dynamics", "symbolic", "robots", "control", "viz",
+                "batch")
 
 
 __getattr__, __dir__, _names = lazy_namespace(__name__, _EXPORTS, _SUBPACKAGES)

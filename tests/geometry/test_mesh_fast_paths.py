@@ -1,21 +1,24 @@
-"""The compiled clean-mesh check against the full analysis it stands in for.
+"""The compiled welding and checking kernels against the NumPy code they stand in for.
 
-Truth: the full analysis, which the rest of the suite checks against closed forms.  The
-compiled check must give the same verdicts, on the test meshes (made and real) and on meshes
-built to hit each branch (every defect).  Welding and merging: test_weld_merge.py.
+Truth: the NumPy implementations (sort-based weld, k-d tree merge, full analysis), which the
+rest of the suite checks against closed forms.  The compiled kernels must give the same
+groups, the same arrays and the same verdicts, on the test meshes (made and real) and on meshes built
+to hit each branch (signed zeros, NaN rows, chains of near pairs, cell boundaries, every
+defect).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from inertia._ext import integrals as _ext
 
 from inertia.geometry import mesh_arrays as mesh_checks
 from inertia.geometry import mesh_io
 from inertia.geometry.checks import analyse_mesh
 from inertia.geometry.mesh_arrays import validate_inputs, weld_map
 
-nbk = pytest.importorskip("inertia.geometry._solid_numba")
+clean_solid = _ext.clean_solid
 
 TEST_MESHES = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "soup.stl",
         "teapot_open.stl", "cycloidal.ply", "tray_bottom_ascii.stl", "spot.obj"]
@@ -35,6 +38,13 @@ def _box_soup(rng):
                   [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
     f = f[rng.permutation(len(f))]
     return corners[f].reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3)
+
+
+def _face_twins(f):
+    """(F, 3): the face across the edge from corner k of each face to corner k + 1 (a closed,
+    consistently wound mesh: the face holding the reversed edge)."""
+    owner = {(int(f[t, k]), int(f[t, (k + 1) % 3])): t for t in range(len(f)) for k in range(3)}
+    return np.array([[owner[int(f[t, (k + 1) % 3]), int(f[t, k])] for k in range(3)] for t in range(len(f))])
 
 
 # ---------------------------------------------------------------- the clean-mesh verdict
@@ -79,7 +89,12 @@ def _defect_cases():
     tiny = v.copy()
     tiny[4] = [0, 0, 1e-14]                                       # flattened top: zero-area faces
     fan = np.concatenate([f, [[0, 2, 4]]])                        # a third face on three edges
-    return {"clean": (v, f), "two_components": two, "inverted": (v, f[:, [0, 2, 1]]),
+    # two shells around the center: the star test's ray leaves twice (nested), or the inner shell's
+    # faces turn away from it (a cavity); neither is one component
+    nested = (np.concatenate([v, 0.5 * v]), np.concatenate([f, f + 6]))
+    cavity = (np.concatenate([v, 0.5 * v]), np.concatenate([f, f[:, [0, 2, 1]] + 6]))
+    return {"clean": (v, f), "two_components": two, "inverted": (v, f[:, [0, 2, 1]]), "nested": nested,
+            "cavity": cavity,
             "open": (v, f[:-1]), "flipped_face": (v, flipped), "non_manifold": (v, fan),
             "duplicate": (v, np.concatenate([f, f[:1, [0, 2, 1]]])), "nan": (nan, f), "extra_nan": extra_nan,
             "collapsed": (v, np.concatenate([f, [[0, 0, 1]]])), "bad_index": (v, np.concatenate([f, [[0, 1, 9]]])),
@@ -91,14 +106,12 @@ def test_clean_verdict_is_given_only_to_meshes_without_any_defect(case):
     v, f = _defect_cases()[case]
     fast, full = _both_reports(v, f)
     assert _report_key(fast) == _report_key(full)
-    out = np.empty(2)
     vv, ff = validate_inputs(v, f)
     rep = weld_map(vv)
-    ok = nbk.closed_single_shell(vv, rep[np.clip(ff, 0, len(vv) - 1)], 1e-12, out) if case != "bad_index" else \
-        nbk.closed_single_shell(vv, ff, 1e-12, out)
-    assert ok == (full.codes == () and full.n_components == 1), case
-    if ok:
-        assert out[1] == pytest.approx(full.volume, rel=1e-12)
+    out = clean_solid(vv, rep[np.clip(ff, 0, len(vv) - 1)] if case != "bad_index" else ff, 1e-12)
+    assert (out is not None) == (full.codes == () and full.n_components == 1), case
+    if out is not None:
+        assert out[0] / 6 == pytest.approx(full.volume, rel=1e-12)
 
 
 def test_high_valence_vertex_uses_the_sorted_matching():
@@ -111,47 +124,45 @@ def test_high_valence_vertex_uses_the_sorted_matching():
     side = [(i, (i + 1) % n, apex) for i in range(n)]
     base = [((i + 1) % n, i, center) for i in range(n)]
     f = np.array(side + base)
-    out = np.empty(2)
-    assert nbk.closed_single_shell(v, f, 1e-12, out)
-    assert out[1] == pytest.approx(n / 2 * np.sin(2 * np.pi / n) / 3, rel=1e-12)
+    adj = np.full((len(f), 3), -1)
+    out = clean_solid(v, f, 1e-12, adj=adj)
+    assert out is not None and out[0] / 6 == pytest.approx(n / 2 * np.sin(2 * np.pi / n) / 3, rel=1e-12)
+    if out[14] == 0.0:                         # not proved star-shaped: the twins were noted, both paths
+        np.testing.assert_array_equal(adj, _face_twins(f))
     g = f.copy()
     g[5] = g[5, [1, 0, 2]]                     # one flipped side face: inconsistent at the apex
-    assert not nbk.closed_single_shell(v, g, 1e-12, out)
-    assert not nbk.closed_single_shell(v, f[:-1], 1e-12, out)  # open at the center
+    assert clean_solid(v, g, 1e-12) is None
+    assert clean_solid(v, f[:-1], 1e-12) is None  # open at the center
 
 
 # ---------------------------------------------------------------- checks and sums in one pass
 def test_clean_solid_sums_are_the_bits_of_solid_sums_over_several_chunks():
     """The fused check returns the volume sums of the integrals kernel bit for bit (the same
-    two-level blocked summation), here over five chunks of faces, far from the origin."""
+    two-level blocked summation), here over five chunks of faces and a last partial block of 4
+    lanes, far from the origin."""
     trimesh = pytest.importorskip("trimesh")
-    from inertia.geometry import _integrals_numba as nbi
-    from inertia.geometry._solid_numba import CHUNK
 
     m = trimesh.creation.icosphere(subdivisions=6)                 # 81,920 faces
-    assert len(m.faces) > 4 * CHUNK
     rng = np.random.default_rng(5)
     v = np.ascontiguousarray(m.vertices * [1.0, 2.0, 0.5] + rng.normal(size=3) * 1e3)
-    f = np.ascontiguousarray(m.faces, dtype=np.int64)
-    out = np.empty(15)
-    twins = np.full((len(f), 3), -1)
-    assert nbk.clean_solid(v, f, 1e-14, 1e60, out, twins)
-    ref = np.empty(10)
-    assert nbi.solid_sums(v, f, out[11:14].copy(), ref) == -1
-    assert np.array_equal(ref, out[:10])
+    f = np.ascontiguousarray(m.faces[:-2], dtype=np.int64)           # an open cap: not clean, then closed
+    assert len(f) > 4 * _ext.SUM_CHUNK and len(f) % 4 == 2
+    assert clean_solid(v, f, 1e-14, 1e60) is None
+    f = np.ascontiguousarray(np.concatenate([f, m.faces[-2:]]), dtype=np.int64)
+    out = clean_solid(v, f, 1e-14, 1e60, adj=np.full((len(f), 3), -1))
+    assert out is not None
+    assert np.array_equal(_ext.solid_sums(v, f, out[11:14].copy()), out[:10])
     used_lo, used_hi = v.min(axis=0), v.max(axis=0)
     assert np.array_equal(out[11:14], 0.5 * (used_lo + used_hi))
 
 
 def test_clean_solid_finds_each_edges_twin_as_face_twins_does():
     """The face across each edge, noted by the fused check as it matches the edges, is the one
-    the self-crossing proof's own counting sort finds (``face_twins``), on shells that the
-    pass does not prove star-shaped (the check then needs them), with vertices of low and
-    high valence (the check's two matching paths: the center of the cone's base, pushed up
-    into the cone as a dimple, has 64 faces); and the face across twice is the face itself,
-    through the same edge."""
+    a dictionary of directed edges finds, on shells that the pass does not prove star-shaped
+    (the check then needs them), with vertices of low and high valence (the check's two
+    matching paths: the center of the cone's base, pushed up into the cone as a dimple, has 64
+    faces); and the face across twice is the face itself, through the same edge."""
     trimesh = pytest.importorskip("trimesh")
-    from inertia.geometry._heightfield_numba import face_twins
 
     cone = trimesh.creation.cone(0.5, 1.0, sections=64)
     dimple = np.array(cone.vertices)
@@ -167,12 +178,9 @@ def test_clean_solid_finds_each_edges_twin_as_face_twins_does():
         f = np.ascontiguousarray(f[np.arange(len(f))[:, None], (np.arange(3) + turn) % 3][rng.permutation(len(f))])
         v = np.ascontiguousarray(m.vertices, dtype=np.float64)
         twins = np.full((len(f), 3), -1)
-        out = np.empty(15)
-        assert nbk.clean_solid(v, f, 1e-14, 1e60, out, twins)
-        assert out[14] == 0.0                                        # not proved star-shaped
-        ref, closed = face_twins(f, len(v))
-        assert closed
-        np.testing.assert_array_equal(twins, ref)
+        out = clean_solid(v, f, 1e-14, 1e60, adj=twins)
+        assert out is not None and out[14] == 0.0                    # not proved star-shaped
+        np.testing.assert_array_equal(twins, _face_twins(f))
         t = np.arange(len(f))[:, None, None]
         back = twins[twins]                                          # (F, 3, 3): the twin's twins
         assert ((back == t).sum(axis=2) == 1).all()                  # the face itself, once

@@ -29,4 +29,13 @@ void rollout(int method, InNK<13> x0, InU u, InNK<3> moments, In1<double> mass, 
              double h, int64_t n_steps, int64_t save_every, bool body_force, int threads, OutRNK<13> out,
              Out1<int64_t> status);
 
+using Out3 = nb::ndarray<double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+
+// Gyrostat (gyrostat.cpp): closed-loop rollouts of N bodies with wheels, and complex-step Jacobians.
+void gyro_rollout(int method, In2<double> x0, In2<double> plant, In2<double> control, In1<double> gravity, double h,
+                  int64_t substeps, int64_t n_steps, int64_t save_every, int threads, Out3 out, Out2<double> tilt);
+
+void gyro_jacobians(int method, In2<double> x, In2<double> u, In2<double> plant, In1<double> gravity, double h,
+                    int64_t substeps, Out3 A, Out3 B);
+
 }  // namespace inertia::dynamics

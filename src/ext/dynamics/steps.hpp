@@ -155,18 +155,27 @@ INERTIA_INLINE bool solve_quadratic(const double ch[3], const double f[3], doubl
     return std::isfinite(resid) && resid <= NEWTON_FAIL_RTOL;
 }
 
-// (dq/dt, dm/dt) = (1/2 q (x) (0, w), m x w + tau), w = m W; dq without its factor 1/2, which
-// the caller folds into its step sizes (a power of two: the same bits).
+// (dq/dt, dm/dt) = (1/2 q (x) (0, w), m x w + tau) with w = W (m - hP): a body carrying wheels of
+// momentum hP (gyrostat.hpp; hP = 0 for a free body, the same bits: m - 0 = m); dq without its
+// factor 1/2, which the caller folds into its step sizes (a power of two: the same bits).  T is
+// double, or std::complex<double> for the complex-step Jacobians.
+template <class T>
+INERTIA_INLINE void gyro_rate(const T q[4], const T m[3], const T hP[3], const double W[3], const T t[3], T dq[4],
+                              T dm[3]) {
+    const T a = (m[0] - hP[0]) * W[0], b = (m[1] - hP[1]) * W[1], c = (m[2] - hP[2]) * W[2];
+    dq[0] = -q[1] * a - q[2] * b - q[3] * c;
+    dq[1] = q[0] * a + q[2] * c - q[3] * b;
+    dq[2] = q[0] * b - q[1] * c + q[3] * a;
+    dq[3] = q[0] * c + q[1] * b - q[2] * a;
+    dm[0] = (m[1] * c - m[2] * b) + t[0];
+    dm[1] = (m[2] * a - m[0] * c) + t[1];
+    dm[2] = (m[0] * b - m[1] * a) + t[2];
+}
+
 INERTIA_INLINE void rk4_rate(const double q[4], const double m[3], const Inertia &b, const double t[3], double dq[4],
                              double dm[3]) {
-    const double a = m[0] * b.W[0], c1 = m[1] * b.W[1], c2 = m[2] * b.W[2];
-    dq[0] = -q[1] * a - q[2] * c1 - q[3] * c2;
-    dq[1] = q[0] * a + q[2] * c2 - q[3] * c1;
-    dq[2] = q[0] * c1 - q[1] * c2 + q[3] * a;
-    dq[3] = q[0] * c2 + q[1] * c1 - q[2] * a;
-    dm[0] = (m[1] * c2 - m[2] * c1) + t[0];
-    dm[1] = (m[2] * a - m[0] * c2) + t[1];
-    dm[2] = (m[0] * c1 - m[1] * a) + t[2];
+    constexpr double none[3] = {0.0, 0.0, 0.0};
+    gyro_rate(q, m, none, b.W, t, dq, dm);
 }
 
 // Exact flow of H_j = m_j^2 / (2 I_j) over dt: the body spins about axis j at m_j / I_j,

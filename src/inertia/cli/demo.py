@@ -27,6 +27,7 @@ examples:
   inertia demo
   inertia demo --density 2700                 (the same T-handle in aluminium)
   inertia demo --mesh part.stl --units mm --mass 0.25
+  inertia demo --control                      (and hold the spin with reaction wheels)
   inertia demo --format json"""
 
 HELP = "tour of the package on a steel T-handle (or on --mesh FILE)"
@@ -54,6 +55,9 @@ def register(sub) -> None:
     m.add_argument("--accept-defects", action="store_true",
                    help="compute even for an open/defective mesh; the result carries warnings")
     add_format_argument(p)
+    from ._control import HELP as CONTROL_HELP
+
+    p.add_argument("--control", action="store_true", help=CONTROL_HELP)
     r = p.add_argument_group("report (a folder with index.html, plots, an animation and a 3D page)")
     r.add_argument("--out", metavar="DIR", default=DEFAULT_OUT,
                    help=f"report folder (default: ./{DEFAULT_OUT}); a folder inertia did not create is refused "
@@ -107,9 +111,18 @@ def demo_body(args):
 
 
 def run(args) -> int:
+    if args.control and args.mesh is not None:
+        from .._core.errors import InputError
+
+        raise InputError("--control shows the built-in T-handle and Basilisk's spacecraft; it does not take --mesh")
     props, info, display_mesh, body = demo_body(args)
     bundled = body is not None
     report = build_report(props)
+    control = None
+    if args.control:
+        from ..control.studies import showcase
+
+        control = showcase()
     import os
 
     title = body.name if bundled else os.path.basename(str(info.source))
@@ -122,7 +135,7 @@ def run(args) -> int:
             print("inertia demo: note: no report written: it shows the intermediate-axis flip, and this body "
                   "has repeated principal moments", file=sys.stderr)
     elif not args.no_report:
-        files = _write_report(args, props, title, display_mesh, _describe(info, body))
+        files = _write_report(args, props, title, display_mesh, _describe(info, body), control)
     if files is not None:
         study = files["study"]
     elif not repeated:  # --no-report, or the plotting libraries are missing: the tables still come
@@ -132,14 +145,22 @@ def run(args) -> int:
     if args.format == "json":
         d = report_dict(props, info, report, bundled=bundled)
         d["flip"] = None if study is None else _flip_dict(study)
+        if control is not None:
+            from ._control import control_dict
+
+            d["control"] = control_dict(control)
         if files is not None:
             d["report"] = {"index": str(files["index"]), "files": sorted(f for v in files["files"].values() for f in v)}
         fmt.emit(fmt.to_json(d))
     else:
         lines = report_lines(props, info, report, bundled=bundled) + flip_lines(study, props)
+        if control is not None:
+            from ._control import control_lines
+
+            lines += control_lines(control, 8)
         if files is not None:
-            lines += fmt.heading("8. Report") + [f"  {files['index']}  (open it in a browser; "
-                                                 f"{sum(len(v) for v in files['files'].values()) + 1} files)"]
+            lines += fmt.heading(f"{8 + (control is not None)}. Report") + [
+                f"  {files['index']}  (open it in a browser; {sum(len(v) for v in files['files'].values()) + 1} files)"]
         fmt.emit(lines)
     return 0
 
@@ -155,7 +176,7 @@ def _describe(info, body) -> str:
     return f"mesh {info.source} (lengths in {info.units})"
 
 
-def _write_report(args, props, title, display_mesh, description):
+def _write_report(args, props, title, display_mesh, description, control=None):
     """The report folder, or None (with a note) when the plotting libraries are missing."""
     import sys
 
@@ -177,11 +198,11 @@ def _write_report(args, props, title, display_mesh, description):
         return None
     from ..viz.report import build_report as build_folder
 
-    bar = StepProgress(REPORT_STEPS)
+    bar = StepProgress(REPORT_STEPS + (("holding the spin",) if control is not None else ()))
     try:
         return build_folder(args.out, props, title=title, description=description, mesh=mesh,
                             video=not args.no_video, force=args.force, progress=bar,
-                            animation_format=args.video_format, video_view=args.video_view)
+                            animation_format=args.video_format, video_view=args.video_view, control=control)
     finally:
         bar.clear()
 

@@ -1,4 +1,5 @@
-"""Rotational dynamics: Euler's equations, integrators, the exact solution, the flip, 6-DOF transitions.
+"""Rotational dynamics: Euler's equations, integrators, the exact solution, the flip, 6-DOF transitions,
+bodies with rotors (gyrostats).
 
 Conventions: ``omega_body`` is the angular velocity in body axes [rad/s]; quaternions
 ``q_world_body`` are scalar-first and map body to world coordinates; ``moments`` are the
@@ -13,7 +14,7 @@ from __future__ import annotations
 from .._core.lazy import lazy_namespace
 
 _MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "flip_study", "diagnostics", "state", "body",
-            "transition", "rollouts")
+            "transition", "rollouts", "gyrostat")
 
 # public name -> submodule that defines it
 _EXPORTS = {
@@ -35,6 +36,9 @@ _EXPORTS = {
     "RigidBody": "body", "step": "transition", "jacobians": "transition",
     "pack_state": "state", "unpack_state": "state", "pack_input": "state", "RigidState": "state",
     "perturb_state": "state", "state_error": "state", "rollout": "rollouts", "DEFAULT_METHOD": "integrators",
+    # bodies with rotors
+    "Gyrostat": "gyrostat", "WheelFeedback": "gyrostat", "GyrostatRun": "gyrostat", "gyrostat_step": "gyrostat",
+    "gyrostat_jacobians": "gyrostat", "gyrostat_rollout": "gyrostat", "saturate_wheel_torque": "gyrostat",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

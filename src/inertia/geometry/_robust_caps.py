@@ -2,9 +2,9 @@
 
 A triangle soup is treated as a 2-chain: every face carries an integer multiplicity (a
 face listed twice counts twice, once the other way round cancels;
-:func:`._robust_topo.dedupe_faces`).  Its *boundary* is the set of directed edges whose net
+``dedupe_faces``).  Its *boundary* is the set of directed edges whose net
 multiplicity is not zero (open edges, or edges where the winding is inconsistent;
-:func:`._robust_topo.boundary_edges`).  Closing each connected piece of that boundary with a
+``vertex_pass`` of :mod:`inertia._ext.robust`).  Closing each connected piece of that boundary with a
 *cap* -- a fan of triangles from the mean of its vertices -- gives a closed chain C' whose
 winding number w' is integer everywhere; the generalised winding number of the input is
 ``w = w' - w_cap``, ``w_cap`` the winding number of the caps alone (Jacobson et al. 2013,
@@ -19,6 +19,8 @@ import math
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+
+from .._ext import robust as _k
 
 
 class Caps:
@@ -43,7 +45,7 @@ class Caps:
     edges : (E, 2) int, edge_mult : (E,) float, edge_piece : (E,) int, the boundary edges.
     """
 
-    def __init__(self, vertices, edges, emult, eps, kern):
+    def __init__(self, vertices, edges, emult, eps):
         nv = len(vertices)
         piece_of_edge, K = _pieces(edges, emult, nv)
         order = np.argsort(piece_of_edge, kind="stable")
@@ -60,7 +62,7 @@ class Caps:
         bounds = np.searchsorted(piece_of_edge, np.arange(K + 1))
         for k in np.flatnonzero(~star):
             sel = slice(bounds[k], bounds[k + 1])
-            tri = self._ear_cap(vertices, edges[sel], emult[sel], k, kern)
+            tri = self._ear_cap(vertices, edges[sel], emult[sel], k)
             if tri is None:
                 faces.append(fan[sel])
                 mult.append(emult[sel])
@@ -105,7 +107,7 @@ class Caps:
                 self.flat_dev[k] = dev
         return star
 
-    def _ear_cap(self, vertices, edges, emult, k, kern):
+    def _ear_cap(self, vertices, edges, emult, k):
         """Ear-clipped cap of piece k when it is one flat loop, simple in its plane; else None."""
         if np.any(emult != 1):
             return None
@@ -134,13 +136,12 @@ class Caps:
         e1 /= np.linalg.norm(e1)
         e2 = np.cross(nrm, e1)
         P2 = np.ascontiguousarray(np.stack([(P - c) @ e1, (P - c) @ e2], 1))
-        out = np.empty((len(loop), 3), np.int64)
-        nt = kern.ear_clip(P2, out)
-        if nt < 1:
+        out = _k.ear_clip(P2)
+        if out is None:
             return None
         loop = np.asarray(loop)
         self.near_flat[k], self.flat_dev[k] = True, max(dev, float(np.abs((self.apex[k] - c) @ nrm)))
-        return np.stack([loop[out[:nt, 0]], loop[out[:nt, 2]], loop[out[:nt, 1]]], 1)      # reversed
+        return np.stack([loop[out[:, 0]], loop[out[:, 2]], loop[out[:, 1]]], 1)      # reversed
 
 
 def _pieces(edges, emult, nv):
@@ -191,7 +192,7 @@ def _pieces(edges, emult, nv):
 
 
 class CapGeometry:
-    """The caps as the octree kernel (:func:`._robust_capk.cap_cells`) reads them, in *groups*:
+    """The caps as the octree kernel (``cap_cells`` of :mod:`inertia._ext.robust`) reads them, in *groups*:
     faces and loop edges grouped, boxes, and each group's area, perimeter, diameter, plane and
     flatness.
 
@@ -267,18 +268,18 @@ def _coplanar_groups(caps, normal, lo, hi, eps, CV):
     K = len(caps.apex)
     group = np.arange(K)
     flat = np.flatnonzero(caps.near_flat)
+    diag = np.linalg.norm(hi - lo, axis=1)
     for i_, i in enumerate(flat):
-        for j in flat[i_ + 1:]:
-            c = float(normal[i] @ normal[j])
-            size = float(np.linalg.norm(hi[i] - lo[i]) + np.linalg.norm(hi[j] - lo[j]))
-            if abs(c) < 1.0 - 1e-9 or abs(float(normal[i] @ (caps.apex[j] - caps.apex[i]))) > 1e-3 * size + eps:
-                continue
-            if not _boxes_meet(lo, hi, i, j):
-                continue
+        js = flat[i_ + 1:]
+        size = diag[i] + diag[js]
+        near = ((np.abs(normal[js] @ normal[i]) >= 1.0 - 1e-9)
+                & (np.abs((caps.apex[js] - caps.apex[i]) @ normal[i]) <= 1e-3 * size + eps)
+                & ~np.any(lo[js] > hi[i], axis=1) & ~np.any(lo[i] > hi[js], axis=1))
+        for j, sz in zip(js[near], size[near]):
             gi, gj = group[i], group[j]
             members = np.flatnonzero((group == gi) | (group == gj))
             if all(float(normal[a] @ normal[b]) < 0.0 or not _boxes_meet(lo, hi, a, b)
-                   or _interiors_disjoint(caps, CV, normal[a], a, b, 1e-9 * size)
+                   or _interiors_disjoint(caps, CV, normal[a], a, b, 1e-9 * sz)
                    for a in members for b in members if a < b):
                 group[group == gj] = gi
     return np.unique(group, return_inverse=True)[1]
@@ -312,11 +313,11 @@ def _interiors_disjoint(caps, CV, n, a, b, tol):
     return bool(separated.all())
 
 
-def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_cells=200_000, enough=0.0):
+def cap_region_bound(geo: CapGeometry, threshold, p, *, max_level=10, max_cells=200_000, enough=0.0, threads=0):
     """Upper bounds of ``int |1|, |y_i|, |y_i y_j|`` (y = x - p) over {x : |w_cap(x)| >= threshold}.
 
     Adaptive octree over the box around the caps outside which ``|w_cap| < threshold``
-    (``|Omega| <= area / d^2``); :func:`._robust_capk.cap_cells` certifies cells free, or
+    (``|Omega| <= area / d^2``); ``cap_cells`` certifies cells free, or
     (threshold 1/2) bounds the part of a cell near a single flat cap in closed form.
     Cells left at the last level count whole; refinement also stops once the bound is at
     most ``enough``.
@@ -335,10 +336,8 @@ def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_
     G = len(geo.area)
     near_parts = _NearParts(G)
     for level in range(max_level + 1):
-        n = len(centers)
-        status, which = np.empty(n, np.int64), np.empty(n, np.int64)
-        delta, w_rest, contrib = np.empty(n), np.empty(n), np.empty(n)
-        kern.cap_cells(np.ascontiguousarray(centers), half, threshold, *args, status, which, delta, w_rest, contrib)
+        status, which, delta, w_rest, contrib = _k.cap_cells(np.ascontiguousarray(centers), half, threshold, *args,
+                                                             threads)
         cell_vol = (2 * half) ** 3
         last = level == max_level or 8 * int((status != 0).sum()) > max_cells
         # a cell near one flat cap is accepted with its closed-form part once that part is
@@ -365,7 +364,7 @@ def cap_region_bound(geo: CapGeometry, threshold, kern, p, *, max_level=10, max_
         half *= 0.5
         offs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float) * half
         centers = (busy[:, None, :] + offs[None]).reshape(-1, 3)
-    dv, df, ds = near_parts.bounds(geo, kern, p)
+    dv, df, ds = near_parts.bounds(geo, p)
     return vol + dv, first + df, second + ds, left
 
 
@@ -394,14 +393,14 @@ class _NearParts:
     def total(self):
         return float(self.vol.sum())
 
-    def bounds(self, geo, kern, p):
+    def bounds(self, geo, p):
         vol, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
         for k in np.flatnonzero(self.delta >= 0):
             d = float(self.delta[k])
-            dv = kern.flat_cap_volume(d, float(geo.area[k]), float(geo.perimeter[k]), float(geo.diameter[k]),
-                                      float(geo.flat_dev[k]) + geo.eps, math.inf)
+            dv = _k.flat_cap_volume(d, float(geo.area[k]), float(geo.perimeter[k]), float(geo.diameter[k]),
+                                    float(geo.flat_dev[k]) + geo.eps, math.inf)
             if dv < self.vol[k]:
-                h_in, r_max, h_max = kern.flat_cap_heights(d, float(geo.diameter[k]))
+                h_in, r_max, h_max = _k.flat_cap_heights(d, float(geo.diameter[k]))
                 grow = r_max + max(h_in, h_max) + geo.flat_dev[k] + geo.eps
                 m = np.maximum(np.abs(geo.cap_lo[k] - grow - p), np.abs(geo.cap_hi[k] + grow - p))
                 vol, first, second = vol + dv, first + dv * m, second + dv * np.outer(m, m)

@@ -12,7 +12,7 @@
   :func:`inertia.geometry.intersections.crossing`: an edge of one face strictly through the
   interior of the other.
 
-Written as flat scalar arithmetic (see :mod:`._integrals_numba` on why some lines repeat).
+Written as flat scalar arithmetic (numba compiles it to registers), so some lines repeat.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ import numba as nb
 import numpy as np
 
 from ._heightfield_numba import CELL_EDGES, box_and_median_edge, face_normal, face_twins, unproved_faces, vertex_slots
-from ._solid_numba import star_face
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False)
 
@@ -34,6 +33,42 @@ KEPT_WITHOUT_FANS = 16
 
 #: kernels whose cached machine code shows the module warm (:mod:`inertia._core.compiled`)
 WARM_PROBE = ("star_certificate", "find_crossing")
+
+# the clean-solid pass's per-face star test (C++: src/ext/integrals/star.hpp)
+#: the certificate's ray (the first direction of ``_selfcross_numba.star_certificate``)
+STAR_RAY = (0.2672612419124244, 0.5345224838248488, 0.8017837257372732)
+#: the certificate's tolerances (``self_crossing.STAR_RTOL`` and the ray's edge margin)
+STAR_RTOL = 1e-9
+
+
+@nb.njit(**_JIT)
+def star_face(ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz, d, star):
+    """One face of the star certificate from p (a = corner - p, e1, e2 the edges, n = e1 x e2,
+    d = a . n): p strictly inside its plane, and whether the ray leaves through it."""
+    if not (d > 0.0 and d * d > STAR_RTOL * STAR_RTOL * (ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz)):
+        star[1] = 1
+        return
+    ux, uy, uz = STAR_RAY
+    un = ux * nx + uy * ny + uz * nz
+    if un <= 0.0:
+        return                            # the ray cannot leave through a face turned away
+    # Moller-Trumbore with det = -un < 0: barycentrics s = ns / det, w = nw / det, no division
+    px = uy * e2z - uz * e2y
+    py = uz * e2x - ux * e2z
+    pz = ux * e2y - uy * e2x
+    ns = ax * px + ay * py + az * pz      # = (-a . p) * -1: s = ns / un
+    qx = -ay * e1z + az * e1y
+    qy = -az * e1x + ax * e1z
+    qz = -ax * e1y + ay * e1x
+    nw = -(ux * qx + uy * qy + uz * qz)   # w = nw / un
+    m = 1e-9 * un
+    if ns < -m or nw < -m or ns + nw > un + m:
+        return
+    if ns < m or nw < m or ns + nw > un - m:
+        star[1] = 2                       # through an edge or a vertex, to rounding
+        return
+    star[0] += 1
+
 
 
 @nb.njit(**_JIT)
@@ -80,7 +115,7 @@ def star_certificate(vertices, faces, c):
     """True when the closed, consistently outward shell is star-shaped from ``c`` with a
     one-to-one radial projection (see the module docstring): it then cannot cross itself.
 
-    One pass with the clean kernel's own per-face test (:func:`._solid_numba.star_face`: ``c``
+    One pass with the clean kernel's own per-face test (:func:`star_face`: ``c``
     strictly inside each face's plane, and the faces the first ray leaves through); the other
     directions only when that ray grazes an edge."""
     star = np.zeros(2, dtype=np.int64)
@@ -482,7 +517,7 @@ def find_crossing(V, F, adj, max_per_face, rtol, out):
     pair in ``out``) or 0.  A shell that uses few of many vertices (one component of a large
     mesh) is first renumbered to its own vertices, so that the work is of its size.  ``adj``:
     the face across each edge as :func:`._heightfield_numba.face_twins` gives it (from
-    :func:`._solid_numba.clean_solid`, which has matched the edges already), or an empty
+    ``inertia._ext.integrals.clean_solid``, which has matched the edges already), or an empty
     array: then found here."""
     if V.shape[0] > 4 * F.shape[0] + 1024:
         used = np.unique(F)

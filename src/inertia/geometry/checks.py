@@ -49,9 +49,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.tolerances import COORDINATE_LIMIT, DEGENERATE_AREA_RTOL
+from .._ext import integrals as _k
 from .integrals import solid_integrals, solid_sums_moments
 from .intersections import overlapping_components, winding_numbers
-from .mesh_arrays import connected_components, faces_in_range, topology_kernels, validate_inputs, weld_map
+from .mesh_arrays import connected_components, faces_in_range, validate_inputs, weld_map
 from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
 from .self_crossing import NEGLIGIBLE_RTOL, SEARCH_MAX_FACES, Crossing, crossing_effect, self_crossing
 
@@ -76,7 +77,7 @@ class MeshAnalysis:
     inverted_components: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     closed: bool = False
     labels_topo: np.ndarray | None = None        # (T,) component of each topology face
-    #: a clean solid's volume sums from the compiled check (see ``_solid_numba.clean_solid``)
+    #: a clean solid's volume sums from the compiled check (``inertia._ext.integrals.clean_solid``)
     solid_sums: np.ndarray | None = None
 
 
@@ -121,18 +122,15 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
     """The analysis of a mesh without any defect, from the compiled kernel (or of one clean
     shell but for a self-crossing: its report names it, ``solid_sums`` None); None otherwise.
 
-    The kernel (:func:`._solid_numba.clean_solid`) also returns the volume sums, kept in
-    ``MeshAnalysis.solid_sums``.  With ``weld_first=False`` the faces are tried as given
-    first (most indexed meshes are welded already) and welded only when that fails; the
-    report then counts no welded duplicates.  None also when numba is missing: the full
-    analysis then runs and names the defects.
+    The kernel (``inertia._ext.integrals.clean_solid``, ``src/ext/integrals/clean_solid.hpp``)
+    also returns the volume sums, kept in ``MeshAnalysis.solid_sums``.  With ``weld_first=False``
+    the faces are tried as given first (most indexed meshes are welded already) and welded only
+    when that fails; the report then counts no welded duplicates.
     """
-    kernels = topology_kernels(len(faces))
     V = len(vertices)
-    if kernels is None or V == 0 or len(faces) == 0:
+    if V == 0 or len(faces) == 0:
         return None
     v = np.ascontiguousarray(vertices)
-    out = np.empty(15)
     # None: the welded faces, made only if the faces as given do not pass
     tries = [faces] if welded else [None] if weld_first else [faces, None]
     n_welded = 0
@@ -147,7 +145,8 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
         # the face across each edge, for the self-crossing check (noted by the kernel only if the
         # shell is not proved star-shaped in its pass; pages of an array not written cost nothing)
         twins = np.empty((len(fw) if search and len(fw) <= SEARCH_MAX_FACES else 0, 3), dtype=np.int64)
-        if kernels.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, out, twins):
+        out = _k.clean_solid(v, fw, DEGENERATE_AREA_RTOL, COORDINATE_LIMIT, twins)
+        if out is not None:
             volume = out[0] / 6.0
             crossing = None if out[14] == 1.0 else _crossing_of(v, fw, out[11:14] + (out[1:4] / 24.0) / volume,
                                                                 search, twins)
@@ -231,7 +230,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
     ``welded=True`` promises that no two vertices have equal coordinates (as
     :func:`inertia.load_mesh` returns them), which skips the welding; ``weld_first=False``
     tries the faces as given before welding (see :func:`_analyse_clean`).  A mesh without any
-    defect is recognised by a compiled kernel when numba is present; ``full=True`` always
+    defect is recognised by the compiled clean-solid pass; ``full=True`` always
     runs the NumPy analysis, which also fills the face-adjacency fields that re-orienting needs.
     The passes, in order: empty, non-finite coordinates, indices, welding, face geometry,
     degenerate faces, then (on the valid faces) duplicates, edges, components, inversion.

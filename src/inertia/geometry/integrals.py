@@ -16,14 +16,9 @@ Thin shell (uniform surface density): ``A = |(b - a) x (c - a)| / 2``,
 The shell needs neither a closed mesh nor a consistent winding.
 
 Only the 6 distinct entries of each symmetric second moment are accumulated
-(xx, yy, zz, xy, yz, zx).  Two backends compute the same per-face terms:
-
-* ``"numpy"``: faces in chunks of :data:`NUMPY_CHUNK`, gathered into one cache-sized
-  (3, 4, chunk) block (the corners a, b, c and their sum s, one row per coordinate);
-  the 6 entries are 6 dot products of length 4 x chunk, so no (F, 3, 3) temporaries.
-* ``"numba"`` (:mod:`._integrals_numba`): one pass over the faces, no temporaries,
-  blocked summation.  Optional; ``backend="auto"`` uses it when numba imports and the
-  NumPy backend otherwise.
+(xx, yy, zz, xy, yz, zx), in one pass over the faces of the compiled kernel
+(``inertia._ext.integrals``, ``src/ext/integrals/sums.hpp``): blocks of 256 faces summed in 4 lanes,
+block sums added into chunk totals, chunk totals in order, so the bits depend on the arrays alone.
 
 Error analysis
 --------------
@@ -46,7 +41,7 @@ and ``kappa = |g|^2 / k^2`` the offset ratio of p.
    ``a . (b x c)`` errs by O(u |a| |b| |c|): for a face of size h at distance rho
    from p that is (rho / h)^2 times worse.)  ``Q = a a^T + b b^T + c c^T + s s^T`` is
    accurate to O(u rho_f^2).  The sums add a factor of the summation depth
-   (pairwise/BLAS blocks in NumPy, blocks of 256 faces in numba).  So, with gamma a
+   (blocks of 256 faces: ~256 + F / 256 terms).  So, with gamma a
    small multiple of u: |dV| <~ gamma sum rho_f |n_f|, |dF| <~ gamma sum rho_f^2 |n_f|,
    |dS| <~ gamma sum rho_f^3 |n_f|.
 
@@ -94,7 +89,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._core.errors import InputError, MissingDependencyError
+from .._core.errors import InputError
+from .._ext import integrals as _k
 
 #: Second pass about the computed COM when ``kappa = |COM - p|^2 / k^2`` exceeds this
 #: (see "Error analysis", item 4).  Below it, expanding about the box center costs at
@@ -106,16 +102,6 @@ REFINE_KAPPA = 4.0
 #: made about a point so far off that its COM estimate is itself inaccurate).
 MAX_REFINE = 2
 
-#: Faces per chunk of the NumPy backend.  The (3, 4, chunk) working blocks (192 KiB)
-#: stay in cache, and every BLAS call stays below OpenBLAS's threading thresholds
-#: (dot: n <= 10000, the 6 dots here are 4 x 2048 long; gemv: m n < 9216), so the
-#: reductions run on the calling thread.  Threaded BLAS on busy cores was measured 60x
-#: slower (a 131072-long dot on 2 loaded cores: 1.8 ms against 30 us single-threaded),
-#: and a thread count that varies between machines would also vary the summation order.
-NUMPY_CHUNK = 2048
-
-_BACKENDS = ("auto", "numpy", "numba")
-
 # (3, 3) symmetric matrix from the sums xx, yy, zz, xy, yz, zx stored at out[4:10]
 _SYM = np.array([[4, 7, 9], [7, 5, 8], [9, 8, 6]])
 # divisors of (measure, first, second) sums: solid det/6, det s/24, det Q/120;
@@ -124,134 +110,28 @@ _SOLID_SCALE = (6.0, 24.0, 120.0)
 _SHELL_SCALE = (2.0, 6.0, 24.0)
 
 
-# ---------------------------------------------------------------------- NumPy backend
 def reference_point(vertices: np.ndarray) -> np.ndarray:
-    """Center of the axis-aligned bounding box (3,) m of ``vertices`` (V, 3) m.
+    """Center of the axis-aligned bounding box (3,) m of ``vertices`` (V, 3) m, V >= 1.
 
     Inside or near the body, cheap, deterministic, and equivariant under translation.
-    Column by column, because ``min(axis=0)`` over an (V, 3) array is ~20x slower.
     """
-    v = np.asarray(vertices, dtype=np.float64)
-    return np.array([0.5 * (v[:, k].min() + v[:, k].max()) for k in range(3)])
+    return _k.bbox_center(np.ascontiguousarray(vertices, dtype=np.float64))
 
 
-def _first_bad_face(faces: np.ndarray, n_vertices: int) -> int:
-    """Index of the first face holding a vertex index outside [0, n_vertices)."""
-    bad = np.any((faces < 0) | (faces >= n_vertices), axis=1)
-    return int(np.argmax(bad))
+def winding_numbers(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Generalized winding numbers (P,) of the triangles ``tri`` (T, 3, 3) at ``points`` (P, 3).
 
-
-def _numpy_sums(vertices, faces, p, out, shell):
-    """NumPy version of ``_integrals_numba.solid_sums`` / ``shell_sums`` (same ``out`` layout)."""
-    n_faces = faces.shape[0]
-    out[:] = 0.0
-    if n_faces == 0:
-        return -1
-    if faces.min() < 0 or faces.max() >= vertices.shape[0]:
-        return _first_bad_face(faces, vertices.shape[0])
-    # local coordinates, one row per coordinate so that gathers and products are contiguous
-    yT = (vertices - p).T.copy()
-    m = 0
-    for start in range(0, n_faces, NUMPY_CHUNK):
-        fc = faces[start:start + NUMPY_CHUNK]
-        if fc.shape[0] != m:
-            m = fc.shape[0]
-            G = np.empty((3, 4, m))      # G[:, 0:3] corners a, b, c; G[:, 3] their sum s
-            W = np.empty((3, 4, m))      # G weighted by the per-face weight
-            w = np.empty(m)
-        np.take(yT, fc.T, axis=1, out=G[:, :3], mode="clip")   # indices checked above
-        ax, bx, cx = G[0, 0], G[0, 1], G[0, 2]
-        ay, by, cy = G[1, 0], G[1, 1], G[1, 2]
-        az, bz, cz = G[2, 0], G[2, 1], G[2, 2]
-        # edges u = b - a, v = c - a; n = u x v is twice the area vector
-        ux, uy, uz = bx - ax, by - ay, bz - az
-        vx, vy, vz = cx - ax, cy - ay, cz - az
-        nx = uy * vz
-        nx -= uz * vy
-        ny = uz * vx
-        ny -= ux * vz
-        nz = ux * vy
-        nz -= uy * vx
-        if shell:
-            # w = |n| = twice the area
-            np.multiply(nx, nx, out=w)
-            w += ny * ny
-            w += nz * nz
-            np.sqrt(w, out=w)
-        else:
-            # w = det = a . (b x c) = a . n (the edge form: error relative to |a| |n|)
-            np.multiply(ax, nx, out=w)
-            w += ay * ny
-            w += az * nz
-        np.add(G[:, 0], G[:, 1], out=G[:, 3])
-        G[:, 3] += G[:, 2]
-        out[0] += w.sum()
-        out[1:4] += G[:, 3] @ w
-        np.multiply(G, w, out=W)
-        P = G.reshape(3, 4 * m)
-        Q = W.reshape(3, 4 * m)
-        # sum_f w (a a^T + b b^T + c c^T + s s^T)_ij = row i of W . row j of G
-        out[4] += Q[0] @ P[0]
-        out[5] += Q[1] @ P[1]
-        out[6] += Q[2] @ P[2]
-        out[7] += Q[0] @ P[1]
-        out[8] += Q[1] @ P[2]
-        out[9] += Q[2] @ P[0]
-    return -1
-
-
-class _Kernels:
-    """One backend: ``center(v) -> (3,)``, ``solid(v, f, p, out) -> int``, ``shell(...) -> int``."""
-
-    __slots__ = ("name", "center", "solid", "shell")
-
-    def __init__(self, name, center, solid, shell):
-        self.name, self.center, self.solid, self.shell = name, center, solid, shell
-
-
-_NUMPY = _Kernels("numpy", reference_point,
-                  lambda v, f, p, out: _numpy_sums(v, f, p, out, False),
-                  lambda v, f, p, out: _numpy_sums(v, f, p, out, True))
-
-def _numba_kernels(required: bool, work: int = 0):
-    """The numba kernels; None for the NumPy path (numba missing, or the rule of
-    :func:`inertia._core.compiled.kernels` says so), or raise if ``required`` and numba is missing."""
-    from .._core.compiled import kernels
-
-    if required:
-        try:
-            from . import _integrals_numba as nbk
-        except ImportError as exc:
-            raise MissingDependencyError(
-                "backend='numba' needs numba, which cannot be imported "
-                f"({type(exc).__name__}: {exc}); install it with pip install 'inertia[fast]' or use "
-                "backend='numpy'") from None
-    else:
-        nbk = kernels("inertia.geometry._integrals_numba", work=work)
-        if nbk is None:
-            return None
-
-    def center(v, _bbox=nbk.bbox_center):
-        p = np.empty(3)
-        _bbox(v, p)
-        return p
-
-    return _Kernels("numba", center, nbk.solid_sums, nbk.shell_sums)
-
-
-def _kernels(backend: str, work: int = 0) -> _Kernels:
-    if backend == "auto":
-        return _numba_kernels(required=False, work=work) or _NUMPY
-    if backend == "numpy":
-        return _NUMPY
-    if backend == "numba":
-        return _numba_kernels(required=True)
-    raise InputError(f"backend must be one of {_BACKENDS}, got {backend!r}")
+    Sum of signed solid angles / 4 pi (Van Oosterom & Strackee 1983,
+    ``tan(Omega/2) = a.(b x c) / (|a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|)``): +-1 inside a
+    closed surface, 0 outside.
+    """
+    return _k.winding_numbers(np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3),
+                              np.ascontiguousarray(tri, dtype=np.float64).reshape(-1, 3, 3))
 
 
 # ---------------------------------------------------------------------- driver
 def _mesh_arrays(vertices, faces):
-    """Validated ``(vertices (V, 3) float64, faces (F, 3) int32/int64)``, both C-contiguous."""
+    """Validated ``(vertices (V, 3) float64, faces (F, 3) int64)``, both C-contiguous."""
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     if v.ndim != 2 or v.shape[1] != 3:
         raise InputError(f"vertices must have shape (V, 3), got {v.shape}")
@@ -260,11 +140,9 @@ def _mesh_arrays(vertices, faces):
     f = np.asarray(faces)
     if f.ndim != 2 or f.shape[1] != 3:
         raise InputError(f"faces must have shape (F, 3), got {f.shape}")
-    if f.dtype != np.int64 and f.dtype != np.int32:
-        if f.dtype.kind not in "iu" and f.size:
-            raise InputError(f"faces must hold integer vertex indices, got dtype {f.dtype}")
-        f = f.astype(np.intp)
-    return v, np.ascontiguousarray(f)
+    if f.dtype.kind not in "iu" and f.size:
+        raise InputError(f"faces must hold integer vertex indices, got dtype {f.dtype}")
+    return v, np.ascontiguousarray(f, dtype=np.int64)
 
 
 def solid_sums_moments(out: np.ndarray):
@@ -274,11 +152,9 @@ def solid_sums_moments(out: np.ndarray):
 
 
 def _sums(kernel, v, f, p, scale):
-    """Run one kernel pass about ``p``; return ``(measure, first (3,), second (3, 3))``."""
-    out = np.empty(10)
-    bad = kernel(v, f, p, out)
-    if bad >= 0:
-        raise InputError(f"face {bad} = {f[bad].tolist()} holds a vertex index outside [0, {v.shape[0]})")
+    """One kernel pass about ``p`` (it refuses a face with a vertex index outside [0, V));
+    ``(measure, first (3,), second (3, 3))``."""
+    out = kernel(v, f, p)
     if not np.isfinite(out).all():
         used = np.zeros(v.shape[0], bool)
         used[f.ravel()] = True
@@ -306,13 +182,13 @@ def _offset_ratio(measure: float, first, trace: float) -> float:
     return ff / (measure * tr_C)
 
 
-def _integrals(kernels, kernel, v, f, reference, scale):
+def _integrals(kernel, v, f, reference, scale):
     """Integrals about the box center (or the COM, item 4 of the error analysis), moved to ``reference``."""
     if reference is not None:
         r = np.asarray(reference, dtype=np.float64)
         if r.shape != (3,) or not np.isfinite(r).all():
             raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
-    p = kernels.center(v)
+    p = _k.bbox_center(v)
     measure, first, second = _sums(kernel, v, f, p, scale)
     for _ in range(MAX_REFINE):
         # lopsided body: expand again about the computed COM (error analysis, item 4)
@@ -329,8 +205,7 @@ def _integrals(kernels, kernel, v, f, reference, scale):
             second + Fd + Fd.T + measure * np.multiply.outer(d, d), r.copy())
 
 
-def solid_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarray | None = None,
-                    *, backend: str = "auto"):
+def solid_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarray | None = None):
     """Volume integrals of a closed triangle mesh.
 
     Parameters
@@ -342,9 +217,6 @@ def solid_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarr
         computed COM when the body is lopsided (see the module's error analysis).
         A given point is never used for the computation itself; the integrals are
         moved to it exactly afterwards.
-    backend : {"auto", "numpy", "numba"}
-        ``"auto"`` uses numba when it can be imported, NumPy otherwise; ``"numba"``
-        without numba raises :class:`~inertia.errors.MissingDependencyError`.
 
     Returns
     -------
@@ -360,20 +232,17 @@ def solid_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarr
         vertex used by a face.
     """
     v, f = _mesh_arrays(vertices, faces)
-    kernels = _kernels(backend, len(f))
-    return _integrals(kernels, kernels.solid, v, f, reference, _SOLID_SCALE)
+    return _integrals(_k.solid_sums, v, f, reference, _SOLID_SCALE)
 
 
-def shell_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarray | None = None,
-                    *, backend: str = "auto"):
+def shell_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarray | None = None):
     """Surface integrals of a triangle mesh (orientation-free; need not be closed).
 
     Same parameters as :func:`solid_integrals`.  Returns ``(area m^2,
     int (x - r) dA (3,) m^3, int (x - r)(x - r)^T dA (3, 3) m^4, r (3,) m)``.
     """
     v, f = _mesh_arrays(vertices, faces)
-    kernels = _kernels(backend, len(f))
-    return _integrals(kernels, kernels.shell, v, f, reference, _SHELL_SCALE)
+    return _integrals(_k.shell_sums, v, f, reference, _SHELL_SCALE)
 
 
 def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, reference: np.ndarray, density: float):

@@ -53,12 +53,12 @@ from __future__ import annotations
 
 import math
 import time
-import types
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError
+from .._ext import robust as _k
 from ._robust_caps import CapGeometry, Caps, cap_region_bound
 from ._robust_pieces import Pieces, unpacked_sums
 from .integrals import reference_point
@@ -182,45 +182,18 @@ def derived_bounds(vol, first, second, bv, bf, bs) -> dict:
     return out
 
 
-def _winding_backend(backend, work: int = 0):
-    """The kernels: compiled (:mod:`._robust_numba`) or plain Python (same source, same
-    decisions); ``auto`` asks :func:`inertia.geometry.mesh_arrays.compiled_kernels` (``work``:
-    the faces, weighed by the plain-Python cost)."""
-    if backend not in ("auto", "numpy", "numba"):
-        raise InputError(f"backend must be 'auto', 'numpy' or 'numba', got {backend!r}")
-    if backend == "auto":
-        from .mesh_arrays import compiled_kernels
-
-        k = compiled_kernels("inertia.geometry._robust_numba", 50 * work)
-        if k is not None:
-            return k
-    elif backend == "numba":
-        try:
-            from . import _robust_numba as k
-            return k
-        except ImportError:
-            if backend == "numba":
-                from .._core.errors import MissingDependencyError
-                raise MissingDependencyError("backend='numba' needs numba, which cannot be imported") from None
-    from . import _robust_capk, _robust_clip, _robust_kernels, _robust_topo
-    mods = (_robust_topo, _robust_kernels, _robust_capk, _robust_clip)
-    return types.SimpleNamespace(**{n: getattr(m, n) for m in mods for n in m.__all__})
-
-
 def _uncut_sums(pieces, p, stats):
     """Integrals about ``p`` of the faces no other face cuts, each patch weighted +-1 by one
     winding evaluation; returns ``(volume, first, second, number of undecided faces)``."""
     weights, _, n_uncertain = pieces.patch_weights()
     stats["patches"] = pieces.n_patches
-    out = np.zeros(10)
-    pieces.kern.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), float(p[0]), float(p[1]),
-                              float(p[2]), out)
+    out = _k.weighted_sums(pieces.V, pieces.F, weights.astype(np.float64), p, pieces.threads)
     return unpacked_sums(out) + (n_uncertain,)
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
                      max_depth: int = 30, time_budget: float | None = None,
-                     backend: str = "auto") -> RobustResult:
+                     threads: int | None = None) -> RobustResult:
     """Volume integrals over {w >= 1/2} of any triangle soup, with an honest error bound.
 
     Parameters
@@ -232,17 +205,20 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     max_pieces : int, budget of face pieces examined while refining cut faces.
     max_depth : int, most 1 -> 4 splits of a cut face.
     time_budget : float, optional, seconds; refinement stops (unconverged) after it.
-    backend : {"auto", "numba", "numpy"}  ("numpy" = plain Python kernels: slow, same answers).
+    threads : int, optional, threads of the compiled kernels (default: one per core); the
+        result is the same, bit for bit, whatever their number.
 
     Returns
     -------
     RobustResult
     """
     t0 = time.perf_counter()
-    kern = _winding_backend(backend, len(faces) if hasattr(faces, "__len__") else 0)
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
-    v, f, mult, r, used, n_valid = _prepared(vertices, faces, reference, kern)
+    if threads is not None and not (isinstance(threads, (int, np.integer)) and threads >= 1):
+        raise InputError(f"threads must be None or a positive integer, got {threads!r}")
+    threads = int(threads or 0)
+    v, f, mult, r, used, n_valid = _prepared(vertices, faces, reference)
     defects = []
     if (mult > 1).any():
         defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
@@ -252,13 +228,13 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     vu = v[used]
     p = reference_point(vu)
     eps = EPS_REL * max(float(np.linalg.norm(vu.max(0) - vu.min(0))), 1e-300)
-    caps, chain, cert, nbr = _closed_chain(v, f, mult, kern, eps)
+    caps, chain, cert, nbr = _closed_chain(v, f, mult, eps, threads)
     ne = len(caps.edges)
     stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
     if ne:
         defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
                        f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
-    pieces = Pieces(*chain, p, kern, eps, cert, nbr)
+    pieces = Pieces(*chain, p, eps, cert, nbr, threads)
     stats.update(pieces.find_cuts())
     if pieces.n_cut_faces:
         defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
@@ -268,8 +244,8 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     if n_uncertain:
         defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
-    amb, (bv, bf, bs) = _cap_terms(caps, v, kern, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps,
-                                   stats)
+    amb, (bv, bf, bs) = _cap_terms(caps, v, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps, stats,
+                                   threads)
     # 3. cut faces and uncertain patches: refine
     deadline = None if time_budget is None else t0 + time_budget
 
@@ -310,37 +286,28 @@ def _codes(edge_kinds, duplicates, pieces, n_mesh):
     return tuple(code for code, hit in found.items() if hit)
 
 
-def _closed_chain(v, f, mult, kern, eps):
+def _closed_chain(v, f, mult, eps, threads):
     """The caps and the closed chain ``(V, F, M)`` (mesh and caps), its certified vertices and
-    the face across each manifold edge (:func:`._robust_topo.vertex_pass`): one pass over the
-    mesh, then again over the vertices the caps touch."""
+    the face across each manifold edge (``vertex_pass``): one pass over the mesh, then again
+    over the vertices the caps touch."""
     nv, nf = len(v), len(f)
-    ptr, idx = np.empty(nv + 1, np.int64), np.empty(3 * nf, np.int64)
-    kern.vertex_faces(f, nv, False, ptr, idx)
-    cert, nbr, nb = np.zeros(nv, np.bool_), np.full((nf, 3), -1, np.int64), np.zeros(nv, np.int64)
-    kinds = np.zeros((nv, 3), np.int64)
-    kern.vertex_pass(v, f, mult, ptr, idx, np.arange(nv), cert, nbr, nb, kinds)
-    edge_kinds = kinds.sum(0)
-    ne = int(nb.sum())
-    edges, emult = np.empty((ne, 2), np.int64), np.empty(ne)
-    kern.boundary_edges(f, mult, ptr, idx, nb, edges, emult)
-    caps = Caps(v, edges, emult, eps, kern)
+    cert, nbr = np.zeros(nv, np.bool_), np.full((nf, 3), -1, np.int64)
+    edge_kinds, edges, emult = _k.vertex_pass(v, f, mult, np.arange(nv), cert, nbr, threads)
+    caps = Caps(v, edges, emult, eps)
     caps.edge_kinds = edge_kinds
-    if not ne:
+    if not len(edges):
         return caps, (v, f, mult), cert, nbr
     V = np.ascontiguousarray(np.concatenate([v, caps.apex]))
     F = np.ascontiguousarray(np.concatenate([f, caps.faces]))
     M = np.ascontiguousarray(np.concatenate([mult, caps.mult]))
-    ptr, idx = np.empty(len(V) + 1, np.int64), np.empty(3 * len(F), np.int64)
-    kern.vertex_faces(F, len(V), False, ptr, idx)
     cert = np.concatenate([cert, np.zeros(len(caps.apex), np.bool_)])
     nbr = np.concatenate([nbr, np.full((len(caps.faces), 3), -1, np.int64)])
     touched = np.union1d(np.unique(edges), np.arange(nv, len(V)))
-    kern.vertex_pass(V, F, M, ptr, idx, touched, cert, nbr, np.zeros(len(V), np.int64), np.zeros((0, 3), np.int64))
+    _k.vertex_pass(V, F, M, touched, cert, nbr, threads)
     return caps, (V, F, M), cert, nbr
 
 
-def _prepared(vertices, faces, reference, kern):
+def _prepared(vertices, faces, reference):
     """Validated ``(vertices, faces, multiplicities, reference or None, used-vertex mask, number of
     faces with three distinct corners)``;
     exactly coincident vertices merged (no tolerance: the geometry is unchanged), so that
@@ -359,30 +326,25 @@ def _prepared(vertices, faces, reference, kern):
         r = np.asarray(reference, dtype=np.float64)
         if r.shape != (3,) or not np.isfinite(r).all():
             raise InputError(f"reference must be a finite (3,) point, got {reference!r}")
-    fw = np.ascontiguousarray(weld_map(v)[f])
-    ptr = np.empty(len(v) + 1, np.int64)
-    idx = np.empty(len(fw), np.int64)
-    kern.vertex_faces(fw, len(v), True, ptr, idx)
-    out = np.empty_like(fw)
-    mult = np.empty(len(fw))
-    n = kern.dedupe_faces(fw, ptr, idx, out, mult)
-    if n == 0:
+    fw = np.ascontiguousarray(weld_map(v)[f], dtype=np.int64)
+    out, mult = _k.dedupe_faces(fw, len(v))
+    if len(out) == 0:
         raise InputError("every face is degenerate or cancelled by an opposite copy: nothing to integrate")
     n_valid = int(np.count_nonzero((fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 2] != fw[:, 0])))
-    return np.ascontiguousarray(v), out[:n], mult[:n], r, used, n_valid
+    return np.ascontiguousarray(v), out, mult, r, used, n_valid
 
 
-def _cap_terms(caps, v, kern, p, enough, eps, stats):
+def _cap_terms(caps, v, p, enough, eps, stats, threads):
     """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region."""
     zero = (0.0, np.zeros(3), np.zeros((3, 3)))
     if not len(caps.apex):
         return 0.0, zero
     geo = CapGeometry(caps, v, eps)
     # an indicator, not an error: a coarse octree is enough
-    amb = cap_region_bound(geo, AMBIGUOUS_LOW, kern, p, max_level=4, max_cells=20_000)[0]
+    amb = cap_region_bound(geo, AMBIGUOUS_LOW, p, max_level=4, max_cells=20_000, threads=threads)[0]
     if len(caps.apex) == 1 and caps.planar_simple[0]:
         return amb, zero
-    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, kern, p, enough=enough)
+    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, p, enough=enough, threads=threads)
     stats["cap_cells_left"] = left
     return amb, (cv, cf1, cs2)
 

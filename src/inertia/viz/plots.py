@@ -50,6 +50,10 @@ def _save(fig, out_dir: Path, stem: str) -> list[str]:
     return names
 
 
+#: the figure writer, for the other figure modules (viz.control_plots)
+save_figure = _save
+
+
 def omega_plot(study, out_dir, stem: str = "omega") -> dict:
     """Body angular velocity components against time, predicted flip times marked."""
     plt = pyplot()

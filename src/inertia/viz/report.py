@@ -46,7 +46,7 @@ def _plain(v):
 
 def build_report(out_dir, props, *, title: str, credit: str | None = None, description: str = "", mesh=None,
                  video: bool = True, force: bool = False, progress=None, animation_format: str = "auto",
-                 video_view: str = "body") -> dict:
+                 video_view: str = "body", control=None) -> dict:
     """Write the whole report; returns ``{"index": path, "files": {...}, "study": FlipStudy, ...}``.
 
     ``title``: the body's name; ``description``: one line about it (dimensions, source file);
@@ -55,6 +55,7 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, descr
     ``animation_format``: ``"mp4"``, ``"gif"`` or ``"auto"`` (MP4 where imageio-ffmpeg is present);
     ``video_view``: ``"body"`` or ``"model"`` (box, six points, axes).
     ``progress(step_name)`` is called before each step (for a progress bar).
+    ``control``: an :class:`inertia.control.studies.Showcase`, drawn as the section on holding the spin.
     """
     from .._core.atomic import write_text_atomic
     from ..dynamics.flip_study import flip_study
@@ -96,8 +97,17 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, descr
             "animation": info.get("animation")}
     write_text_atomic(out / "report.json", json.dumps(_plain(data), indent=2))
     files["data"] = ["report.json"]
+    extra = ""
+    if control is not None:
+        from .animation import video_format
+        from .control_report import write_control
+
+        step("holding the spin")
+        cfiles, extra = write_control(out, control, display, video=video, animation_format=video_format()
+                                      if animation_format == "auto" else animation_format)
+        files.update(cfiles)
     index = write_index(out, title=title, credit=credit, description=description, props=props, study=study,
-                        files=files, info=info)
+                        files=files, info=info, extra=extra)
     return {"index": index, "files": files, "study": study, "info": info, "folder": out}
 
 
@@ -117,7 +127,7 @@ def _animate(out: Path, props, study, display, title: str, animation_format: str
 
 
 def write_index(out: Path, *, title: str, credit: str | None, description: str, props, study, files: dict,
-                info: dict) -> Path:
+                info: dict, extra: str = "") -> Path:
     """``index.html`` linking every file of the report (``files``: role -> list of names)."""
     from .._core.atomic import write_text_atomic
     from .._core.version import __version__
@@ -130,7 +140,8 @@ def write_index(out: Path, *, title: str, credit: str | None, description: str, 
                       for n in files.get(role, []) if n.endswith((".json", ".svg")))
     footer = (f"Written by inertia {__version__} (<code>inertia demo</code>). SI units inside; lengths shown in the "
               f"unit named beside them. Every number in this report: {links}.")
-    text = index_html(name=title, lede=lede, props=props, study=study, files=files, info=info, footer=footer)
+    text = index_html(name=title, lede=lede, props=props, study=study, files=files, info=info, footer=footer,
+                      extra=extra)
     path = out / "index.html"
     write_text_atomic(path, text)
     return path

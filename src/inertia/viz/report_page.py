@@ -173,8 +173,8 @@ six- and four-point models; play the motion and watch the polhode beside it. <a 
 own</a>.</p><iframe src="{page}" title="interactive 3D view of the body"></iframe></section>"""
 
 
-def index_html(*, name: str, lede: str, props, study, files: dict, info: dict, footer: str) -> str:
-    """The whole ``index.html``."""
+def index_html(*, name: str, lede: str, props, study, files: dict, info: dict, footer: str, extra: str = "") -> str:
+    """The whole ``index.html``; ``extra``: more sections (HTML) before the numbers."""
     from ..massprops.equivalent import equivalent_box
 
     unit_factor = length_unit(float(np.linalg.norm(equivalent_box(props).size)))
@@ -186,6 +186,8 @@ def index_html(*, name: str, lede: str, props, study, files: dict, info: dict, f
         sections.append(page_section(files["page"][0]))
     figs = "".join(figure(role, files[role]) for role in ("omega", "polhodes", "body", "invariants") if role in files)
     sections.append(f'<section id="plots"><h2>Plots</h2><div class="grid">{figs}</div></section>')
+    if extra:
+        sections.append(extra)
     sections.append('<section id="numbers"><h2>The numbers</h2><div class="tables">'
                     f"{properties_table(props, unit_factor)}{flip_table(study)}</div></section>")
     template = package_files("inertia.viz").joinpath("templates", "report.html").read_text(encoding="utf-8")
