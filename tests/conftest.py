@@ -20,10 +20,6 @@ from tests import _make
 
 REPO = Path(__file__).resolve().parents[1]
 
-# The suite compares the compiled kernels with their NumPy twins, so it compiles them on first
-# use (as every release before the auto rule did) rather than leaving a cold cache to a
-# background process; tests/test_compiled.py checks the auto rule itself, in subprocesses.
-os.environ.setdefault("INERTIA_COMPILED", "always")
 REALDATA_SKIP = "../shared/data not found: real-data tier skipped"
 
 

@@ -37,8 +37,6 @@ def _modules():
 
 def _needs(name: str):
     """The optional module without which ``name`` cannot be imported (None: the core)."""
-    if name.endswith("_numba"):
-        return "numba"
     for prefix, module in _MODULE_NEEDS.items():
         if name.startswith(prefix):
             return module

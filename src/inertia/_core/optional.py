@@ -17,7 +17,6 @@ EXTRA_OF = {
     "trimesh": "mesh",
     "collada": "mesh",
     "xacro": "xacro",
-    "numba": "fast",
     "sympy": "symbolic",
     "matplotlib": "viz",
     "PIL": "viz",

@@ -101,9 +101,9 @@ def _reason_of(exc) -> str:
 def _reraise_interrupt(exc: BaseException) -> None:
     """Raise the KeyboardInterrupt (or SystemExit) that ``exc`` was caused by, if any.
 
-    A Ctrl-C that lands while compiled code returns surfaces as ``SystemError: ... returned
-    a result with an exception set``, caused by the KeyboardInterrupt (seen with numba on
-    its first compilation): it must stop the run, not become an error row for a good file.
+    A Ctrl-C that lands while an extension returns surfaces as ``SystemError: ... returned a
+    result with an exception set``, caused by the KeyboardInterrupt: it must stop the run, not
+    become an error row for a good file.
     """
     seen, cur = set(), exc
     while cur is not None and id(cur) not in seen:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._core import compiled as _compiled
 from .._core.errors import InputError
 from .._ext import topology as _k
 
@@ -63,23 +62,19 @@ def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
     return len(faces) == 0 or (int(faces.min()) >= 0 and int(faces.max()) < n_vertices)
 
 
-# ------------------------------------------------------------------ dispatch of other families
-# Transitional: the integrals, self-crossing, text and robust kernels are still picked here until
-# those families are ported (then compiled_kernels, topology_kernels and _topology_state go).
+# ------------------------------------------------------------------ transitional
+# the self-crossing family's old kernels are still asked for here until its port is merged
 _topology_state = None
 
 
 def compiled_kernels(module_name: str, work: int = 0, ahead_of_time: bool = True):
-    """The numba kernel module ``module_name``, or None for the NumPy path (see
-    :func:`inertia._core.compiled.kernels`; ``_topology_state`` False: as if numba were missing)."""
-    if _topology_state is False:
-        return None
-    return _compiled.kernels(module_name, work=work, ahead_of_time=ahead_of_time)
+    """None: the old numba kernels are gone (transitional, removed with the self-crossing port)."""
+    return None
 
 
 def topology_kernels(work: int = 0):
-    """The numba module holding ``clean_solid`` and ``winding_numbers`` (transitional, as above)."""
-    return compiled_kernels("inertia.geometry._topology_numba", work)
+    """None (transitional, as above)."""
+    return None
 
 
 # ---------------------------------------------------------------------------------- welding
