@@ -26,10 +26,6 @@ EXPORTS = {
         "clean_solid": "f8[:,::1], i8[:,::1], f8, f8, f8[::1]!, i8[:,::1]!",
         "winding_numbers": "f8[:,::1], f8[:,:,::1]",
     },
-    "inertia.geometry._selfcross_numba": {
-        "star_certificate": "f8[:,::1], i8[:,::1], f8[::1]",
-        "find_crossing": "f8[:,::1], i8[:,::1], i8[:,::1], i8, f8, i8[::1]!",
-    },
     "inertia.geometry._text_numba": {
         "read_ascii_stl": "u1[::1], f8[:,::1]!, i8[:,::1]!, i8",
         "read_obj": "u1[::1], i8",
