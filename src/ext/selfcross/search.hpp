@@ -140,6 +140,37 @@ inline uint64_t bucket_of(int64_t x, int64_t y, int64_t z, uint64_t mask) {
     return ((uint64_t(x) * 73856093u) ^ (uint64_t(y) * 19349663u) ^ (uint64_t(z) * 83492791u)) & mask;
 }
 
+// Items t (begin <= t < end) with integer cell boxes lo[3 t..], hi[3 t..], filed by a counting
+// sort in the buckets of the cells they cover (a bucket may hold several cells): bucket b holds
+// item[start[b]:start[b + 1]], in increasing t; the buckets are the power of two at or above
+// `registrations` (the cells the items cover in all).
+struct HashedCells {
+    const int64_t *lo, *hi;
+    uint64_t mask;
+    std::vector<int64_t> start;
+    Buffer<int64_t> item;
+    HashedCells(const int64_t *lo_, const int64_t *hi_, size_t begin, size_t end, int64_t registrations)
+        : lo(lo_), hi(hi_), mask(capacity(registrations) - 1), start(mask + 2, 0), item(size_t(registrations)) {
+        for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { start[b + 1] += 1; });
+        for (uint64_t b = 0; b <= mask; ++b) start[b + 1] += start[b];
+        Buffer<int64_t> fill(mask + 1);
+        std::copy(start.begin(), start.end() - 1, fill.data());
+        for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { item[fill[b]++] = int64_t(t); });
+    }
+    static uint64_t capacity(int64_t n) {
+        uint64_t cap = 16;
+        while (cap < uint64_t(n)) cap *= 2;
+        return cap;
+    }
+    // fn(bucket) for each cell of item t's box
+    template <class Fn>
+    void each(size_t t, Fn &&fn) const {
+        for (int64_t x = lo[3 * t]; x <= hi[3 * t]; ++x)
+            for (int64_t y = lo[3 * t + 1]; y <= hi[3 * t + 1]; ++y)
+                for (int64_t z = lo[3 * t + 2]; z <= hi[3 * t + 2]; ++z) fn(bucket_of(x, y, z, mask));
+    }
+};
+
 // A pair of crossing faces of Fs (rows of F, frames fr) into out: 1; 0 when none; -1 when a face
 // spans more than SEARCH_CELLS_PER_FACE cells (the caller retries with a coarser grid).  The
 // cells are hashed into buckets (a bucket may hold several cells); faces are filed per bucket by
@@ -163,37 +194,27 @@ inline int grid_search(const double *V, const int64_t *Fs, size_t nf, const Fram
         }
         n_reg += int64_t(span);
     }
-    uint64_t cap = 16;
-    while (cap < uint64_t(n_reg)) cap *= 2;
-    const uint64_t mask = cap - 1;
-    auto each_cell = [&](size_t t, auto &&fn) {
-        for (int64_t x = lo[3 * t]; x <= hi[3 * t]; ++x)
-            for (int64_t y = lo[3 * t + 1]; y <= hi[3 * t + 1]; ++y)
-                for (int64_t z = lo[3 * t + 2]; z <= hi[3 * t + 2]; ++z) fn(bucket_of(x, y, z, mask));
-    };
-    std::vector<int64_t> counts(cap + 1, 0);
-    for (size_t t = 0; t < nf; ++t) each_cell(t, [&](uint64_t b) { counts[b + 1] += 1; });
-    for (uint64_t b = 0; b < cap; ++b) counts[b + 1] += counts[b];
-    Buffer<int64_t> fill(cap);
-    std::copy(counts.begin(), counts.end() - 1, fill.data());
+    const HashedCells cells(lo.data(), hi.data(), 0, nf, n_reg);
+    const uint64_t cap = cells.mask + 1, mask = cells.mask;
+    const std::vector<int64_t> &counts = cells.start;
     struct Entry {
         float box[6];  // relative to origin, widened: float32 rounds to nearest
         int32_t cor[3], who;
     };
     Buffer<Entry> ent{size_t(n_reg)};
     const float grow = 2.4e-7f;
-    for (size_t t = 0; t < nf; ++t) {
-        Entry e;
-        const double *p = V + 3 * Fs[3 * t], *q = V + 3 * Fs[3 * t + 1], *r = V + 3 * Fs[3 * t + 2];
+    for (int64_t r = 0; r < n_reg; ++r) {  // each entry with a copy of its face's box and corners
+        const size_t t = size_t(cells.item[r]);
+        Entry &e = ent[r];
+        const double *p = V + 3 * Fs[3 * t], *q = V + 3 * Fs[3 * t + 1], *w = V + 3 * Fs[3 * t + 2];
         for (int a = 0; a < 3; ++a) {
-            e.box[a] = float(std::min({p[a], q[a], r[a]}) - origin[a]);
+            e.box[a] = float(std::min({p[a], q[a], w[a]}) - origin[a]);
             e.box[a] -= std::abs(e.box[a]) * grow + 1e-38f;
-            e.box[a + 3] = float(std::max({p[a], q[a], r[a]}) - origin[a]);
+            e.box[a + 3] = float(std::max({p[a], q[a], w[a]}) - origin[a]);
             e.box[a + 3] += std::abs(e.box[a + 3]) * grow + 1e-38f;
             e.cor[a] = int32_t(Fs[3 * t + a]);
         }
         e.who = int32_t(t);
-        each_cell(t, [&](uint64_t b) { ent[fill[b]++] = e; });
     }
     for (uint64_t b = 0; b < cap; ++b) {
         const int64_t c1 = counts[b + 1];
@@ -343,21 +364,11 @@ inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const
         }
         if (!fits) cell *= 2.0;
     }
-    auto n_cells = [&](size_t t) { return (hi[3 * t] - lo[3 * t] + 1) * (hi[3 * t + 1] - lo[3 * t + 1] + 1) * (hi[3 * t + 2] - lo[3 * t + 2] + 1); };
-    uint64_t cap = 16;
-    for (size_t t = ma; t < n; ++t) cap += uint64_t(n_cells(t));
-    while (cap & (cap - 1)) cap &= cap - 1;  // a power of two, half to all of B's cells
-    const uint64_t mask = cap - 1;
-    auto each_cell = [&](size_t t, auto &&fn) {
-        for (int64_t x = lo[3 * t]; x <= hi[3 * t]; ++x)
-            for (int64_t y = lo[3 * t + 1]; y <= hi[3 * t + 1]; ++y)
-                for (int64_t z = lo[3 * t + 2]; z <= hi[3 * t + 2]; ++z) fn(bucket_of(x, y, z, mask));
-    };
-    std::vector<int64_t> counts(cap + 1, 0);
-    for (size_t t = ma; t < n; ++t) each_cell(t, [&](uint64_t b) { counts[b + 1] += 1; });
-    for (uint64_t b = 0; b < cap; ++b) counts[b + 1] += counts[b];
-    std::vector<int64_t> fill(counts.begin(), counts.end() - 1), who(counts[cap]), seen(n, -1), cand;
-    for (size_t t = ma; t < n; ++t) each_cell(t, [&](uint64_t b) { who[fill[b]++] = int64_t(t); });
+    int64_t n_reg = 0;
+    for (size_t t = ma; t < n; ++t)
+        n_reg += (hi[3 * t] - lo[3 * t] + 1) * (hi[3 * t + 1] - lo[3 * t + 1] + 1) * (hi[3 * t + 2] - lo[3 * t + 2] + 1);
+    const HashedCells cells(lo.data(), hi.data(), ma, n, n_reg);  // B's faces
+    std::vector<int64_t> seen(n, -1), cand;
     auto tri = [&](size_t t) {
         const int64_t *f = rows[t] < int64_t(na) ? Fa + 3 * rows[t] : Fb + 3 * (rows[t] - int64_t(na));
         return make_tri(V + 3 * f[0], V + 3 * f[1], V + 3 * f[2]);
@@ -365,9 +376,9 @@ inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const
     for (size_t i = 0; i < ma; ++i) {
         const double *bi = &box[6 * i];
         cand.clear();
-        each_cell(i, [&](uint64_t b) {
-            for (int64_t e = counts[b]; e < counts[b + 1]; ++e) {
-                const int64_t j = who[e];
+        cells.each(i, [&](uint64_t b) {
+            for (int64_t e = cells.start[b]; e < cells.start[b + 1]; ++e) {
+                const int64_t j = cells.item[e];
                 const double *bj = &box[6 * j];
                 if (seen[j] == int64_t(i)) continue;
                 seen[j] = int64_t(i);

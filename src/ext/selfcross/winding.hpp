@@ -250,10 +250,17 @@ inline bool runs_inside(const ShellWinding &A, const double *lo, const double *h
             x[k] = W[i % 4][0] * V[3 * f[0] + k] + W[i % 4][1] * V[3 * f[1] + k] + W[i % 4][2] * V[3 * f[2] + k];
     };
     std::vector<size_t> in;
-    for (size_t i = 0; i < 4 * nb; ++i) {
-        double x[3];
-        sample(i, x);
-        if (x[0] > lo[0] && x[0] < hi[0] && x[1] > lo[1] && x[1] < hi[1] && x[2] > lo[2] && x[2] < hi[2]) in.push_back(i);
+    for (size_t t = 0; t < nb; ++t) {
+        const int64_t *f = Fb + 3 * t;
+        bool apart = false;  // a face whose box misses the open box holds no sample point inside it
+        for (int k = 0; k < 3 && !apart; ++k)
+            apart = std::max({V[3 * f[0] + k], V[3 * f[1] + k], V[3 * f[2] + k]}) <= lo[k] ||
+                    std::min({V[3 * f[0] + k], V[3 * f[1] + k], V[3 * f[2] + k]}) >= hi[k];
+        for (size_t i = 4 * t; i < 4 * t + 4 && !apart; ++i) {
+            double x[3];
+            sample(i, x);
+            if (x[0] > lo[0] && x[0] < hi[0] && x[1] > lo[1] && x[1] < hi[1] && x[2] > lo[2] && x[2] < hi[2]) in.push_back(i);
+        }
     }
     const size_t n_in = in.size(), m = std::min(n_in, n_max);
     bool outside = n_in < 4 * nb, found = false;
