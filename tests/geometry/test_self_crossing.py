@@ -281,3 +281,8 @@ def test_bad_indices_and_shapes_are_refused_by_name():
         sc.star_certificate(v, f, np.zeros(2))
     with pytest.raises(TypeError):
         sc.first_crossing(v[:, :2], f)
+    nan = v.copy()
+    nan[7, 1] = np.nan
+    with pytest.raises(inertia.InputError, match="vertices of the faces must be finite"):
+        sc.first_crossing(nan, f)
+    assert np.isnan(inertia.geometry.intersections.winding_numbers(np.array([[0.0, np.nan, 0.0]]), v[f])).all()

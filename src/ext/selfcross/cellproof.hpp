@@ -213,15 +213,19 @@ inline int patch_check(const double *V, const int64_t *F, const uint8_t *bits_of
     return simple_loop(V, IU[ax], IW[ax], loop, n_border, w.fwork.data(), loop + n_border) ? 0 : 5;
 }
 
-// The low and high corners of the vertices the faces use, and the median of the faces' longest
-// edges over at most about MEDIAN_SAMPLE faces evenly spread (a cell size, not a measurement).
+// The low and high corners of the vertices the faces use (NaN if one is not finite), and the
+// median of the faces' longest edges over at most about MEDIAN_SAMPLE faces evenly spread (a
+// cell size, not a measurement).
 inline double box_and_median_edge(const double *V, const int64_t *F, size_t nf, double *origin, double *top) {
     const double inf = std::numeric_limits<double>::infinity();
     double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};  // locals: the stores would alias V
+    bool finite = true;
     for (size_t i = 0; i < 3 * nf; ++i)
-        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], V[3 * F[i] + k]), hi[k] = std::max(hi[k], V[3 * F[i] + k]);
-    std::copy(lo, lo + 3, origin);
-    std::copy(hi, hi + 3, top);
+        for (int k = 0; k < 3; ++k) {
+            const double x = V[3 * F[i] + k];
+            lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), finite = finite && std::isfinite(x);
+        }
+    for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[k] : NAN, top[k] = finite ? hi[k] : NAN;
     const size_t stride = std::max<size_t>(1, nf / MEDIAN_SAMPLE);
     std::vector<double> longest((nf + stride - 1) / stride);
     for (size_t i = 0; i < longest.size(); ++i) {

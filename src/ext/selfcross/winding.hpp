@@ -87,7 +87,11 @@ class ShellWinding {
         std::vector<double> pb(4 * nf);
         double lo3[3] = {INFINITY, INFINITY, INFINITY}, hi3[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (size_t i = 0; i < 3 * nf; ++i)
-            for (int k = 0; k < 3; ++k) lo3[k] = std::min(lo3[k], V[3 * F[i] + k]), hi3[k] = std::max(hi3[k], V[3 * F[i] + k]);
+            for (int k = 0; k < 3; ++k) {
+                const double x = V[3 * F[i] + k];
+                if (!std::isfinite(x)) return;  // no grid: the solid angles are summed
+                lo3[k] = std::min(lo3[k], x), hi3[k] = std::max(hi3[k], x);
+            }
         near_ = NEAR_RTOL * std::sqrt((hi3[0] - lo3[0]) * (hi3[0] - lo3[0]) + (hi3[1] - lo3[1]) * (hi3[1] - lo3[1]) +
                                       (hi3[2] - lo3[2]) * (hi3[2] - lo3[2]));
         if (!std::isfinite(near_)) return;
