@@ -22,28 +22,31 @@ using Pair = std::optional<std::pair<int64_t, int64_t>>;
 
 namespace {
 
-// check_faces, with a vectorised pass first (the loop that names the first bad index runs only
-// when there is one).
-void checked_faces(const Faces &F, size_t n_vertices, const char *what = "faces") {
-    const int64_t *f = F.data(), nv = int64_t(n_vertices);
+// Every a[i] in 0..limit-1: a vectorised min/max pass (the loops that name a bad entry run
+// only when there is one).
+bool all_below(const int64_t *a, size_t n, int64_t limit) {
     int64_t lo = 0, hi = -1;
-    for (size_t i = 0; i < 3 * F.shape(0); ++i) lo = std::min(lo, f[i]), hi = std::max(hi, f[i]);
-    if (lo < 0 || hi >= nv) check_faces(f, F.shape(0), n_vertices, what);
+    for (size_t i = 0; i < n; ++i) lo = std::min(lo, a[i]), hi = std::max(hi, a[i]);
+    return lo >= 0 && hi < limit;
 }
 
-// twins: no rows, or one per face with every entry a face number below `limit` (a vectorised
-// min/max pass first; the loop that names the bad entry runs only when there is one).
+// The faces' vertex numbers, and the sizes the kernels' 32-bit face and vertex numbers hold.
+void checked_faces(const Faces &F, size_t n_vertices, const char *what = "faces", bool renumbered = false) {
+    if (!all_below(F.data(), 3 * F.shape(0), int64_t(n_vertices))) check_faces(F.data(), F.shape(0), n_vertices, what);
+    if (F.shape(0) >= (size_t(1) << 29) || (n_vertices >= (size_t(1) << 31) && !renumbered))
+        input_error(std::string(what) + ": at most 2^29 faces and 2^31 - 1 vertices");
+}
+
+// twins: no rows, or one per face with every entry a face number below `limit`.
 const int64_t *checked_twins(const InN3<int64_t> &twins, size_t nf, size_t limit) {
     if (twins.shape(0) == 0) return nullptr;
     check_length(twins.shape(0), nf, "twins");
     const int64_t *a = twins.data();
-    int64_t lo = 0, hi = -1;
-    for (size_t i = 0; i < 3 * nf; ++i) lo = std::min(lo, a[i]), hi = std::max(hi, a[i]);
-    if (lo < 0 || hi >= int64_t(limit))
-        for (size_t i = 0; i < 3 * nf; ++i)
-            if (a[i] < 0 || a[i] >= int64_t(limit))
-                input_error("twins[" + std::to_string(i / 3) + ", " + std::to_string(i % 3) + "] = " +
-                            std::to_string(a[i]) + " names no face (there are " + std::to_string(nf) + ")");
+    const bool ok = all_below(a, 3 * nf, int64_t(limit));
+    for (size_t i = 0; !ok && i < 3 * nf; ++i)
+        if (a[i] < 0 || a[i] >= int64_t(limit))
+            input_error("twins[" + std::to_string(i / 3) + ", " + std::to_string(i % 3) + "] = " +
+                        std::to_string(a[i]) + " names no face (there are " + std::to_string(nf) + ")");
     return a;
 }
 
@@ -77,9 +80,7 @@ void bind_selfcross(nb::module_ &m) {
 
     m.def("find_crossing", [](Vertices V, Faces F, InN3<int64_t> twins, bool prove_cells) -> Pair {
         const size_t nf = F.shape(0), nv = V.shape(0);
-        checked_faces(F, nv);
-        if (nf >= (size_t(1) << 29) || (nv >= (size_t(1) << 31) && nv <= 4 * nf + 1024))  // int32 in the grid
-            input_error("self-crossing search: at most 2^29 faces and 2^31 - 1 vertices");
+        checked_faces(F, nv, "faces", nv > 4 * nf + 1024);  // (then renumbered to at most 3 nf vertices)
         const int64_t *adj = checked_twins(twins, nf, nf);
         int64_t out[2];
         nb::gil_scoped_release release;

@@ -143,16 +143,17 @@ inline uint64_t bucket_of(int64_t x, int64_t y, int64_t z, uint64_t mask) {
 // Items t (begin <= t < end) with integer cell boxes lo[3 t..], hi[3 t..], filed by a counting
 // sort in the buckets of the cells they cover (a bucket may hold several cells): bucket b holds
 // item[start[b]:start[b + 1]], in increasing t; the buckets are the power of two at or above
-// `registrations` (the cells the items cover in all).
+// `registrations` (the cells the items cover, or about).
 struct HashedCells {
     const int64_t *lo, *hi;
     uint64_t mask;
     std::vector<int64_t> start;
-    Buffer<int64_t> item;
+    Buffer<int64_t> item{0};
     HashedCells(const int64_t *lo_, const int64_t *hi_, size_t begin, size_t end, int64_t registrations)
-        : lo(lo_), hi(hi_), mask(capacity(registrations) - 1), start(mask + 2, 0), item(size_t(registrations)) {
+        : lo(lo_), hi(hi_), mask(capacity(registrations) - 1), start(mask + 2, 0) {
         for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { start[b + 1] += 1; });
         for (uint64_t b = 0; b <= mask; ++b) start[b + 1] += start[b];
+        item = Buffer<int64_t>(size_t(start[mask + 1]));
         Buffer<int64_t> fill(mask + 1);
         std::copy(start.begin(), start.end() - 1, fill.data());
         for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { item[fill[b]++] = int64_t(t); });
@@ -171,6 +172,27 @@ struct HashedCells {
     }
 };
 
+// The cells lo, hi (3 per face) that the faces' boxes meet in a grid of `cell` from origin, and
+// how many in all; -1 when a face meets more than SEARCH_CELLS_PER_FACE (or cells beyond int64).
+inline int64_t cell_ranges(const double *V, const int64_t *Fs, size_t nf, const double *origin, double cell,
+                           int64_t *lo, int64_t *hi) {
+    int64_t n_reg = 0;
+    for (size_t t = 0; t < nf; ++t) {
+        double span = 1.0;  // in floats: a face 1e20 cells long must not overflow int64
+        const double *p = V + 3 * Fs[3 * t], *q = V + 3 * Fs[3 * t + 1], *r = V + 3 * Fs[3 * t + 2];
+        for (int a = 0; a < 3; ++a) {
+            const double mn = std::floor((std::min({p[a], q[a], r[a]}) - origin[a]) / cell);
+            const double mx = std::floor((std::max({p[a], q[a], r[a]}) - origin[a]) / cell);
+            span *= mx - mn + 1.0;
+            if (!(span <= SEARCH_CELLS_PER_FACE && mx <= 4.0e18)) return -1;
+            lo[3 * t + a] = int64_t(mn);
+            hi[3 * t + a] = int64_t(mx);
+        }
+        n_reg += int64_t(span);
+    }
+    return n_reg;
+}
+
 // A pair of crossing faces of Fs (rows of F, frames fr) into out: 1; 0 when none; -1 when a face
 // spans more than SEARCH_CELLS_PER_FACE cells (the caller retries with a coarser grid).  The
 // cells are hashed into buckets (a bucket may hold several cells); faces are filed per bucket by
@@ -180,20 +202,8 @@ struct HashedCells {
 inline int grid_search(const double *V, const int64_t *Fs, size_t nf, const Frames &fr, const uint8_t *cert,
                        const double *origin, double cell, int64_t *out) {
     Buffer<int64_t> lo(3 * nf), hi(3 * nf);
-    int64_t n_reg = 0;
-    for (size_t t = 0; t < nf; ++t) {
-        double span = 1.0;  // in floats: a face 1e20 cells long must not overflow int64
-        for (int a = 0; a < 3; ++a) {
-            const double *p = V + 3 * Fs[3 * t], *q = V + 3 * Fs[3 * t + 1], *r = V + 3 * Fs[3 * t + 2];
-            const double mn = std::floor((std::min({p[a], q[a], r[a]}) - origin[a]) / cell);
-            const double mx = std::floor((std::max({p[a], q[a], r[a]}) - origin[a]) / cell);
-            span *= mx - mn + 1.0;
-            if (span > SEARCH_CELLS_PER_FACE || mx > 4.0e18) return -1;
-            lo[3 * t + a] = int64_t(mn);
-            hi[3 * t + a] = int64_t(mx);
-        }
-        n_reg += int64_t(span);
-    }
+    const int64_t n_reg = cell_ranges(V, Fs, nf, origin, cell, lo.data(), hi.data());
+    if (n_reg < 0) return -1;
     const HashedCells cells(lo.data(), hi.data(), 0, nf, n_reg);
     const uint64_t cap = cells.mask + 1, mask = cells.mask;
     const std::vector<int64_t> &counts = cells.start;
@@ -323,8 +333,8 @@ inline int find_crossing(const double *V, const int64_t *F, size_t nf, size_t nv
 // meet its own, in order.
 inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const int64_t *Fb, size_t nb,
                             const double *lo_, const double *hi_, size_t max_faces, int64_t *out) {
-    std::vector<int64_t> rows;  // the faces meeting lo..hi: A's, then B's (as na + j)
-    std::vector<double> box;    // their boxes, lo then hi
+    std::vector<int64_t> rows, Fs;  // the faces meeting lo..hi, A's then B's (rows: B's as na + j)
+    std::vector<double> box;        // their boxes, lo then hi
     double edges = 0.0, origin[3] = {INFINITY, INFINITY, INFINITY};
     for (size_t t = 0; t < na + nb; ++t) {
         const int64_t *f = t < na ? Fa + 3 * t : Fb + 3 * (t - na);
@@ -337,6 +347,7 @@ inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const
         }
         if (!meets) continue;
         rows.push_back(int64_t(t));
+        Fs.insert(Fs.end(), f, f + 3);
         box.insert(box.end(), b, b + 6);
         for (int k = 0; k < 3; ++k) {
             const double *p = V + 3 * f[k], *q = V + 3 * f[(k + 1) % 3];
@@ -348,31 +359,13 @@ inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const
     if (ma == 0 || ma == n || n > max_faces) return 0;
     double cell = 2.0 * edges / double(3 * n);
     if (!(cell > 0.0 && std::isfinite(cell))) return 0;  // every triangle a point: none crosses
-    std::vector<int64_t> lo(3 * n), hi(3 * n);
-    for (bool fits = false; !fits;) {  // at most SEARCH_CELLS_PER_FACE cells a face, else coarser
-        fits = true;
-        for (size_t t = 0; t < n && fits; ++t) {
-            double span = 1.0;
-            for (int a = 0; a < 3; ++a) {
-                const double mn = std::floor((box[6 * t + a] - origin[a]) / cell);
-                const double mx = std::floor((box[6 * t + 3 + a] - origin[a]) / cell);
-                span *= mx - mn + 1.0;
-                fits = fits && span <= SEARCH_CELLS_PER_FACE && mx <= 4.0e18;
-                lo[3 * t + a] = fits ? int64_t(mn) : 0;
-                hi[3 * t + a] = fits ? int64_t(mx) : 0;
-            }
-        }
-        if (!fits) cell *= 2.0;
-    }
-    int64_t n_reg = 0;
-    for (size_t t = ma; t < n; ++t)
-        n_reg += (hi[3 * t] - lo[3 * t] + 1) * (hi[3 * t + 1] - lo[3 * t + 1] + 1) * (hi[3 * t + 2] - lo[3 * t + 2] + 1);
+    Buffer<int64_t> lo(3 * n), hi(3 * n);
+    int64_t n_reg;
+    while ((n_reg = cell_ranges(V, Fs.data(), n, origin, cell, lo.data(), hi.data())) < 0)
+        if (!std::isfinite(cell *= 2.0)) return 0;  // (not reached with finite boxes)
     const HashedCells cells(lo.data(), hi.data(), ma, n, n_reg);  // B's faces
     std::vector<int64_t> seen(n, -1), cand;
-    auto tri = [&](size_t t) {
-        const int64_t *f = rows[t] < int64_t(na) ? Fa + 3 * rows[t] : Fb + 3 * (rows[t] - int64_t(na));
-        return make_tri(V + 3 * f[0], V + 3 * f[1], V + 3 * f[2]);
-    };
+    auto tri = [&](size_t t) { return make_tri(V + 3 * Fs[3 * t], V + 3 * Fs[3 * t + 1], V + 3 * Fs[3 * t + 2]); };
     for (size_t i = 0; i < ma; ++i) {
         const double *bi = &box[6 * i];
         cand.clear();

@@ -46,9 +46,8 @@ from .._ext import selfcross as _k
 #: the center must be farther than this times |a| from every face's plane (a the face's first
 #: corner seen from the center): a face nearly edge-on to the center does not certify
 STAR_RTOL = _k.STAR_RTOL
-#: a shell the certificate cannot prove is searched face pair by face pair up to this many
-#: faces (0.1-0.5 us a face, 5-25x the mass properties); larger ones get the note
-#: ``self_crossing_unchecked``
+#: a shell the certificate cannot prove is searched up to this many faces (the search costs
+#: several times the mass properties); larger ones get the note ``self_crossing_unchecked``
 SEARCH_MAX_FACES = 200_000
 #: crossings that change the volume, the COM and the inertia by less than this (relative; see
 #: :func:`crossing_effect`) are a note (``self_crossing_negligible``), not an error
