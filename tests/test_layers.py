@@ -26,7 +26,7 @@ PKG = SRC / "inertia"
 
 ALLOWED = {
     "_core": set(),
-    "geometry": {"_core"},
+    "geometry": {"_core", "_ext"},          # _ext: the compiled kernels of geometry's families
     "massprops": {"geometry", "_core"},
     "particles": {"massprops", "geometry", "_core"},
     "dynamics": {"massprops", "geometry", "_core"},
