@@ -262,6 +262,29 @@ def test_the_same_shells_give_the_same_bits_in_this_process_and_in_a_fresh_one()
     assert runs[0] == runs[1] == fresh.stdout.strip()
 
 
+def test_calls_on_threads_give_the_answers_of_calls_in_turn():
+    """The kernels release the GIL and share nothing: shells searched, proved and counted on
+    four threads at once give what one thread gives, bit for bit."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from inertia.geometry.intersections import winding_numbers
+
+    rng = np.random.default_rng(9)
+    shells = [integer_shell(rng, it, min_faces=k.HEIGHTFIELD_MIN_FACES) for it in range(16)]
+    pts = rng.uniform(0, 500, (200, 3))
+
+    def job(shell):
+        v, f = shell
+        got = sc.first_crossing(v, f)
+        return (None if got is None else got.faces, winding_numbers(pts, v[f]).tobytes(),
+                k.unproved_faces(v, f, k.face_twins(f, len(v)), 40.0).tobytes())
+
+    serial = [job(shell) for shell in shells]
+    with ThreadPoolExecutor(4) as pool:
+        assert list(pool.map(job, shells)) == serial
+    assert sum(x[0] is not None for x in serial) > 3
+
+
 def test_bad_indices_and_shapes_are_refused_by_name():
     ico = trimesh.creation.icosphere(1)
     v, f = np.array(ico.vertices), np.array(ico.faces, dtype=np.int64)
