@@ -1,43 +1,38 @@
-"""The cell-by-cell height-field proof that a shell does not cross itself
-(:mod:`inertia.geometry._heightfield_numba`): each of its conditions refuses the patch it is
-there to refuse, a proved patch never holds a crossing pair (every pair tested by the exact
-edge-through-face test), and the search that uses the proof finds a crossing exactly when the
-whole face-pair search does.
+"""The cell-by-cell height-field proof that a shell does not cross itself (the cell proof of
+``inertia._ext.selfcross``): each of its conditions refuses the patch it is there to refuse, a
+proved patch never holds a crossing pair, the proof leaves both faces of every crossing pair to
+the search, and the search finds a crossing exactly when some pair crosses.
 
 Truth: patches built by hand with a known defect (two stacked sheets, a strip that turns more
-than once, a fan that winds twice, a turned-over face), and the face-pair search itself."""
+than once, a fan that winds twice, a turned-over face), and every crossing pair by brute force
+in exact integer arithmetic (:mod:`._exact_crossings`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from inertia._ext import selfcross as k
 
-pytest.importorskip("numba")
+from ._exact_crossings import cross, crosses_rationally, crossing_pairs, integer_shell
+
 trimesh = pytest.importorskip("trimesh")
-
-from inertia.geometry import _heightfield_numba as hf  # noqa: E402
-from inertia.geometry import _selfcross_numba as sc  # noqa: E402
-from inertia.geometry.intersections import CROSS_RTOL  # noqa: E402
 
 _NO_TWINS = np.empty((0, 3), dtype=np.int64)        # find_crossing finds the edges' twins itself
 
 
-def _check(v, f, adj=None):
+def _check(v, f):
     """patch_check of the whole of ``f`` (edges without a face across point to a face outside)."""
     v = np.ascontiguousarray(v, dtype=np.float64)
     f = np.ascontiguousarray(f, dtype=np.int64)
-    if adj is None:
-        adj = np.full((len(f), 3), len(f), dtype=np.int64)     # a face outside the patch
-        where = {}
-        for t, row in enumerate(f):
-            for k in range(3):
-                where[(row[k], row[(k + 1) % 3])] = t
-        for t, row in enumerate(f):
-            for k in range(3):
-                adj[t, k] = where.get((row[(k + 1) % 3], row[k]), len(f))
-    n = len(f)
-    return hf.patch_check(v, f, hf.orientation_bits(v, f), adj, np.arange(n), n, 0, np.full(n + 1, -1),
-                          np.full((len(v), 3), -1), np.empty(6 * n, dtype=np.int64), np.empty(9 * n))
+    adj = np.full((len(f), 3), len(f), dtype=np.int64)     # a face outside the patch
+    where = {}
+    for t, row in enumerate(f):
+        for c in range(3):
+            where[(row[c], row[(c + 1) % 3])] = t
+    for t, row in enumerate(f):
+        for c in range(3):
+            adj[t, c] = where.get((row[(c + 1) % 3], row[c]), len(f))
+    return k.patch_check(v, f, adj, np.arange(len(f)))
 
 
 def _grid(n=4, z=None):
@@ -106,7 +101,7 @@ def test_each_condition_refuses_its_patch():
 def _cells(v, f, cell_edges):
     """The patches of the proof's grid: per cell, the faces whose boxes meet it."""
     tri = v[f]
-    longest = np.sqrt(np.max([((tri[:, (k + 1) % 3] - tri[:, k]) ** 2).sum(1) for k in range(3)], axis=0))
+    longest = np.sqrt(np.max([((tri[:, (c + 1) % 3] - tri[:, c]) ** 2).sum(1) for c in range(3)], axis=0))
     h = cell_edges * np.median(longest)
     o = v.min(0)
     lo = np.floor((tri.min(1) - o) / h - 1e-9).astype(int)
@@ -120,93 +115,43 @@ def _cells(v, f, cell_edges):
     return [np.array(c, dtype=np.int64) for c in cells.values()]
 
 
-def _jittered(rng, it):
-    """A closed shell (torus or sphere), its vertices moved at random by up to about an edge."""
-    if it % 3:
-        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=int(rng.integers(12, 40)),
-                                   minor_sections=int(rng.integers(8, 20)))
-    else:
-        m = trimesh.creation.icosphere(int(rng.integers(2, 4)))
-    v = np.array(m.vertices, float)
-    f = np.ascontiguousarray(m.faces, dtype=np.int64)
-    edge = np.median(np.linalg.norm(v[f[:, 0]] - v[f[:, 1]], axis=1))
-    v = v + rng.normal(0, rng.choice([0.0, 0.1, 0.3, 0.6, 1.2]) * edge, v.shape)
-    return np.ascontiguousarray(v), f
-
-
 def test_a_proved_patch_never_holds_a_crossing_pair():
-    """On jittered shells, every pair of faces of every patch the proof accepts is tested with
-    the exact edge-through-face test: none crosses (while the rejected patches hold many)."""
+    """On tangled shells, every pair of faces of every patch the proof accepts is tested with the
+    exact brute force: none crosses (while the rejected patches hold many)."""
     rng = np.random.default_rng(5)
     proved = crossing_in_rejected = 0
-    for it in range(30):
-        v, f = _jittered(rng, it)
-        N, diag = sc.face_frames(v, f)
-        adj, closed = hf.face_twins(f, len(v))
-        assert closed
-        fstamp, vwork = np.full(len(f), -1), np.full((len(v), 3), -1)
-        omask = hf.orientation_bits(v, f)
-        for mark, faces in enumerate(_cells(v, f, rng.choice([2.0, 4.0, 8.0]))):
-            n = len(faces)
-            code = hf.patch_check(v, f, omask, adj, faces, n, mark, fstamp, vwork,
-                                  np.empty(6 * n, dtype=np.int64), np.empty(9 * n))
-            crossing = any(sc.faces_cross(v, f, N, diag, faces[i], faces[j], CROSS_RTOL)
-                           for i in range(n) for j in range(i + 1, n)
-                           if len(set(f[faces[i]]) & set(f[faces[j]])) < 2)
-            if code == 0:
+    for it in range(16):
+        v, f = integer_shell(rng, it)
+        adj = k.face_twins(f, len(v))
+        assert adj is not None
+        for faces in _cells(v, f, rng.choice([2.0, 4.0, 8.0])):
+            i, j = np.triu_indices(len(faces), 1)
+            i, j = faces[i], faces[j]
+            apart = (f[i, :, None] == f[j, None, :]).sum(axis=(1, 2)) < 2
+            crossing = bool(cross(v, f, i[apart], j[apart]).any())
+            if k.patch_check(v, f, adj, faces) == 0:
                 proved += 1
-                assert not crossing, (it, mark)
+                assert not crossing, it
             else:
                 crossing_in_rejected += crossing
     assert proved > 100 and crossing_in_rejected > 20     # both kinds were met
 
 
-def _full_search(v, f):
-    """The face-pair search over every face (no cell proof)."""
-    N, diag = sc.face_frames(v, f)
-    longest = max(np.median(np.linalg.norm(v[f] - v[np.roll(f, 1, axis=1)], axis=2).max(axis=1)), 1e-300)
-    out = np.zeros(2, dtype=np.int64)
-    cell = longest
-    while True:
-        found = sc.first_crossing(v, f, N, diag, sc.certified_fans(v, f, N), v[f].reshape(-1, 3).min(0),
-                                  cell, 64, CROSS_RTOL, out)
-        if found >= 0:
-            return found
-        cell *= 2.0
-
-
-def test_the_search_with_the_proof_agrees_with_the_whole_search():
-    """find_crossing (cells proved, the rest searched) finds a crossing exactly when the search
-    of every pair does, on shells from smooth to badly tangled, and names a pair that crosses."""
+def test_the_search_with_and_without_the_proof_finds_what_brute_force_finds():
+    """find_crossing (cells proved, the rest searched) and the search of every pair find a
+    crossing exactly when some pair crosses, on shells from smooth to badly tangled, and name a
+    pair that crosses."""
     rng = np.random.default_rng(17)
     found_any = 0
-    for it in range(150):
-        v, f = _jittered(rng, it)
-        if len(f) < sc.HEIGHTFIELD_MIN_FACES:           # the proof runs from this size
-            v, f = trimesh.remesh.subdivide(v, f)
-            v, f = np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(f, dtype=np.int64)
-        out = np.zeros(2, dtype=np.int64)
-        got = sc.find_crossing(v, f, _NO_TWINS, 64, CROSS_RTOL, out)
-        assert got == _full_search(v, f), it
-        if got:
-            found_any += 1
-            N, diag = sc.face_frames(v, f)
-            assert sc.faces_cross(v, f, N, diag, out[0], out[1], CROSS_RTOL)
-    assert 20 < found_any < 140
-
-
-def _crossing_pairs(v, f):
-    """Every pair of faces that cross (boxes first, then the exact test), faces sharing an edge
-    left out."""
-    N, diag = sc.face_frames(v, f)
-    lo, hi = v[f].min(1), v[f].max(1)
-    pairs = []
-    for a in range(len(f)):
-        near = np.nonzero(np.all((lo[a + 1:] <= hi[a]) & (hi[a + 1:] >= lo[a]), axis=1))[0] + a + 1
-        for b in near:
-            if len(set(f[a]) & set(f[b])) < 2 and sc.faces_cross(v, f, N, diag, a, b, CROSS_RTOL):
-                pairs.append((a, b))
-    return pairs
+    for it in range(80):
+        v, f = integer_shell(rng, it, min_faces=k.HEIGHTFIELD_MIN_FACES)   # the proof runs from this size
+        truth = crossing_pairs(v, f)
+        for prove in (True, False):
+            got = k.find_crossing(v, f, _NO_TWINS, prove)
+            assert (got is not None) == bool(truth), (it, prove)
+            assert got is None or got in truth
+        found_any += bool(truth)
+    assert 15 < found_any < 75
 
 
 def test_the_proof_leaves_both_faces_of_every_crossing_pair_to_the_search():
@@ -215,21 +160,16 @@ def test_the_proof_leaves_both_faces_of_every_crossing_pair_to_the_search():
     rng = np.random.default_rng(23)
     pairs_seen = proved_some = 0
     for it in range(40):
-        v, f = _jittered(rng, it)
-        if len(f) < 400:
-            v, f = trimesh.remesh.subdivide(v, f)
-            v, f = np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(f, dtype=np.int64)
-        adj, closed = hf.face_twins(f, len(v))
-        assert closed
-        origin, top, edge = hf.box_and_median_edge(v, f)
-        keep = np.zeros(len(f), dtype=bool)
-        n_keep = hf.unproved_faces(v, f, adj, origin, top, rng.choice([2.0, 4.0, 8.0]) * edge, keep)
-        assert n_keep == keep.sum()
-        proved_some += n_keep < len(f)
-        for a, b in _crossing_pairs(v, f):
+        v, f = integer_shell(rng, it, min_faces=400)
+        adj = k.face_twins(f, len(v))
+        assert adj is not None
+        edge = np.median(np.linalg.norm(v[f] - v[np.roll(f, 1, axis=1)], axis=2).max(axis=1))
+        keep = k.unproved_faces(v, f, adj, rng.choice([2.0, 4.0, 8.0]) * edge)
+        proved_some += int(keep.sum()) < len(f)
+        for a, b in crossing_pairs(v, f):
             pairs_seen += 1
             assert keep[a] and keep[b], (it, a, b)
-    assert pairs_seen > 100 and proved_some > 20
+    assert pairs_seen > 100 and proved_some > 10
 
 
 def test_a_wall_pushed_through_a_torus_is_found():
@@ -238,20 +178,18 @@ def test_a_wall_pushed_through_a_torus_is_found():
     m = trimesh.creation.torus(1.0, 0.3, major_sections=120, minor_sections=24)
     v = np.array(m.vertices, float)
     f = np.ascontiguousarray(m.faces, dtype=np.int64)
-    out = np.zeros(2, dtype=np.int64)
-    assert sc.find_crossing(v, f, _NO_TWINS, 64, CROSS_RTOL, out) == 0
-    keep = np.zeros(len(f), dtype=bool)
-    origin, top, edge = hf.box_and_median_edge(v, f)
-    assert hf.unproved_faces(v, f, hf.face_twins(f, len(v))[0], origin, top, hf.CELL_EDGES * edge,
-                             keep) < len(f) // 10
+    assert k.find_crossing(v, f, _NO_TWINS) is None
+    edge = np.median(np.linalg.norm(v[f] - v[np.roll(f, 1, axis=1)], axis=2).max(axis=1))
+    assert k.unproved_faces(v, f, k.face_twins(f, len(v)), k.CELL_EDGES * edge).sum() < len(f) // 10
     ring = np.hypot(v[:, 0], v[:, 1])
     for angle in np.linspace(0, 2 * np.pi, 7)[:-1]:
         w = v.copy()
         near = np.abs(np.angle(np.exp(1j * (np.arctan2(v[:, 1], v[:, 0]) - angle)))) < 0.03
         outer = near & (ring > 1.0)
         w[outer, :2] *= (0.55 / ring[outer])[:, None]           # the outer wall through the inner one
-        assert sc.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS, 64, CROSS_RTOL, out) == 1, angle
-        assert sc.faces_cross(w, f, *sc.face_frames(w, f), out[0], out[1], CROSS_RTOL)
+        got = k.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS)
+        assert got is not None, angle
+        assert crosses_rationally(w[f[got[0]]], w[f[got[1]]])
 
 
 def test_a_shell_among_many_vertices_is_searched_on_its_own():
@@ -261,9 +199,7 @@ def test_a_shell_among_many_vertices_is_searched_on_its_own():
     v = np.array(m.vertices)
     f = np.ascontiguousarray(m.faces, dtype=np.int64)
     others = np.random.default_rng(0).random((100_000, 3)) + 5.0
-    out, alone = np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64)
     for w in (v, v * np.where(np.arange(len(v)) == 0, 0.2, 1.0)[:, None]):   # embedded, then a vertex through
-        got = sc.find_crossing(np.ascontiguousarray(np.vstack([others, w])), f + len(others), _NO_TWINS, 64, CROSS_RTOL, out)
-        assert got == sc.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS, 64, CROSS_RTOL, alone)
-        assert tuple(out) == tuple(alone) if got else True
-    assert got == 1
+        got = k.find_crossing(np.ascontiguousarray(np.vstack([others, w])), f + len(others), _NO_TWINS)
+        assert got == k.find_crossing(np.ascontiguousarray(w), f, _NO_TWINS)
+    assert got is not None

@@ -1,30 +1,25 @@
 """A closed shell that passes through itself: found (certificate, then face-pair search), named,
-weighed against the solid it bounds once, and the compiled kernels equal their NumPy twins.
+and weighed against the solid it bounds once; the same answers in every process.
 
 Truth: closed forms of the solids (a box with a column pushed through its floor), the star
-property of meshes built star-shaped, and the robust path's solid for the weighing."""
+property of meshes built star-shaped, every crossing pair by brute force in exact integer
+arithmetic (:mod:`._exact_crossings`), and the robust path's solid for the weighing."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from inertia._ext import selfcross as k
 
 import inertia
 from inertia.errors import MeshDefectWarning
-from inertia.geometry import mesh_arrays
 from inertia.geometry import self_crossing as sc
 from inertia.geometry.checks import check_mesh
 
+from ._exact_crossings import crosses_rationally, crossing_pairs, integer_shell
+
 trimesh = pytest.importorskip("trimesh")
-
-
-@pytest.fixture(params=["compiled", "numpy"])
-def backend(request, monkeypatch):
-    if request.param == "numpy":
-        monkeypatch.setattr(mesh_arrays, "_topology_state", False)
-    else:
-        pytest.importorskip("numba")
-    return request.param
+_NO_TWINS = np.empty((0, 3), dtype=np.int64)
 
 
 def _grid_box(n: int, size: float = 9.0):
@@ -68,7 +63,7 @@ def _star_mesh(rng, n_sub=3):
     return np.array(d * r[:, None]), np.array(m.faces, dtype=np.int64)
 
 
-def test_the_certificate_proves_star_shaped_meshes_and_not_a_torus(backend):
+def test_the_certificate_proves_star_shaped_meshes_and_not_a_torus():
     rng = np.random.default_rng(1)
     for _ in range(5):
         v, f = _star_mesh(rng)
@@ -83,7 +78,7 @@ def test_the_certificate_proves_star_shaped_meshes_and_not_a_torus(backend):
     assert not sc.star_certificate(v, f, np.array([5.0, 0.0, 0.0]))
 
 
-def test_a_box_pushed_through_its_floor_is_refused_by_name(backend):
+def test_a_box_pushed_through_its_floor_is_refused_by_name():
     v, f = _pushed_box()
     r = check_mesh(v, f)
     assert r.codes == ("self_intersecting",) and r.watertight and r.winding_consistent
@@ -100,48 +95,25 @@ def test_a_box_pushed_through_its_floor_is_refused_by_name(backend):
     assert robust.mass == pytest.approx(solid, rel=2e-3)
 
 
-def test_compiled_and_numpy_searches_agree(monkeypatch):
-    pytest.importorskip("numba")
+def test_the_search_finds_a_crossing_exactly_when_brute_force_does():
+    """On closed shells from smooth to tangled (integer corners: the brute force over every pair
+    of faces is exact), the search names a pair exactly when some pair crosses, and the pair it
+    names crosses; the pushed box's pair crosses in rational arithmetic."""
     rng = np.random.default_rng(4)
-    cases = [_pushed_box(), _grid_box(1)]
-    for _ in range(6):                     # random tori, some with a vertex pulled through the other side
-        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=24, minor_sections=10)
-        v = np.array(m.vertices)
-        if rng.random() < 0.5:
-            k = rng.integers(len(v))
-            v[k] = -v[k] * rng.uniform(0.8, 1.2)
-        cases.append((v, np.array(m.faces, dtype=np.int64)))
-    for v, f in cases:
-        c = v.mean(axis=0)
-        compiled = (sc.star_certificate(v, f, c), sc.first_crossing(v, f) is not None)
-        monkeypatch.setattr(mesh_arrays, "_topology_state", False)
-        numpy = (sc.star_certificate(v, f, c), sc.first_crossing(v, f) is not None)
-        monkeypatch.setattr(mesh_arrays, "_topology_state", None)
-        assert compiled == numpy
-
-
-def test_a_found_crossing_is_a_real_crossing():
-    """The pair the search names does cross: an exact test in rational arithmetic."""
-    from fractions import Fraction
-
+    found = 0
+    for it in range(60):
+        v, f = integer_shell(rng, it)
+        truth = crossing_pairs(v, f)
+        got = sc.first_crossing(v, f)
+        assert (got is not None) == bool(truth), it
+        if got is not None:
+            found += 1
+            assert tuple(got.faces) in truth
+            np.testing.assert_allclose(got.point, v[f[got.faces[0]]].mean(axis=0))
+    assert 10 < found < 55                       # both kinds were met
     v, f = _pushed_box()
     found = sc.first_crossing(v, f)
-    A, B = (v[f[i]] for i in found.faces)
-
-    def orient(a, b, c, d):
-        a, b, c, d = ([Fraction(x) for x in p] for p in (a, b, c, d))
-        u = [b[i] - a[i] for i in range(3)]
-        w = [c[i] - a[i] for i in range(3)]
-        z = [d[i] - a[i] for i in range(3)]
-        return ((u[1] * w[2] - u[2] * w[1]) * z[0] + (u[2] * w[0] - u[0] * w[2]) * z[1]
-                + (u[0] * w[1] - u[1] * w[0]) * z[2])
-
-    def edge_through(p, q, T):
-        sp, sq = orient(*T, p), orient(*T, q)
-        s = [orient(p, q, T[k], T[(k + 1) % 3]) for k in range(3)]
-        return sp * sq < 0 and (all(x > 0 for x in s) or all(x < 0 for x in s))
-
-    assert any(edge_through(P[k], P[(k + 1) % 3], Q) for P, Q in ((A, B), (B, A)) for k in range(3))
+    assert crosses_rationally(*(v[f[i]] for i in found.faces))
 
 
 def test_large_unproven_shells_carry_a_note(monkeypatch):
@@ -193,13 +165,10 @@ def test_batch_rows_name_the_mode_in_their_options(tmp_path):
 
 
 def test_fans_walked_across_edges_are_certified_as_fans_sorted_by_vertex():
-    """certified_fans_around (each fan walked across the matched edges) agrees with
-    certified_fans_of (every face sorted by vertex) on smooth and jittered closed shells, and
-    refuses a vertex where two cones of faces touch, though the cone it walks is flat alone."""
-    pytest.importorskip("numba")
-    from inertia.geometry import _heightfield_numba as hf
-    from inertia.geometry import _selfcross_numba as k
-
+    """The fans' certificates found by walking each fan across the matched edges (twins given)
+    agree with those of every face sorted by vertex (no twins) on smooth and jittered closed
+    shells, and a vertex where two cones of faces touch is refused, though the cone it walks is
+    flat alone."""
     rng = np.random.default_rng(3)
     n_cert = 0
     for it in range(40):
@@ -209,71 +178,134 @@ def test_fans_walked_across_edges_are_certified_as_fans_sorted_by_vertex():
         f = np.ascontiguousarray(m.faces, dtype=np.int64)
         v = np.array(m.vertices, float)
         v = np.ascontiguousarray(v + rng.normal(0, rng.choice([0.0, 0.01, 0.05, 0.1]) * np.ptp(v), v.shape))
-        N = k.face_frames(v, f)[0]
-        adj, closed = hf.face_twins(f, len(v))
-        assert closed
+        adj = k.face_twins(f, len(v))
         wanted = rng.random(len(v)) < 0.5
-        sorted_ = k.certified_fans_of(v, f, N, wanted)
-        np.testing.assert_array_equal(k.certified_fans_around(v, f, N, adj, wanted), sorted_)
+        sorted_ = k.certified_fans(v, f, wanted, _NO_TWINS)
+        np.testing.assert_array_equal(k.certified_fans(v, f, wanted, adj), sorted_)
+        assert not sorted_[~wanted].any()
         n_cert += int(sorted_.sum())
     assert n_cert > 1000
 
     # two icosahedra touching at one vertex (index 0 of both): the edges all match, vertex 0
-    # has two cones of five faces; one cone alone is flat and would be certified (jittered: a
-    # regular one puts the first sector's bisector on another's edge, which is not certified)
+    # has two cones of five faces; one cone alone is flat and is certified (jittered: a regular
+    # one puts the first sector's bisector on another's edge, which is not certified)
     ico = trimesh.creation.icosphere(0)
     a, fa = np.array(ico.vertices), np.array(ico.faces, dtype=np.int64)
     a = a + np.random.default_rng(1).normal(0, 0.02, a.shape)
     b = 2.0 * a[0] - a                                  # point-mirrored through vertex 0
-    v = np.vstack([a, b[1:]])
+    v = np.ascontiguousarray(np.vstack([a, b[1:]]))
     fb = np.where(fa == 0, 0, fa + len(a) - 1)[:, ::-1]  # outward again after the mirror
     f = np.ascontiguousarray(np.vstack([fa, fb]))
-    N = k.face_frames(v, f)[0]
-    adj, closed = hf.face_twins(f, len(v))
-    assert closed
+    adj = k.face_twins(f, len(v))
     wanted = np.ones(len(v), dtype=bool)
-    around = k.certified_fans_around(v, f, N, adj, wanted)
+    around = k.certified_fans(v, f, wanted, adj)
     assert not around[0] and around[1:].sum() >= 10
-    np.testing.assert_array_equal(around, k.certified_fans_of(v, f, N, wanted))
-    cone = np.flatnonzero((fa == 0).any(axis=1))
-    turned = [np.roll(fa[t], -list(fa[t]).index(0)) for t in cone]
-    order = [0]                                         # the cone's faces in turn around vertex 0
-    while len(order) < len(cone):
-        order.append(next(i for i in range(len(cone)) if turned[i][1] == turned[order[-1]][2]))
-    ts = cone[order]
-    A = np.array([turned[i][1] for i in order])
-    B = np.array([turned[i][2] for i in order])
-    assert k._fan_certified(v, N, 0, ts, A, B, len(ts))
+    np.testing.assert_array_equal(around, k.certified_fans(v, f, wanted, _NO_TWINS))
+    cone = np.ascontiguousarray(fa[(fa == 0).any(axis=1)])
+    assert k.certified_fans(v, cone, wanted, _NO_TWINS)[0]
 
 
 def test_a_certified_fan_never_hides_a_crossing():
-    """The search skips pairs of faces around a vertex whose fan is certified flat
-    (``certified_fans``): on jittered meshes, where thousands of such pairs do cross, no crossing
-    pair (the exact NumPy test) has its common vertex certified, while a smooth mesh has every
-    vertex certified."""
-    pytest.importorskip("numba")
-    from inertia.geometry import _selfcross_numba as k
-    from inertia.geometry.intersections import crossing
-
+    """The search skips pairs of faces around a vertex whose fan is certified flat: on tangled
+    shells, where hundreds of such pairs cross (exact brute force), no crossing pair has its
+    common vertex certified, while a smooth mesh has every vertex certified."""
     smooth = trimesh.creation.torus(1.0, 0.3, major_sections=30, minor_sections=12)
     v, f = np.array(smooth.vertices), np.array(smooth.faces, dtype=np.int64)
-    assert k.certified_fans(v, f, k.face_frames(v, f)[0]).all()
+    assert k.certified_fans(v, f, np.ones(len(v), bool), _NO_TWINS).all()
     rng = np.random.default_rng(11)
     n_crossing = 0
-    for it in range(60):
-        m = trimesh.creation.torus(1.0, rng.uniform(0.2, 0.5), major_sections=int(rng.integers(6, 20)),
-                                   minor_sections=int(rng.integers(4, 10))) if it % 2 else trimesh.creation.icosphere(2)
-        v = np.array(m.vertices, float)
-        f = np.ascontiguousarray(m.faces, dtype=np.int64)
-        v = np.ascontiguousarray(v + rng.normal(0, rng.choice([0.05, 0.1, 0.2]) * np.ptp(v), v.shape))
-        cert = k.certified_fans(v, f, k.face_frames(v, f)[0])
-        for x in range(len(v)):
-            around = np.flatnonzero((f == x).any(axis=1))
-            pairs = np.array([(a, b) for i, a in enumerate(around) for b in around[i + 1:]
-                              if len(set(f[a]) & set(f[b])) == 1])
-            if len(pairs) == 0:
-                continue
-            hit = crossing(v[f[pairs[:, 0]]], v[f[pairs[:, 1]]])
-            n_crossing += int(hit.sum())
-            assert not (hit.any() and cert[x]), (it, x)
-    assert n_crossing > 1000                     # the check had crossings to hide
+    for it in range(40):
+        v, f = integer_shell(rng, it)
+        cert = k.certified_fans(v, f, np.ones(len(v), bool), _NO_TWINS)
+        for i, j in crossing_pairs(v, f):
+            common = set(f[i]) & set(f[j])
+            if len(common) == 1:
+                n_crossing += 1
+                assert not cert[common.pop()], (it, i, j)
+    assert n_crossing > 100                      # the check had crossings to hide
+
+
+_DETERMINISM = """
+import hashlib, numpy as np, trimesh
+from inertia._ext import selfcross as k
+from inertia.geometry import self_crossing as sc
+from inertia.geometry.intersections import winding_numbers
+rng = np.random.default_rng(8)
+h = hashlib.sha256()
+for it in range(12):
+    m = trimesh.creation.torus(1.0, 0.3, major_sections=40 + it, minor_sections=16)
+    v = np.array(m.vertices) + rng.normal(0, 0.02 * (it % 3), (len(m.vertices), 3))
+    f = np.ascontiguousarray(m.faces, dtype=np.int64)
+    got = sc.first_crossing(v, f)
+    h.update(repr(None if got is None else (got.faces, got.point.tobytes())).encode())
+    h.update(k.unproved_faces(v, f, k.face_twins(f, len(v)), 0.3).tobytes())
+    h.update(winding_numbers(rng.uniform(-1.5, 1.5, (50, 3)), v[f]).tobytes())
+    h.update(bytes([sc.star_certificate(v, f, v.mean(axis=0))]))
+print(h.hexdigest())
+"""
+
+
+def test_the_same_shells_give_the_same_bits_in_this_process_and_in_a_fresh_one():
+    """Crossings found, faces the cell proof leaves, winding numbers and certificates: bit for
+    bit the same twice in one process and in a new process."""
+    import contextlib
+    import io
+    import subprocess
+    import sys
+
+    runs = []
+    for _ in range(2):
+        with contextlib.redirect_stdout(io.StringIO()) as out:
+            exec(_DETERMINISM, {})
+        runs.append(out.getvalue().strip())
+    fresh = subprocess.run([sys.executable, "-c", _DETERMINISM], capture_output=True, text=True, check=True)
+    assert runs[0] == runs[1] == fresh.stdout.strip()
+
+
+def test_calls_on_threads_give_the_answers_of_calls_in_turn():
+    """The kernels release the GIL and share nothing: shells searched, proved and counted on
+    four threads at once give what one thread gives, bit for bit."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from inertia.geometry.intersections import winding_numbers
+
+    rng = np.random.default_rng(9)
+    shells = [integer_shell(rng, it, min_faces=k.HEIGHTFIELD_MIN_FACES) for it in range(16)]
+    pts = rng.uniform(0, 500, (200, 3))
+
+    def job(shell):
+        v, f = shell
+        got = sc.first_crossing(v, f)
+        return (None if got is None else got.faces, winding_numbers(pts, v[f]).tobytes(),
+                k.unproved_faces(v, f, k.face_twins(f, len(v)), 40.0).tobytes())
+
+    serial = [job(shell) for shell in shells]
+    with ThreadPoolExecutor(4) as pool:
+        assert list(pool.map(job, shells)) == serial
+    assert sum(x[0] is not None for x in serial) > 3
+
+
+def test_bad_indices_and_shapes_are_refused_by_name():
+    ico = trimesh.creation.icosphere(1)
+    v, f = np.array(ico.vertices), np.array(ico.faces, dtype=np.int64)
+    bad = f.copy()
+    bad[3, 1] = len(v)
+    with pytest.raises(inertia.InputError, match=r"faces\[3, 1\] = 42 names no vertex \(there are 42\)"):
+        sc.first_crossing(v, bad)
+    with pytest.raises(inertia.InputError, match="names no vertex"):
+        sc.star_certificate(v, bad, np.zeros(3))
+    twins = k.face_twins(f, len(v))
+    twins[5, 2] = -1
+    with pytest.raises(inertia.InputError, match=r"twins\[5, 2\] = -1 names no face \(there are 80\)"):
+        sc.first_crossing(v, f, face_twins=twins)
+    with pytest.raises(inertia.InputError, match="twins has length 3, expected 80"):
+        sc.first_crossing(v, f, face_twins=twins[:3])
+    with pytest.raises(inertia.InputError, match="center has length 2, expected 3"):
+        sc.star_certificate(v, f, np.zeros(2))
+    with pytest.raises(TypeError):
+        sc.first_crossing(v[:, :2], f)
+    nan = v.copy()
+    nan[7, 1] = np.nan
+    with pytest.raises(inertia.InputError, match="vertices of the faces must be finite"):
+        sc.first_crossing(nan, f)
+    assert np.isnan(inertia.geometry.intersections.winding_numbers(np.array([[0.0, np.nan, 0.0]]), v[f])).all()

@@ -544,15 +544,12 @@ def _volume_centroid(vertices, faces) -> np.ndarray:
 
 
 def _component_boxes(vertices, ft, lab, K):
-    """Bounding boxes (K, 3) lo and hi of the components (faces ``ft`` labelled ``lab``)."""
-    cl = vertices[ft].reshape(-1, 3)
-    ccomp = np.repeat(lab, 3)
-    lo = np.full((K, 3), np.inf)
-    hi = np.full((K, 3), -np.inf)
-    for ax in range(3):
-        np.minimum.at(lo[:, ax], ccomp, cl[:, ax])
-        np.maximum.at(hi[:, ax], ccomp, cl[:, ax])
-    return lo, hi
+    """Bounding boxes (K, 3) lo and hi of the components (faces ``ft`` labelled ``lab``; each of
+    0..K-1 labels a face): the faces sorted by component, reduced per run (ufunc.at is 10x slower)."""
+    order = np.argsort(lab, kind="stable")
+    tri = vertices[ft[order]]
+    starts = np.searchsorted(lab[order], np.arange(K))
+    return np.minimum.reduceat(tri.min(axis=1), starts, axis=0), np.maximum.reduceat(tri.max(axis=1), starts, axis=0)
 
 
 def check_mesh(vertices, faces) -> MeshReport:

@@ -58,23 +58,8 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
 def faces_in_range(faces: np.ndarray, n_vertices: int) -> bool:
     """True when every index of ``faces`` (validated, (F, 3) int64) is in 0..n_vertices-1: asked
     before any kernel is handed faces, so that the caller's own error names the problem (the
-    remaining numba kernels index without bounds checks)."""
+    kernels check again, and refuse by position)."""
     return len(faces) == 0 or (int(faces.min()) >= 0 and int(faces.max()) < n_vertices)
-
-
-# ------------------------------------------------------------------ transitional
-# the self-crossing family's old kernels are still asked for here until its port is merged
-_topology_state = None
-
-
-def compiled_kernels(module_name: str, work: int = 0, ahead_of_time: bool = True):
-    """None: the old numba kernels are gone (transitional, removed with the self-crossing port)."""
-    return None
-
-
-def topology_kernels(work: int = 0):
-    """None (transitional, as above)."""
-    return None
 
 
 # ---------------------------------------------------------------------------------- welding

@@ -13,22 +13,16 @@ Two steps, cheapest first:
    transversal crossing would put two faces on the rays near it).  Spheres, boxes,
    cylinders, ellipsoids and most compact parts pass here, at a few percent of the integrals'
    cost.
-2. **The search** (:func:`first_crossing`) for the rest (a torus, a T-handle, an L-bracket):
-   every pair of faces whose boxes share a cell of a uniform grid (cells about one edge long)
-   is tested once with the exact edge-through-triangle test of
-   :func:`inertia.geometry.intersections.crossing`; pairs that share an edge cannot cross and
-   are skipped, and so are pairs around a vertex whose fan of faces is proved flat (compiled
-   path: ``_selfcross_numba.certified_fans``; most pairs whose boxes overlap are such
-   neighbours).  Touching faces (a shared vertex, coplanar contact) are not crossings.
-   The compiled search first proves what it can cell by cell (:mod:`._heightfield_numba`,
-   shells of 256 faces and more): in a grid of cells about four edges long, the faces whose
-   boxes meet a cell are shown to project one-to-one along an axis (every face turned that
-   way and the border one simple loop: the faces then cover each point at most once), so none
-   of them can cross another there; cells it cannot prove are cut in 8 (twice) and the faces
-   of the parts still not proved go to the pair search.  On the tori of ``bench/batch.py`` it proves 99 % of the
-   faces and the check costs about a fifth of what the search alone did (0.09 against 0.45 us
-   a face).  The NumPy path searches every pair (same answers: tests compare them with and
-   without the proof).
+2. **The search** (:func:`first_crossing`) for the rest (a torus, a T-handle, an L-bracket).
+   It first proves what it can cell by cell: in a grid of cells about four edges long, the
+   faces whose boxes meet a cell are shown to project one-to-one along an axis (every face
+   turned that way and the border one simple loop: the faces then cover each point at most
+   once), so none of them can cross another there; cells it cannot prove are cut in 8 (twice).
+   The faces of the parts still not proved are searched pair by pair: every pair whose boxes
+   share a cell of a uniform grid (cells about one edge long) is tested once with the
+   edge-through-triangle test of :func:`inertia.geometry.intersections.crossing`; pairs that
+   share an edge cannot cross and are skipped, and so are pairs around a vertex whose fan of
+   faces is proved flat.  Touching faces (a shared vertex, coplanar contact) are not crossings.
 
 A crossing is then weighed (:func:`crossing_effect`): real exports carry tiny local ones
 (wingnut.obj: one face poking 1e-3 of its size through three others, changing the volume by
@@ -38,7 +32,7 @@ its error bound): below :data:`NEGLIGIBLE_RTOL` in volume, COM and inertia the c
 note (``self_crossing_negligible``, with the figures), otherwise the defect
 ``self_intersecting``.
 
-Compiled kernels (:mod:`._selfcross_numba`) with NumPy twins here; tests compare them.
+The certificate, the cell proof and the search are compiled (``inertia._ext.selfcross``).
 """
 
 from __future__ import annotations
@@ -47,90 +41,28 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .intersections import CROSS_RTOL, candidate_pairs, crossing
+from .._ext import selfcross as _k
 
 #: the center must be farther than this times |a| from every face's plane (a the face's first
-#: corner seen from the center): a face nearly edge-on to the center does not certify (the
-#: compiled certificate uses ``_solid_numba.STAR_RTOL``, the same number, in the kernels)
-STAR_RTOL = 1e-9
-#: a face spanning more grid cells than this makes the grid twice as coarse
-MAX_CELLS_PER_FACE = 64
-#: a shell the certificate cannot prove is searched face pair by face pair up to this many
-#: faces (the compiled search costs 0.2-0.6 us a face, 5-25x the mass properties); larger ones get the
-#: note ``self_crossing_unchecked``
+#: corner seen from the center): a face nearly edge-on to the center does not certify
+STAR_RTOL = _k.STAR_RTOL
+#: a shell the certificate cannot prove is searched up to this many faces (the search costs
+#: several times the mass properties); larger ones get the note ``self_crossing_unchecked``
 SEARCH_MAX_FACES = 200_000
 #: crossings that change the volume, the COM and the inertia by less than this (relative; see
 #: :func:`crossing_effect`) are a note (``self_crossing_negligible``), not an error
 NEGLIGIBLE_RTOL = 1e-4
 #: the robust solid's error bound asked for when weighing a crossing
 EFFECT_TOL = 1e-5
-#: pairs tested per chunk on the NumPy path
-_CHUNK = 200_000
-#: ray directions of the certificate (unit; irrational-looking, so rarely through an edge)
-_DIRECTIONS = np.array([[1.0, 2.0, 3.0], [-3.0, 2.0, 3.0], [4.0, -6.0, 2.83]])
-_DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
-
-
-def _kernels(work: int):
-    """The compiled kernels for a job of ``work`` (faces, weighed by the NumPy path's cost)."""
-    from .mesh_arrays import compiled_kernels
-
-    return compiled_kernels("inertia.geometry._selfcross_numba", work)
+#: ``face_twins`` not known: the search finds them
+_NO_TWINS = np.empty((0, 3), dtype=np.int64)
 
 
 def star_certificate(vertices, faces, center) -> bool:
     """True when the closed, consistently outward shell ``faces`` is star-shaped from
     ``center`` with a one-to-one radial projection: it then cannot cross itself."""
-    v = np.ascontiguousarray(vertices, dtype=np.float64)
-    f = np.ascontiguousarray(faces, dtype=np.int64)
-    c = np.asarray(center, dtype=np.float64)
-    k = _kernels(len(f))                  # one NumPy pass: about the integrals' cost
-    if k is not None:
-        return bool(k.star_certificate(v, f, c))
-    a = v[f[:, 0]] - c
-    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-    d = np.einsum("ij,ij->i", a, n)
-    if not np.all(d > STAR_RTOL * np.linalg.norm(a, axis=1) * np.linalg.norm(n, axis=1)):
-        return False
-    for u in _DIRECTIONS:
-        hits = _ray_hits(v, f, c, u)
-        if hits >= 0:
-            return hits == 1
-    return False
-
-
-def _ray_hits(v, f, c, u, rtol: float = 1e-9) -> int:
-    """Faces the ray from ``c`` along ``u`` crosses, or -1 when a hit is within rounding of an
-    edge (Moller-Trumbore, the twin of the compiled ``_ray_hits``)."""
-    a = v[f[:, 0]] - c
-    e1 = v[f[:, 1]] - c - a
-    e2 = v[f[:, 2]] - c - a
-    p = np.cross(u, e2)
-    det = np.einsum("ij,ij->i", e1, p)
-    ok = det != 0.0
-    with np.errstate(all="ignore"):       # faces parallel to the ray (det 0) are masked by ok
-        s = np.einsum("ij,ij->i", -a, p) / det
-        q = np.cross(-a, e1)
-        w = (q @ u) / det
-        dist = np.einsum("ij,ij->i", e2, q) / det
-        inside = ok & (s >= -rtol) & (w >= -rtol) & (s + w <= 1.0 + rtol)
-        near = inside & ((s < rtol) | (w < rtol) | (s + w > 1.0 - rtol))
-    if near.any():
-        return -1
-    return int(np.count_nonzero(inside & (dist > 0.0)))
-
-
-def _cell(vertices, faces) -> float:
-    """The grid's cell: the median of the faces' longest edges (scaled so none overflows)."""
-    tri = vertices[faces]
-    e = np.stack([tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2]], axis=1)
-    longest = np.sqrt(np.max(np.einsum("fek,fek->fe", e, e), axis=1))
-    cell = float(np.median(longest))
-    return cell if cell > 0 and np.isfinite(cell) else 1.0
-
-
-#: ``face_twins`` not known: the compiled search finds them
-_NO_TWINS = np.empty((0, 3), dtype=np.int64)
+    return _k.star_certificate(np.ascontiguousarray(vertices, dtype=np.float64),
+                               np.ascontiguousarray(faces, dtype=np.int64), np.asarray(center, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -150,25 +82,11 @@ def first_crossing(vertices, faces, *, face_twins=None) -> Crossing | None:
     f = np.ascontiguousarray(faces, dtype=np.int64)
     if len(f) < 2:
         return None
-    k = _kernels(30 * len(f))             # the NumPy search costs ~30x the integrals a face
-    if k is not None:
-        out = np.zeros(2, dtype=np.int64)
-        twins = _NO_TWINS if face_twins is None else np.ascontiguousarray(face_twins, dtype=np.int64)
-        if not k.find_crossing(v, f, twins, MAX_CELLS_PER_FACE, CROSS_RTOL, out):
-            return None
-        i, j = int(out[0]), int(out[1])
-        return Crossing((i, j), v[f[i]].mean(axis=0))
-    cell = _cell(v, f)
-    pairs = candidate_pairs(v, f, cell, MAX_CELLS_PER_FACE)
-    shared = (f[pairs[:, 0], :, None] == f[pairs[:, 1], None, :]).sum(axis=(1, 2))
-    pairs = pairs[shared < 2]
-    for s in range(0, len(pairs), _CHUNK):
-        p = pairs[s:s + _CHUNK]
-        hit = crossing(v[f[p[:, 0]]], v[f[p[:, 1]]])
-        if hit.any():
-            i, j = (int(x) for x in p[np.argmax(hit)])
-            return Crossing((i, j), v[f[i]].mean(axis=0))
-    return None
+    twins = _NO_TWINS if face_twins is None else np.ascontiguousarray(face_twins, dtype=np.int64)
+    pair = _k.find_crossing(v, f, twins)
+    if pair is None:
+        return None
+    return Crossing(pair, v[f[pair[0]]].mean(axis=0))
 
 
 def crossing_effect(vertices, faces, exact) -> dict:
