@@ -180,7 +180,7 @@ def judge(path: Path, fmt: str, full: bool) -> dict:
         flagged = [lk for lk, r in zip(model.links, report.links)
                    if any(e.code in ("not_positive_definite", "triangle_inequality") for e in r.errors)]
         row["inertia_flagged"] = len(flagged)
-        row["inertia_false"] = [lk.name for lk in flagged if mp_physical(lk.inertial.inertia_declared)]
+        row["inertia_false"] = [lk.name for lk in flagged if mp_physical(lk.inertial.inertia_com_inertial)]
     if model is not None:
         out = path.with_name(f".acceptance_fix_{os.getpid()}_{path.name}")
         try:

@@ -17,6 +17,12 @@ from inertia.batch.arrow_columns import column  # noqa: E402
 from inertia.batch.record import COLUMNS  # noqa: E402
 
 
+def _finding(text: str) -> dict:
+    """A finding as a batch row holds it (every field text)."""
+    return {"code": "open_edges", "severity": "warning", "message": text, "where": "/data/a.stl",
+            "values": '{"count": 3}'}
+
+
 def _rows():
     """Rows with every kind of value a batch row holds: missing ones, NaN, non-ASCII text,
     empty lists, NaN inside a list, NumPy scalars."""
@@ -26,12 +32,12 @@ def _rows():
     full.update(path="/data/a.stl", status="ok", reason=None, message=None, size_bytes=1234,
                 mtime_ns=1_700_000_000_123_456_789, n_vertices=8, n_faces=12, density=1000.0,
                 mass=1.0, volume=0.001, elapsed_s=0.002, watertight=True, winding_consistent=False,
-                warnings=[], com=[0.0, 0.5, -0.25], inertia_com=[1.0] * 9,
+                findings=[], com=[0.0, 0.5, -0.25], inertia_com=[1.0] * 9,
                 principal_moments=[1.0, 2.0, 3.0], principal_axes=[0.0] * 9)
     return [
         full,
         dict(full, path="/data/ü/b.stl", status="error", reason="not_closed", message="edge (3, 4) ✗",
-             mass=None, volume=float("nan"), watertight=None, n_faces=None, warnings=["a", "é"],
+             mass=None, volume=float("nan"), watertight=None, n_faces=None, findings=[_finding("a"), _finding("é")],
              principal_moments=[1.0, float("nan"), 2.0], com=None),
         dict(full, n_vertices=np.int64(9), density=np.float64(7.5), watertight=np.bool_(False)),
         {"path": "only a path"},
@@ -46,7 +52,7 @@ def _plain_rows():
     rows = []
     for k in range(5):
         row = dict(full, path=f"/data/{k}.stl", size_bytes=1234 + k, mass=1.0 + k, volume=0.001 * k,
-                   com=[0.1 * k, -0.0, 2.0 ** -1070], warnings=["w"] * k, n_faces=12 + k)
+                   com=[0.1 * k, -0.0, 2.0 ** -1070], findings=[_finding("w")] * k, n_faces=12 + k)
         rows.append(row)
     rows[2]["volume"] = float("nan")
     for name in COLUMNS:
@@ -118,11 +124,11 @@ def test_a_whole_batch_run_to_parquet_does_not_import_pandas(tmp_path):
         write_binary_stl(folder / f"cube{k}.stl", (cube * (k + 1))[np.array(tris)])
     out = tmp_path / "out.parquet"
     code = ("import sys\n"
-            "from inertia.cli.main import main\n"
-            f"code = main(['batch', {str(folder)!r}, '-o', {str(out)!r}])\n"
-            "print(code, 'pandas' in sys.modules)\n")
+            "from inertia.batch.run import run_batch\n"
+            f"summary = run_batch([{str(folder)!r}], {str(out)!r}, progress=False)\n"
+            "print(summary.ok, 'pandas' in sys.modules)\n")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert run.stdout.strip().splitlines()[-1] == "0 False"
+    assert run.stdout.strip().splitlines()[-1] == "3 False"
     import pyarrow.parquet as pq
 
     table = pq.read_table(out)

@@ -8,6 +8,7 @@ resumed, ends with the same table as an uninterrupted one.
 from __future__ import annotations
 
 import faulthandler
+import json
 import math
 import os
 import shutil
@@ -130,8 +131,8 @@ def test_cluster_run_matches_single_file_api_and_names_every_error(dataset, clie
         props = inertia.mesh_file_properties(row["path"], density=1000.0)
         moments, axes = props.principal()
         # a note (the real wingnut.obj's negligible self-crossing) makes a warning row
-        assert row["status"] == ("warning" if props.warnings else "ok"), row["message"]
-        noted += bool(props.warnings)
+        assert row["status"] == ("warning" if props.findings else "ok"), row["message"]
+        noted += bool(props.findings)
         assert row["mass"] == props.mass and row["volume"] == props.volume and row["density"] == 1000.0
         assert np.array_equal(row["com"], props.com)
         assert np.array_equal(np.reshape(row["inertia_com"], (3, 3)), props.inertia_com)
@@ -372,7 +373,7 @@ def test_cli_summary_and_exit_status(dataset, tmp_path, capsys):
     # the real wingnut.obj carries a note (a negligible self-crossing): a warning row
     import inertia
 
-    w = 1 if inertia.mesh_file_properties(dataset / "wingnut.obj", density=1000.0).warnings else 0
+    w = 1 if inertia.mesh_file_properties(dataset / "wingnut.obj", density=1000.0).findings else 0
     assert f"ok {2 - w}, warnings {w}, errors 5" in err and "open_edges: 2" in err
     assert len(out.read_text().splitlines()) == 7
     assert main(["batch", str(tmp_path / "nothing-here"), "-o", str(out), "--scheduler", "synchronous"]) == 1
@@ -387,8 +388,9 @@ def test_accepted_defects_are_warning_rows_with_the_single_file_numbers(dataset)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ref = inertia.mesh_file_properties(path, density=1000.0, on_defect="warn")
-    assert row["status"] == "warning" and row["reason"] == "" and len(row["warnings"]) >= 1
-    assert list(row["warnings"]) == list(ref.warnings)
+    assert row["status"] == "warning" and row["reason"] == "" and len(row["findings"]) >= 1
+    assert [(f["code"], f["severity"], f["message"], f["where"], json.loads(f["values"])) for f in row["findings"]] \
+        == [(f.code, f.severity, f.message, f.where, f.to_dict()["values"]) for f in ref.findings]
     assert row["mass"] == ref.mass and np.array_equal(row["com"], ref.com)
 
 

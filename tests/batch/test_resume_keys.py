@@ -40,7 +40,7 @@ def _run(folder, out, **kw):
 
 
 @pytest.mark.parametrize("change", [dict(units="cm", density=7850.0), dict(density=7850.0), dict(units="cm"),
-                                    dict(shell=True), dict(mass=2.0)])
+                                    dict(kind="shell"), dict(mass=2.0)])
 def test_resume_with_other_options_is_refused_naming_them_and_force_recomputes(folder, tmp_path, change):
     out = tmp_path / "r.parquet"
     _run(folder, out, units="mm", density=2700.0)
@@ -61,7 +61,7 @@ def test_resume_with_other_options_is_refused_naming_them_and_force_recomputes(f
     assert len(table) == 4
     for path, mass in zip(table["path"], table["mass"]):
         ref = inertia.mesh_file_properties(path, units=opts["units"], density=opts.get("density"),
-                                           mass=opts.get("mass"), shell=opts.get("shell", False),
+                                           mass=opts.get("mass"), kind=opts.get("kind", "solid"),
                                            on_defect="raise")
         assert mass == ref.mass
 

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 
 import inertia
-from inertia.errors import InertiaError, InputError, MeshDefectWarning, MeshError
+from inertia.errors import Finding, InertiaError, InputError, MeshDefectWarning, MeshError
 from inertia.geometry.checks import check_mesh
 from inertia.geometry.mesh_arrays import validate_inputs, weld_vertices
 from inertia.geometry.orient import orient_faces
-from inertia.geometry.report import Defect, MeshReport
+from inertia.geometry.report import MeshReport
 from inertia.massprops.mesh import mesh_properties
 
 SIZE = np.array([1.0, 2.0, 3.0])
@@ -57,7 +57,7 @@ def test_clean_box_reports_ok_and_gives_the_exact_box():
     r = check_mesh(v, f)
     assert isinstance(r, MeshReport)
     assert r.ok and r.watertight and r.winding_consistent
-    assert r.codes == () and r.defects == ()
+    assert r.codes == () and r.findings == ()
     assert (r.n_vertices, r.n_faces, r.n_welded, r.n_components) == (8, 12, 0, 1)
     assert r.volume == pytest.approx(6.0, rel=1e-14)
     assert r.area == pytest.approx(2 * (2 + 3 + 6), rel=1e-14)
@@ -65,7 +65,7 @@ def test_clean_box_reports_ok_and_gives_the_exact_box():
     p = mesh_properties(v, f, density=2.5)
     assert_is_box(p, rho=2.5)
     assert p.volume == pytest.approx(6.0, rel=1e-14)
-    assert p.warnings == ()
+    assert p.findings == ()
     assert_is_box(mesh_properties(v, f, mass=15.0), rho=2.5)
 
 
@@ -88,9 +88,9 @@ def test_split_vertices_are_welded_and_report_the_callers_indices():
     # an open-edge report names original indices: drop face 0 = split vertices 0, 1, 2
     r = check_mesh(vs, fs[1:])
     d = r.get("open_edges")
-    assert d.count == 3
-    assert set(d.example["edge"]) <= set(range(36))
-    assert np.array_equal(np.array(d.example["coords"]), vs[list(d.example["edge"])])
+    assert d.values["count"] == 3
+    assert set(d.values["example"]["edge"]) <= set(range(36))
+    assert np.array_equal(np.array(d.values["example"]["coords"]), vs[list(d.values["example"]["edge"])])
 
 
 def test_negative_zero_welds_with_zero():
@@ -102,52 +102,54 @@ def test_negative_zero_welds_with_zero():
 
 
 # ---------------------------------------------------------------- winding and orientation
-def test_one_flipped_face_is_inconsistent_winding_and_fix_orientation_repairs_it():
+def test_one_flipped_face_is_inconsistent_winding_and_repair_orient_repairs_it():
     v, f = box_mesh()
     f[3] = f[3][[0, 2, 1]]  # face 3 = (4, 5, 7) now
     r = check_mesh(v, f)
     assert r.codes == ("inconsistent_winding",)
     assert r.watertight and not r.winding_consistent and not r.ok
     d = r.get("inconsistent_winding")
-    assert d.count == 3  # the three edges of the flipped face
-    assert 3 in d.example["faces"] and len(d.example["faces"]) == 2
-    i, j = d.example["edge"]
+    assert d.values["count"] == 3  # the three edges of the flipped face
+    assert 3 in d.values["example"]["faces"] and len(d.values["example"]["faces"]) == 2
+    i, j = d.values["example"]["edge"]
     assert {i, j} <= {4, 5, 7}
     assert f"edge ({i}, {j}) from " in d.message and "in faces" in d.message
-    np.testing.assert_array_equal(d.example["coords"], v[[i, j]])
+    np.testing.assert_array_equal(d.values["example"]["coords"], v[[i, j]])
 
     with pytest.raises(MeshError) as exc:
         mesh_properties(v, f, density=1.0)
     msg = str(exc.value)
     assert "inconsistent_winding: 3 edges with inconsistent winding" in msg
-    assert f"edge ({i}, {j})" in msg and "fix_orientation=True" in msg and "on_defect='warn'" in msg
+    assert f"edge ({i}, {j})" in msg and "repair='orient'" in msg and "on_defect='warn'" in msg
+    assert exc.value.remedies == (("repair", "orient"), ("on_defect", "robust"), ("on_defect", "warn"))
     assert "\n" not in msg
     assert exc.value.report.codes == ("inconsistent_winding",)
 
-    p = mesh_properties(v, f, density=1.0, fix_orientation=True)
+    p = mesh_properties(v, f, density=1.0, repair="orient")
     assert_is_box(p)
-    assert p.warnings == ("mesh: fix_orientation flipped 1 of 12 faces",)
+    assert [(x.code, x.severity, x.message) for x in p.findings] == [
+        ("orientation_repaired", "note", "repair='orient' flipped 1 of 12 faces")]
     fixed, n = orient_faces(v, f)
     assert n == 1 and check_mesh(v, fixed).ok
 
 
-def test_all_faces_flipped_is_inverted_and_fix_orientation_repairs_it():
+def test_all_faces_flipped_is_inverted_and_repair_orient_repairs_it():
     v, f = box_mesh()
     f = f[:, ::-1].copy()
     r = check_mesh(v, f)
     assert r.codes == ("inverted",)
     assert r.watertight and r.winding_consistent
     d = r.get("inverted")
-    assert d.count == 1 and d.example["component"] == 0 and d.example["volume"] == pytest.approx(-6.0)
+    assert d.values["count"] == 1 and d.values["example"]["component"] == 0 and d.values["example"]["volume"] == pytest.approx(-6.0)
     assert "wound inward" in d.message and "signed volume -6" in d.message
-    with pytest.raises(MeshError, match=r"inverted: the closed surface is wound inward.*fix_orientation=True"):
+    with pytest.raises(MeshError, match=r"inverted: the closed surface is wound inward.*repair='orient'"):
         mesh_properties(v, f, density=1.0)
     # refused with on_defect="warn" as well: the volume is negative
     with pytest.raises(MeshError, match=r"signed volume -6 <= 0"), pytest.warns(MeshDefectWarning):
         mesh_properties(v, f, density=1.0, on_defect="warn")
-    p = mesh_properties(v, f, density=1.0, fix_orientation=True)
+    p = mesh_properties(v, f, density=1.0, repair="orient")
     assert_is_box(p)
-    assert p.warnings == ("mesh: fix_orientation flipped 12 of 12 faces",)
+    assert [x.message for x in p.findings] == ["repair='orient' flipped 12 of 12 faces"]
 
 
 def test_cavity_wound_inward_is_not_inverted_and_gives_the_hollow_box():
@@ -173,9 +175,9 @@ def test_cavity_wound_inward_is_not_inverted_and_gives_the_hollow_box():
     wrong = np.vstack([f, fi + 8])
     r = check_mesh(V, wrong)
     d = r.get("inverted")
-    assert r.codes == ("inverted",) and d.count == 1 and d.example["component"] == 1
+    assert r.codes == ("inverted",) and d.values["count"] == 1 and d.values["example"]["component"] == 1
     assert "1 component of 2 is wound inward" in d.message and "nested inside another component" in d.message
-    fixed = mesh_properties(V, wrong, density=1.0, fix_orientation=True)
+    fixed = mesh_properties(V, wrong, density=1.0, repair="orient")
     assert fixed.isclose(p, rtol=1e-12)
 
 
@@ -186,8 +188,8 @@ def test_one_of_two_disjoint_bodies_inverted():
     F = np.vstack([f1, f2[:, ::-1] + 8])
     r = check_mesh(V, F)
     assert r.codes == ("inverted",) and r.count("inverted") == 1
-    assert r.get("inverted").example["face"] == 12
-    p = mesh_properties(V, F, density=1.0, fix_orientation=True)
+    assert r.get("inverted").values["example"]["face"] == 12
+    p = mesh_properties(V, F, density=1.0, repair="orient")
     assert p.mass == pytest.approx(12.0) and p.com == pytest.approx([2.5, 0, 0])
 
 
@@ -208,7 +210,7 @@ def test_moebius_strip_cannot_be_oriented():
     r = check_mesh(v, f)
     assert "open_edges" in r.codes and "inconsistent_winding" in r.codes
     with pytest.raises(MeshError, match="cannot be oriented consistently"):
-        mesh_properties(v, f, density=1.0, fix_orientation=True, on_defect="warn")
+        mesh_properties(v, f, density=1.0, repair="orient", on_defect="warn")
     with pytest.raises(MeshError, match="non-orientable"):
         orient_faces(v, f)
 
@@ -220,10 +222,10 @@ def test_nan_vertex_is_always_refused():
     v[6, 2] = np.inf
     r = check_mesh(v, f)
     d = r.get("non_finite")
-    assert d.count == 2 and d.example["vertex"] == 5
+    assert d.values["count"] == 2 and d.values["example"]["vertex"] == 5
     assert "2 vertices with NaN or infinite coordinates, e.g. vertex 5 at (10.5, nan, 31.5)" in d.message
     assert not r.ok and not r.watertight
-    for kw in ({}, {"on_defect": "warn"}, {"shell": True}, {"fix_orientation": True}):
+    for kw in ({}, {"on_defect": "warn"}, {"kind": "shell"}, {"repair": "orient"}, {"on_defect": "robust"}):
         with pytest.raises(MeshError, match=r"non_finite: 2 vertices .* vertex 5 .*NaN/inf"):
             mesh_properties(v, f, density=1.0, **kw)
 
@@ -234,9 +236,9 @@ def test_bad_indices_are_always_refused():
     f[7, 0] = 8
     r = check_mesh(v, f)
     d = r.get("bad_index")
-    assert d.count == 2 and d.example["face"] == 2 and d.example["vertices"] == (4, -1, 7)
+    assert d.values["count"] == 2 and d.values["example"]["face"] == 2 and d.values["example"]["vertices"] == (4, -1, 7)
     assert "2 faces with a vertex index outside 0..7, e.g. face 2 = (4, -1, 7)" in d.message
-    for kw in ({}, {"on_defect": "warn"}, {"shell": True}):
+    for kw in ({}, {"on_defect": "warn"}, {"kind": "shell"}):
         with pytest.raises(MeshError, match=r"bad_index: 2 faces .*negative indices are not wrapped"):
             mesh_properties(v, f, density=1.0, **kw)
 
@@ -252,7 +254,7 @@ def test_empty_mesh(vertices, faces):
     assert r.codes == ("empty",) and r.count("empty") == 1 and not r.ok and not r.watertight
     n_v, n_f = len(np.asarray(vertices).reshape(-1, 3)), len(np.asarray(faces).reshape(-1, 3))
     assert r.get("empty").message == f"empty mesh: {n_v} vertices, {n_f} faces"
-    for kw in ({}, {"on_defect": "warn"}, {"shell": True}):
+    for kw in ({}, {"on_defect": "warn"}, {"kind": "shell"}):
         with pytest.raises(MeshError, match=r"empty: empty mesh.*at least one triangle"):
             mesh_properties(vertices, faces, density=1.0, **kw)
 
@@ -263,7 +265,7 @@ def test_mesh_of_only_degenerate_faces_is_empty():
     assert r.codes == ("empty", "degenerate_faces", "open_edges") and not r.ok
     assert r.get("empty").message == "empty mesh: all 2 valid faces are degenerate (zero area)"
     with pytest.raises(MeshError, match="empty: empty mesh: all 2 valid faces are degenerate"):
-        mesh_properties(v, [[0, 1, 2], [0, 1, 1]], density=1.0, shell=True)
+        mesh_properties(v, [[0, 1, 2], [0, 1, 1]], density=1.0, kind="shell")
 
 
 # ---------------------------------------------------------------- topology defects
@@ -272,17 +274,18 @@ def test_duplicate_face():
     f2 = np.vstack([f, f[4][::-1]])  # face 12 repeats face 4 (0, 4, 5), reversed
     r = check_mesh(v, f2)
     d = r.get("duplicate_faces")
-    assert d.count == 1 and d.example["faces"] == (4, 12) and d.example["vertices"] == (0, 4, 5)
+    assert d.values["count"] == 1 and d.values["example"]["faces"] == (4, 12) and d.values["example"]["vertices"] == (0, 4, 5)
     assert "1 duplicate face (same three vertices as another face), e.g. faces 4 and 12" in d.message
     assert r.count("non_manifold_edges") == 3  # its edges are now used by three faces
     with pytest.raises(MeshError, match=r"duplicate_faces: 1 duplicate face .* faces 4 and 12"):
         mesh_properties(v, f2, density=1.0)
     with pytest.raises(MeshError, match=r"duplicate_faces.*count their area twice"):
-        mesh_properties(v, f2, density=1.0, shell=True)
+        mesh_properties(v, f2, density=1.0, kind="shell")
     with pytest.warns(MeshDefectWarning) as rec:
         p = mesh_properties(v, f2, density=1.0, on_defect="warn")
     assert [str(w.message).split(":")[1].split()[0] for w in rec] == ["duplicate_faces", "non_manifold_edges"]
-    assert [w.split(":")[1].split()[0] for w in p.warnings] == ["duplicate_faces", "non_manifold_edges"]
+    assert [(x.code, x.severity) for x in p.findings] == [("duplicate_faces", "warning"),
+                                                          ("non_manifold_edges", "warning")]
     # why it is an error: the reversed copy cancels face 4's tetrahedron (volume 1/2 about the center)
     assert p.mass == pytest.approx(5.5, rel=1e-14)
 
@@ -293,16 +296,16 @@ def test_non_manifold_edge_three_faces():
     f2 = np.vstack([f, [[0, 4, 8]]])
     r = check_mesh(v2, f2)
     d = r.get("non_manifold_edges")
-    assert d.count == 1 and set(d.example["edge"]) == {0, 4}
-    assert d.example["faces"] == tuple(edge_faces(f2, 0, 4)) == (4, 9, 12)
-    assert d.example["balanced"] == 0
+    assert d.values["count"] == 1 and set(d.values["example"]["edge"]) == {0, 4}
+    assert d.values["example"]["faces"] == tuple(edge_faces(f2, 0, 4)) == (4, 9, 12)
+    assert d.values["example"]["balanced"] == 0
     assert "1 non-manifold edge (used by more than two faces), e.g. edge (" in d.message
     assert "shared by 3 faces (4, 9, 12)" in d.message
     assert r.count("open_edges") == 2  # the fin's free edges
-    with pytest.raises(MeshError, match=r"non_manifold_edges: 1 non-manifold edge.*shell=True"):
+    with pytest.raises(MeshError, match=r"non_manifold_edges: 1 non-manifold edge.*kind=.shell."):
         mesh_properties(v2, f2, density=1.0)
     # a thin shell may have fins
-    p = mesh_properties(v2, f2, density=1.0, shell=True)
+    p = mesh_properties(v2, f2, density=1.0, kind="shell")
     fin_area = 0.5 * np.linalg.norm(np.cross(v2[4] - v2[0], v2[8] - v2[0]))
     assert p.mass == pytest.approx(22.0 + fin_area, rel=1e-14)
 
@@ -314,7 +317,7 @@ def test_two_closed_bodies_sharing_an_edge_are_balanced_non_manifold():
     F = np.vstack([f1, f2 + 8])
     r = check_mesh(V, F)  # welded: the boxes share the edge x = y = 0.5
     d = r.get("non_manifold_edges")
-    assert r.codes == ("non_manifold_edges",) and d.count == 1 and d.example["balanced"] == 1
+    assert r.codes == ("non_manifold_edges",) and d.values["count"] == 1 and d.values["example"]["balanced"] == 1
     assert "all 1 balanced" in d.message
     with pytest.warns(MeshDefectWarning):
         p = mesh_properties(V, F, density=1.0, on_defect="warn")
@@ -326,30 +329,31 @@ def test_open_mesh_raise_warn_and_shell():
     f_open = np.delete(f, [2, 3], axis=0)  # remove the x = +1/2 side
     r = check_mesh(v, f_open)
     d = r.get("open_edges")
-    assert r.codes == ("open_edges",) and d.count == 4 and not r.watertight and r.winding_consistent
-    i, j = d.example["edge"]
-    assert {i, j} <= {4, 5, 6, 7} and d.example["faces"][0] in range(10)
+    assert r.codes == ("open_edges",) and d.values["count"] == 4 and not r.watertight and r.winding_consistent
+    i, j = d.values["example"]["edge"]
+    assert {i, j} <= {4, 5, 6, 7} and d.values["example"]["faces"][0] in range(10)
     fmt = lambda p: "(" + ", ".join(f"{x:g}" for x in p) + ")"  # noqa: E731
-    assert f"e.g. edge ({i}, {j}) from {fmt(v[i])} to {fmt(v[j])} in face {d.example['faces'][0]}" in d.message
+    assert f"e.g. edge ({i}, {j}) from {fmt(v[i])} to {fmt(v[j])} in face {d.values['example']['faces'][0]}" in d.message
     with pytest.raises(MeshError) as exc:
         mesh_properties(v, f_open, density=1.0)
     msg = str(exc.value)
     assert msg.startswith("mesh cannot be used as a solid: open_edges: 4 open edges (used by only one face")
-    assert "shell=True" in msg and "on_defect='warn'" in msg and "fix_orientation" not in msg
+    assert "kind='shell'" in msg and "on_defect='warn'" in msg and "repair" not in msg.split("Options")[1][:20]
+    assert exc.value.remedies == (("kind", "shell"), ("on_defect", "robust"), ("on_defect", "warn"))
 
     with pytest.warns(MeshDefectWarning, match=r"open_edges accepted \(on_defect='warn'\): 4 open edges") as rec:
         p = mesh_properties(v, f_open, density=1.0, on_defect="warn")
     assert rec[0].filename == __file__  # points at the caller
-    assert len(p.warnings) == 1 and "4 open edges" in p.warnings[0]
+    assert len(p.findings) == 1 and "4 open edges" in p.findings[0].message and p.findings[0].severity == "warning"
     assert np.isfinite(p.mass)
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        s = mesh_properties(v, f_open, density=2.0, shell=True)
+        s = mesh_properties(v, f_open, density=2.0, kind="shell")
     area = 2 * (2 + 3 + 6) - 6
-    assert s.mass == pytest.approx(2.0 * area) and s.warnings == () and np.isnan(s.volume)
+    assert s.mass == pytest.approx(2.0 * area) and s.findings == () and np.isnan(s.volume)
     # orientation is irrelevant to a shell
-    assert mesh_properties(v, f_open[:, ::-1], density=2.0, shell=True).isclose(s, rtol=1e-13)
+    assert mesh_properties(v, f_open[:, ::-1], density=2.0, kind="shell").isclose(s, rtol=1e-13)
 
 
 def test_open_mesh_with_negative_volume_is_refused_even_with_warn():
@@ -366,8 +370,8 @@ def test_degenerate_faces_are_a_note_not_an_error():
     f2 = np.vstack([[[0, 8, 3], [8, 1, 3]], f[1:], [[0, 1, 8]], [[2, 7, 7]]])
     r = check_mesh(v2, f2)
     d = r.get("degenerate_faces")
-    assert r.codes == ("degenerate_faces",) and d.count == 2 and d.severity == "note"
-    assert d.example["face"] == 13 and d.example["vertices"] == (0, 1, 8)
+    assert r.codes == ("degenerate_faces",) and d.values["count"] == 2 and d.severity == "note"
+    assert d.values["example"]["face"] == 13 and d.values["example"]["vertices"] == (0, 1, 8)
     assert "2 faces of zero area (1 repeating a vertex after welding" in d.message
     assert "e.g. face 13 = (0, 1, 8) has area 0" in d.message
     assert r.ok and r.watertight and r.winding_consistent and r.errors == ()
@@ -375,8 +379,8 @@ def test_degenerate_faces_are_a_note_not_an_error():
         warnings.simplefilter("error")
         p = mesh_properties(v2, f2, density=1.0)
     assert_is_box(p)
-    assert len(p.warnings) == 1 and p.warnings[0].startswith("mesh: degenerate_faces ignored")
-    assert "face 13" in p.warnings[0]
+    assert [(x.code, x.severity) for x in p.findings] == [("degenerate_faces", "note")]
+    assert "face 13" in p.findings[0].message
 
 
 # ---------------------------------------------------------------- inputs and options
@@ -409,8 +413,17 @@ def test_integral_float_faces_are_accepted():
 
 def test_option_errors():
     v, f = box_mesh()
-    with pytest.raises(InputError, match=r"on_defect must be one of \('raise', 'warn'\), got 'ignore'"):
+    with pytest.raises(InputError, match=r"on_defect must be one of \('raise', 'warn', 'robust'\), got 'ignore'"):
         mesh_properties(v, f, density=1.0, on_defect="ignore")
+    with pytest.raises(InputError, match=r"kind must be one of \('solid', 'shell'\), got True"):
+        mesh_properties(v, f, density=1.0, kind=True)
+    with pytest.raises(InputError, match=r"repair must be one of \(None, 'orient'\), got 'weld'"):
+        mesh_properties(v, f, density=1.0, repair="weld")
+    # combinations that mean nothing are refused, never ignored
+    with pytest.raises(InputError, match=r"on_defect='robust' integrates a solid"):
+        mesh_properties(v, f, density=1.0, kind="shell", on_defect="robust")
+    with pytest.raises(InputError, match=r"a thin shell's orientation does not matter"):
+        mesh_properties(v, f, density=1.0, kind="shell", repair="orient")
     with pytest.raises(InputError, match="exactly one of density= or mass=, got both"):
         mesh_properties(v, f, density=1.0, mass=1.0)
     with pytest.raises(InputError, match="got neither"):
@@ -439,9 +452,9 @@ def test_report_accessors_and_summary():
     f2 = np.vstack([f[:-1], [[0, 0, 1]]])
     r = check_mesh(v, f2)
     assert r.codes == ("degenerate_faces", "open_edges")
-    assert [d.severity for d in r.defects] == ["note", "error"]
+    assert [d.severity for d in r.findings] == ["note", "error"]
     assert r.count("open_edges") == 3 and r.count("inverted") == 0 and r.get("inverted") is None
-    assert all(isinstance(d, Defect) for d in r.defects)
+    assert all(isinstance(d, Finding) for d in r.findings)
     text = r.summary()
     assert text.splitlines()[0] == "mesh: 8 vertices (0 welded duplicates), 12 faces, 1 components"
     assert "- open_edges (error): 3 open edges" in text and "- degenerate_faces (note): 1 face" in text

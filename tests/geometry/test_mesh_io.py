@@ -53,7 +53,7 @@ def test_watertight_meshes_load_report_ok_and_match_trimesh(meshes, name):
     expected = ("self_crossing_negligible",) if name == "wingnut.obj" and r.codes else ()
     assert r.ok and r.watertight and r.winding_consistent and r.codes == expected, r.summary()
     if expected:
-        assert max(r.defects[0].example["effect"].values()) < 1e-4
+        assert max(r.findings[0].values["example"]["effect"].values()) < 1e-4
     assert r.volume == pytest.approx(volume_listed, rel=1e-5)
 
     p = mesh_file_properties(path, density=1.0)
@@ -62,7 +62,7 @@ def test_watertight_meshes_load_report_ok_and_match_trimesh(meshes, name):
     assert p.mass == pytest.approx(vol, rel=1e-10)
     np.testing.assert_allclose(p.com, com, rtol=0, atol=1e-10 * diag)
     np.testing.assert_allclose(p.inertia_com, I, rtol=0, atol=1e-10 * np.abs(I).max())
-    assert [w.split(": ")[1] for w in p.warnings] == list(expected)
+    assert [x.code for x in p.findings] == list(expected)
     moments, axes = p.principal()
     assert np.all(moments > 0) and np.linalg.det(axes) == pytest.approx(1.0)
 
@@ -77,7 +77,7 @@ def test_spot_obj_is_watertight_only_after_welding_seams(meshes):
     assert len(v) == len(raw.vertices) - r.n_welded
 
 
-def test_fix_orientation_repairs_random_flips_of_a_real_mesh(meshes):
+def test_repair_orient_repairs_random_flips_of_a_real_mesh(meshes):
     v, f = load_mesh(meshes.path("spot.obj"))
     ref = mesh_properties(v, f, density=1.0)
     rng = np.random.default_rng(1)
@@ -88,11 +88,11 @@ def test_fix_orientation_repairs_random_flips_of_a_real_mesh(meshes):
     assert r.codes == ("inconsistent_winding",) and r.count("inconsistent_winding") > 1000
     with pytest.raises(MeshError, match="inconsistent_winding"):
         mesh_properties(v, g, density=1.0)
-    p = mesh_properties(v, g, density=1.0, fix_orientation=True)
+    p = mesh_properties(v, g, density=1.0, repair="orient")
     assert p.isclose(ref, rtol=1e-12)
-    assert p.warnings == (f"mesh: fix_orientation flipped {int(flipped.sum())} of {len(f)} faces",)
+    assert [x.message for x in p.findings] == [f"repair='orient' flipped {int(flipped.sum())} of {len(f)} faces"]
     # the whole mesh inside out
-    q = mesh_properties(v, f[:, ::-1], density=1.0, fix_orientation=True)
+    q = mesh_properties(v, f[:, ::-1], density=1.0, repair="orient")
     assert q.isclose(ref, rtol=1e-12)
 
 
@@ -130,7 +130,7 @@ def test_broken_meshes_raise_naming_the_file_and_the_defect(meshes, name):
         mesh_file_properties(path, density=1.0)
     msg = str(exc.value)
     assert msg.startswith(f"mesh {path} cannot be used as a solid: {code}: {count} ")
-    assert "shell=True" in msg and "on_defect='warn'" in msg
+    assert "kind='shell'" in msg and "on_defect='warn'" in msg
     assert exc.value.report.count(code) == count
 
 
@@ -139,10 +139,10 @@ def test_broken_meshes_as_shells(meshes, name):
     path = meshes.path(name)
     with warnings.catch_warnings():
         warnings.simplefilter("error", MeshDefectWarning)
-        p = mesh_file_properties(path, density=2.0, shell=True)
+        p = mesh_file_properties(path, density=2.0, kind="shell")
     _, _, _, _, area = trimesh_reference(path)
     assert p.mass == pytest.approx(2.0 * area, rel=1e-10)
-    assert np.isnan(p.volume) and p.warnings == ()
+    assert np.isnan(p.volume) and p.findings == ()
     assert p.is_physical()
 
 
@@ -153,8 +153,9 @@ def test_broken_meshes_accepted_with_warnings(meshes, name):
     with pytest.warns(MeshDefectWarning, match=f"{code} accepted") as rec:
         p = mesh_file_properties(path, density=1.0, on_defect="warn")
     assert rec[0].filename == __file__
-    assert len(p.warnings) == 1
-    assert p.warnings[0].startswith(f"mesh {path}: {code} accepted (on_defect='warn'): {count} ")
+    assert str(rec[0].message).startswith(f"mesh {path}: {code} accepted (on_defect='warn'): {count} ")
+    assert [(x.code, x.severity, x.where) for x in p.findings] == [(code, "warning", str(path))]
+    assert p.findings[0].values["count"] == count
     assert p.volume > 0 and p.is_physical()
 
 
@@ -188,7 +189,8 @@ def test_open_mesh_volume_depends_on_the_reference_point(meshes):
 def test_cycloidal_non_manifold_edges_are_balanced(meshes):
     v, f = load_mesh(meshes.path("cycloidal.ply"))
     d = check_mesh(v, f).get("non_manifold_edges")
-    assert d.example["balanced"] == d.count == meshes.broken["cycloidal.ply"][2] and len(d.example["faces"]) == 4
+    ex = d.values["example"]
+    assert ex["balanced"] == d.values["count"] == meshes.broken["cycloidal.ply"][2] and len(ex["faces"]) == 4
 
 
 # ---------------------------------------------------------------- units

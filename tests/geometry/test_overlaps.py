@@ -64,10 +64,11 @@ def test_the_robust_path_answers_the_union_within_its_bound():
     # truth: the union of the two cubes of the half overlap is 1500 m^3 with its COM at x = 7.5
     v, f = two(CUBE_V * 10 + [5, 0, 0])
     with pytest.warns(Warning):
-        p = inertia.mesh_properties(v, f, density=1.0, robust=True)
-    text = p.warnings[-1]
-    bound = float(text.split("relative error bounds: volume ")[1].split(",")[0])
+        p = inertia.mesh_properties(v, f, density=1.0, on_defect="robust")
+    robust = next(x for x in p.findings if x.code == "robust_solid")
+    bound = robust.values["bounds"]["volume"]
     assert abs(p.volume / 1500.0 - 1) <= bound and bound < 0.5
+    assert robust.values["bounds"]["inertia"] <= robust.values["error_bound"] and p.precision > 0
 
 
 def test_a_rod_through_a_cube_whose_samples_all_miss_is_found_by_its_crossing_faces():
@@ -84,7 +85,7 @@ def test_a_rod_through_a_cube_whose_samples_all_miss_is_found_by_its_crossing_fa
     v[:8] /= 10.0                                                          # the unit cube
     report = check_mesh(v, f)
     assert report.codes == ("overlapping_shells",)
-    point = np.array(report.defects[0].example["point"])
+    point = np.array(report.findings[0].values["example"]["point"])
     assert np.isclose(point, 0.0).any() or np.isclose(point, 1.0).any()   # on a face of the cube
     with pytest.warns(inertia.errors.MeshDefectWarning, match="overlapping_shells accepted"):
         summed = inertia.mesh_properties(v, f, density=1.0, on_defect="warn").volume

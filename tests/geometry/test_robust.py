@@ -43,7 +43,7 @@ def test_closed_mesh_is_exact():
     res = robust_integrals(v, f, reference=ORIGIN)
     assert res.converged and res.bound_volume == 0.0 and res.ambiguous_volume == 0.0
     assert within_bound(res, exact)
-    assert res.defects == ()
+    assert res.findings == () and res.codes == ()
 
 
 def test_single_flat_hole_is_exact():
@@ -53,7 +53,7 @@ def test_single_flat_hole_is_exact():
     assert res.converged and res.bound_volume == 0.0
     assert within_bound(res, exact)
     assert res.ambiguous_volume > 0.0          # w is ambiguous near the hole
-    assert any("boundary" in d for d in res.defects)
+    assert res.codes == ("open_edges",) and "closed by caps" in res.findings[0].message
 
 
 @pytest.mark.parametrize("k", [2, 3, 5])
@@ -82,7 +82,8 @@ def test_overlapping_cubes_union():
     assert res.converged
     assert within_bound(res, truth)
     assert abs(res.volume - truth[0]) <= 1e-3 * truth[0]
-    assert any("winding number >= 2" in d for d in res.defects)
+    assert "overlapping_shells" in res.codes
+    assert "winding number >= 2" in next(d for d in res.findings if d.code == "overlapping_shells").message
 
 
 def test_identical_copies_count_once():
@@ -112,7 +113,7 @@ def test_crossing_boxes_rotated():
     res = robust_integrals(v @ R.T + t, f, reference=ORIGIN, tol=3e-3)
     truth = moved(union_moments([np.array(b, float) for b in bars]), R, t)
     assert within_bound(res, truth)
-    assert res.relative_bounds["volume"] <= 3e-3
+    assert res.bounds["volume"] <= 3e-3 and res.error_bound == max(res.bounds.values()) <= 3e-3
 
 
 def test_bound_budget_reported():
@@ -123,7 +124,7 @@ def test_bound_budget_reported():
     b = next(i for i in range(1, len(f)) if len(set(f[a]) & set(f[i])) == 2)
     res = robust_integrals(v, np.delete(f, [a, b], axis=0), reference=ORIGIN, tol=1e-9)
     assert not res.converged
-    assert any("did not reach" in d for d in res.defects)
+    assert res.codes[-1] == "bound_not_reached" and "did not reach" in res.findings[-1].message
     exact = solid_integrals(v, f, reference=ORIGIN)[0]
     assert abs(res.volume - exact) < 0.01 * exact
 
@@ -159,7 +160,7 @@ def test_bound_is_honest_on_generated_cases(kind):
         name, v, f, truth = random_case(rng, kind)
         res = robust_integrals(v, f, reference=ORIGIN, tol=1e-3)
         ratio = error_ratio(res, truth)
-        assert ratio <= 1.0, (kind, n, res.volume, truth[0], res.bound_volume, res.defects)
+        assert ratio <= 1.0, (kind, n, res.volume, truth[0], res.bound_volume, res.findings)
         worst = max(worst, ratio)
     print(f"{kind}: 25 cases, worst error / bound = {worst:.3g}")
 
@@ -170,7 +171,7 @@ def _digest(res):
     for x in (res.volume, res.first, res.second, res.reference, res.bound_volume, res.bound_first, res.bound_second,
               res.ambiguous_volume):
         h.update(np.ascontiguousarray(x, dtype=np.float64).tobytes())
-    h.update(repr((res.converged, res.defects, res.codes,
+    h.update(repr((res.converged, [(d.code, d.message) for d in res.findings],
                    sorted((k, x) for k, x in res.stats.items() if not k.startswith("seconds")))).encode())
     return h.hexdigest()
 

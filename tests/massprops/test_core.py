@@ -172,7 +172,8 @@ def test_validity_reports_every_violation_with_numbers():
     bad = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]])
     v = inertia.check_inertia(bad, mass=-1.0)
     codes = [x.code for x in v]
-    assert codes == ["mass_not_positive", "triangle_inequality"]
+    assert codes == ["non_positive_mass", "triangle_inequality"]
+    assert {x.severity for x in v} == {"error"}
     assert "I1 + I2 = 2 < I3 = 3" in v[1].message
     assert v[1].values["margin"] == pytest.approx(-1.0)
     v = inertia.check_inertia(np.diag([0.0, 2.0, 2.0]))  # a rod: on the triangle boundary, not PD
@@ -183,7 +184,7 @@ def test_validity_reports_every_violation_with_numbers():
     v = inertia.check_inertia(np.array([[1.0, 0.2, 0], [0.1, 1, 0], [0, 0, 1]]))
     assert v[0].code == "not_symmetric" and "I[0,1] = 0.2 but I[1,0] = 0.1" in v[0].message
     v = inertia.check_inertia(np.array([[np.nan, 0, 0], [0, 1, 0], [0, 0, 1]]))
-    assert [x.code for x in v] == ["not_finite"]
+    assert [x.code for x in v] == ["non_finite"]
 
 
 def test_flat_plate_is_on_the_triangle_boundary_and_valid():
@@ -198,7 +199,7 @@ def test_flat_plate_is_on_the_triangle_boundary_and_valid():
 def test_strict_constructor_raises_our_error_with_all_reasons():
     with pytest.raises(InvalidInertiaError) as exc:
         inertia.MassProperties(0.0, [0, 0, 0], np.diag([1.0, 1.0, 3.0]))
-    assert [v.code for v in exc.value.violations] == ["mass_not_positive", "triangle_inequality"]
+    assert [v.code for v in exc.value.findings] == ["non_positive_mass", "triangle_inequality"]
     assert isinstance(exc.value, InertiaError)
     with pytest.raises(InputError, match=r"inertia_com must have shape \(3, 3\), got \(3,\)"):
         inertia.MassProperties(1.0, [0, 0, 0], [1, 2, 3])

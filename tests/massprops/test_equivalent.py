@@ -86,7 +86,7 @@ def test_box_primitive_by_hand_returns_its_dimensions():
     assert np.array_equal(box.size, box.dims)
     assert np.allclose(matched_axes(dims, box.size, R, box.R_body_principal), 1.0, rtol=0, atol=1e-12)
     assert np.array_equal(box.p_body_com, com)
-    assert box.frame == "link" and box.warnings == ()
+    assert box.frame == "link" and box.findings == ()
     assert math.isclose(box.volume, 0.006, rel_tol=1e-13)
     assert math.isclose(box.density, M / 0.006, rel_tol=1e-13)
     assert_same_props(box.mass_properties(), M, com, props.inertia_com)
@@ -181,9 +181,9 @@ def test_thin_plate_gives_a_lamina_box():
     box = equivalent_box(props)
     assert np.allclose(box.size[:2], [a, b], rtol=1e-14) and box.size[2] == 0.0
     assert box.volume == 0.0 and math.isnan(box.density)
-    assert box.warnings == (
-        "flat body: I1 + I2 - I3 = 0 kg m^2 is zero within 1.73e-13, so the equivalent box is flat along "
-        "principal axis 3 (b3 = 0 m)",)
+    assert [(f.code, f.message) for f in box.findings] == [(
+        "flat_body", "I1 + I2 - I3 = 0 kg m^2 is zero within 1.73e-13; the equivalent box is flat along "
+        "principal axis 3 (b3 = 0 m)")]
     assert_same_props(box.mass_properties(), M, props.com, props.inertia_com)
     assert box.mass_properties().volume == 0.0
     json.dumps(box.to_dict())
@@ -194,7 +194,7 @@ def test_thin_plate_gives_a_flat_disc_ellipsoid():
     props = MassProperties(M, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
     ell = equivalent_ellipsoid(props)
     assert ell.semi_axes[2] == 0.0 and ell.volume == 0.0
-    assert "equivalent ellipsoid is flat along principal axis 3 (a3 = 0 m)" in ell.warnings[0]
+    assert "equivalent ellipsoid is flat along principal axis 3 (a3 = 0 m)" in ell.findings[0].message
     assert_same_props(ell.mass_properties(), M, props.com, props.inertia_com)
 
 

@@ -39,6 +39,8 @@ trimesh = pytest.importorskip("trimesh")
 
 PI = math.pi
 
+KIND = {False: "solid", True: "shell"}
+
 
 # ============================================================================ generic quadrature
 def _gl(n, lo, hi):
@@ -196,7 +198,7 @@ CASES = [
 @pytest.mark.parametrize("name,make,regions", CASES, ids=[c[0] for c in CASES])
 def test_matches_quadrature_over_geometry(name, make, regions, shell):
     rho = 2.7
-    p = make(density=rho, shell=shell)
+    p = make(density=rho, kind=KIND[shell])
     mass, com, I = props_from_moments(sum(regions(shell)), rho)
     assert_matches(p, mass, com, I, rtol=1e-11)
     if shell:
@@ -258,7 +260,7 @@ def test_ellipsoid_shell_against_carlson_and_scipy(semi_axes):
     Sxx = octant(lambda t, f: (a * math.sin(t) * math.cos(f)) ** 2)
     Syy = octant(lambda t, f: (b * math.sin(t) * math.sin(f)) ** 2)
     Szz = octant(lambda t, f: (c * math.cos(t)) ** 2)
-    p = ellipsoid(semi_axes, density=1.0, shell=True)
+    p = ellipsoid(semi_axes, density=1.0, kind="shell")
     assert p.mass == pytest.approx(area_exact, rel=1e-13)
     expected = np.diag([Syy + Szz, Sxx + Szz, Sxx + Syy])
     np.testing.assert_allclose(p.inertia_com, expected, rtol=1e-10, atol=0)
@@ -266,7 +268,7 @@ def test_ellipsoid_shell_against_carlson_and_scipy(semi_axes):
 
 # ============================================================================ 2. tessellations
 def _mesh_props(mesh, shell, density=1.0):
-    return mesh_properties(mesh.vertices, mesh.faces, density=density, shell=shell)
+    return mesh_properties(mesh.vertices, mesh.faces, density=density, kind=KIND[shell])
 
 
 def _rel_error(p_mesh, p_exact):
@@ -281,7 +283,7 @@ def _rel_error(p_mesh, p_exact):
 def test_box_mesh_is_exact(shell):
     size = (0.3, 1.1, 2.0)
     m = trimesh.creation.box(extents=size)
-    exact = box(size, density=7.0, shell=shell)
+    exact = box(size, density=7.0, kind=KIND[shell])
     got = _mesh_props(m, shell, density=7.0)
     assert _rel_error(got, exact) < 1e-14
 
@@ -294,18 +296,18 @@ def _icosphere(k, semi_axes):
 
 
 MESH_FAMILIES = [
-    ("sphere", lambda sh: sphere(0.7, density=1.0, shell=sh), lambda k: _icosphere(k, (0.7, 0.7, 0.7)), (3, 4, 5)),
-    ("ellipsoid", lambda sh: ellipsoid((1.0, 0.7, 0.45), density=1.0, shell=sh),
+    ("sphere", lambda sh: sphere(0.7, density=1.0, kind=KIND[sh]), lambda k: _icosphere(k, (0.7, 0.7, 0.7)), (3, 4, 5)),
+    ("ellipsoid", lambda sh: ellipsoid((1.0, 0.7, 0.45), density=1.0, kind=KIND[sh]),
      lambda k: _icosphere(k, (1.0, 0.7, 0.45)), (3, 4, 5)),
-    ("cylinder", lambda sh: cylinder(0.4, 1.3, density=1.0, shell=sh),
+    ("cylinder", lambda sh: cylinder(0.4, 1.3, density=1.0, kind=KIND[sh]),
      lambda n: trimesh.creation.cylinder(0.4, 1.3, sections=n), (64, 128, 256)),
-    ("cone", lambda sh: cone(0.5, 1.7, density=1.0, shell=sh),
+    ("cone", lambda sh: cone(0.5, 1.7, density=1.0, kind=KIND[sh]),
      lambda n: trimesh.creation.cone(0.5, 1.7, sections=n), (64, 128, 256)),
-    ("capsule", lambda sh: capsule(0.35, 0.9, density=1.0, shell=sh),
+    ("capsule", lambda sh: capsule(0.35, 0.9, density=1.0, kind=KIND[sh]),
      lambda n: trimesh.creation.capsule(height=0.9, radius=0.35, count=[n, n]), (32, 64, 128)),
-    ("torus", lambda sh: torus(1.2, 0.3, density=1.0, shell=sh),
+    ("torus", lambda sh: torus(1.2, 0.3, density=1.0, kind=KIND[sh]),
      lambda n: trimesh.creation.torus(1.2, 0.3, major_sections=n, minor_sections=n), (32, 64, 128)),
-    ("tube", lambda sh: tube(0.5, 0.35, 0.8, density=1.0, shell=sh),
+    ("tube", lambda sh: tube(0.5, 0.35, 0.8, density=1.0, kind=KIND[sh]),
      lambda n: trimesh.creation.annulus(0.35, 0.5, 0.8, sections=n), (64, 128, 256)),
 ]
 
@@ -333,47 +335,47 @@ def test_mesh_converges_second_order(name, exact, mesh, levels, shell):
 # ============================================================================ 3. limits and relations
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_sphere_is_round_ellipsoid(shell):
-    assert ellipsoid((0.8, 0.8, 0.8), mass=3.0, shell=shell).isclose(sphere(0.8, mass=3.0, shell=shell), rtol=1e-14)
-    assert ellipsoid((0.8, 0.8, 0.8), density=3.0, shell=shell).isclose(sphere(0.8, density=3.0, shell=shell),
+    assert ellipsoid((0.8, 0.8, 0.8), mass=3.0, kind=KIND[shell]).isclose(sphere(0.8, mass=3.0, kind=KIND[shell]), rtol=1e-14)
+    assert ellipsoid((0.8, 0.8, 0.8), density=3.0, kind=KIND[shell]).isclose(sphere(0.8, density=3.0, kind=KIND[shell]),
                                                                         rtol=1e-13)
 
 
 def test_ellipsoid_shell_axis_order_irrelevant():
-    p = ellipsoid((0.2, 1.5, 0.7), mass=1.0, shell=True)
-    q = ellipsoid((1.5, 0.7, 0.2), mass=1.0, shell=True)
+    p = ellipsoid((0.2, 1.5, 0.7), mass=1.0, kind="shell")
+    q = ellipsoid((1.5, 0.7, 0.2), mass=1.0, kind="shell")
     np.testing.assert_allclose(np.diag(p.inertia_com), np.diag(q.inertia_com)[[2, 0, 1]], rtol=1e-14)
 
 
 def test_ellipsoid_shell_flat_limit_is_two_sided_elliptic_disc():
     # c -> 0: two elliptic discs, area 2 pi a b, I_xx = m b^2 / 4, I_yy = m a^2 / 4
     a, b = 1.3, 0.6
-    p = ellipsoid((a, b, 1e-7), density=1.0, shell=True)
+    p = ellipsoid((a, b, 1e-7), density=1.0, kind="shell")
     assert p.mass == pytest.approx(2 * PI * a * b, rel=1e-6)
     np.testing.assert_allclose(np.diag(p.inertia_com) / p.mass, [b * b / 4, a * a / 4, (a * a + b * b) / 4], rtol=1e-6)
 
 
 def test_ellipsoid_shell_extreme_aspect_ratios_stay_accurate():
     # far beyond where the grading stops (aspect 1e-20): still a two-sided disc, to rounding
-    p = ellipsoid((1.0, 0.5, 1e-20), density=1.0, shell=True)
+    p = ellipsoid((1.0, 0.5, 1e-20), density=1.0, kind="shell")
     assert p.mass == pytest.approx(2 * PI * 0.5, rel=1e-13)
     np.testing.assert_allclose(np.diag(p.inertia_com) / p.mass, [0.0625, 0.25, 0.3125], rtol=1e-13)
     # size-independent: a huge and a tiny ellipsoid give the same properties per unit mass
-    big = ellipsoid((3e100, 2e100, 1e100), mass=1.0, shell=True)
-    small = ellipsoid((3e-100, 2e-100, 1e-100), mass=1.0, shell=True)
+    big = ellipsoid((3e100, 2e100, 1e100), mass=1.0, kind="shell")
+    small = ellipsoid((3e-100, 2e-100, 1e-100), mass=1.0, kind="shell")
     np.testing.assert_allclose(big.inertia_com * 1e-200, small.inertia_com * 1e200, rtol=1e-14)
 
 
 def test_ellipsoid_shell_needle_limit():
     # a = b -> 0: mass per unit length ~ sqrt(1 - z^2/c^2) (semicircle law), so <z^2> = c^2 / 4
     c = 2.0
-    p = ellipsoid((1e-5, 1e-5, c), mass=1.0, shell=True)
+    p = ellipsoid((1e-5, 1e-5, c), mass=1.0, kind="shell")
     assert p.inertia_com[0, 0] == pytest.approx(c * c / 4, rel=1e-6)
 
 
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_tube_with_tiny_bore_tends_to_cylinder(shell):
-    cyl = cylinder(0.5, 1.2, density=1.0, shell=shell)
-    errs = [_rel_error(tube(0.5, eps, 1.2, density=1.0, shell=shell), cyl) for eps in (1e-2, 1e-3, 1e-4)]
+    cyl = cylinder(0.5, 1.2, density=1.0, kind=KIND[shell])
+    errs = [_rel_error(tube(0.5, eps, 1.2, density=1.0, kind=KIND[shell]), cyl) for eps in (1e-2, 1e-3, 1e-4)]
     assert errs[-1] < (1e-3 if shell else 1e-7)
     assert errs[0] > errs[1] > errs[2]
 
@@ -396,7 +398,7 @@ def test_thick_spherical_shell_is_ball_minus_cavity():
 
 def test_thick_spherical_shell_tends_to_thin_shell_per_unit_mass():
     thin = spherical_shell(1.0, mass=1.0)
-    assert thin.isclose(sphere(1.0, mass=1.0, shell=True), rtol=0)
+    assert thin.isclose(sphere(1.0, mass=1.0, kind="shell"), rtol=0)
     errs = [abs(spherical_shell(1.0, 1.0 - eps, mass=1.0).inertia_com[0, 0] - thin.inertia_com[0, 0])
             for eps in (1e-2, 1e-4, 1e-6, 1e-10)]
     # I/m = 2/3 r^2 (1 - eps + O(eps^2)): error linear in the thickness, no cancellation at tiny eps
@@ -406,22 +408,22 @@ def test_thick_spherical_shell_tends_to_thin_shell_per_unit_mass():
 
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_capsule_of_zero_length_is_sphere(shell):
-    assert capsule(0.6, 0, mass=2.0, shell=shell).isclose(sphere(0.6, mass=2.0, shell=shell), rtol=1e-14)
-    assert capsule(0.6, 0.0, density=2.0, shell=shell).isclose(sphere(0.6, density=2.0, shell=shell), rtol=1e-14)
+    assert capsule(0.6, 0, mass=2.0, kind=KIND[shell]).isclose(sphere(0.6, mass=2.0, kind=KIND[shell]), rtol=1e-14)
+    assert capsule(0.6, 0.0, density=2.0, kind=KIND[shell]).isclose(sphere(0.6, density=2.0, kind=KIND[shell]), rtol=1e-14)
 
 
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_long_capsule_tends_to_cylinder_per_unit_mass(shell):
     # I_xx / (m L^2) -> 1/12 as L / r -> infinity (both ends are negligible)
     r = 0.01
-    p = capsule(r, 100.0, mass=1.0, shell=shell)
+    p = capsule(r, 100.0, mass=1.0, kind=KIND[shell])
     assert p.inertia_com[0, 0] / 100.0 ** 2 == pytest.approx(1 / 12, rel=1e-3)
 
 
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_thin_torus_is_a_hoop(shell):
     # minor -> 0: hoop of radius R, I_zz = m R^2, I_xx = I_yy = m R^2 / 2
-    p = torus(1.5, 1e-5, mass=2.0, shell=shell)
+    p = torus(1.5, 1e-5, mass=2.0, kind=KIND[shell])
     np.testing.assert_allclose(np.diag(p.inertia_com), 2.0 * 1.5 ** 2 * np.array([0.5, 0.5, 1.0]), rtol=1e-9)
 
 
@@ -430,7 +432,7 @@ def test_torus_perpendicular_axis_relation(shell, z2):
     # For any body I_xx + I_yy - I_zz = 2 int z^2 dm.  The torus is a surface/solid of revolution
     # of a disc/circle of radius a, so int z^2 dm / m is the cross-section's <z^2>: a^2/4 (disc), a^2/2 (circle).
     R, a = 1.0, 0.7
-    p = torus(R, a, mass=1.0, shell=shell)
+    p = torus(R, a, mass=1.0, kind=KIND[shell])
     I = np.diag(p.inertia_com)
     assert I[0] + I[1] - I[2] == pytest.approx(2 * z2 * a * a, rel=1e-14)
 
@@ -441,21 +443,21 @@ def test_horn_torus_is_allowed():
 
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 def test_flat_cylinder_is_disc_and_thin_cylinder_is_rod(shell):
-    disc = cylinder(0.5, 1e-9, mass=1.0, shell=shell)
+    disc = cylinder(0.5, 1e-9, mass=1.0, kind=KIND[shell])
     np.testing.assert_allclose(np.diag(disc.inertia_com), [0.25 * 0.25, 0.25 * 0.25, 0.5 * 0.25], rtol=1e-8)
-    rod = cylinder(1e-4, 2.0, mass=1.0, shell=shell)
+    rod = cylinder(1e-4, 2.0, mass=1.0, kind=KIND[shell])
     # the end caps of the shell shift <z^2> by a relative O(r / h) = 5e-5
     assert rod.inertia_com[0, 0] == pytest.approx(4.0 / 12.0, rel=2e-4 if shell else 1e-6)
 
 
 def test_flat_box_shell_is_two_sided_plate():
-    p = box((1.0, 2.0, 1e-9), mass=1.0, shell=True)
+    p = box((1.0, 2.0, 1e-9), mass=1.0, kind="shell")
     np.testing.assert_allclose(np.diag(p.inertia_com), [4 / 12, 1 / 12, 5 / 12], rtol=1e-8)
 
 
 def test_needle_cone_shell_limit():
     # r -> 0: lateral mass per unit length grows linearly from the apex: <(z - zc)^2> = h^2 / 18
-    p = cone(1e-5, 3.0, mass=1.0, shell=True)
+    p = cone(1e-5, 3.0, mass=1.0, kind="shell")
     assert p.inertia_com[0, 0] == pytest.approx(9.0 / 18.0, rel=2e-5)
     assert p.com[2] == pytest.approx(1.0, rel=2e-5)  # a third of the height above the base
 
@@ -475,12 +477,12 @@ ALL_CALLS = [
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 @pytest.mark.parametrize("name,make", ALL_CALLS, ids=[c[0] for c in ALL_CALLS])
 def test_mass_and_density_agree_and_scale(name, make, shell):
-    by_density = make(density=2.5, shell=shell)
-    by_mass = make(mass=by_density.mass, shell=shell)
+    by_density = make(density=2.5, kind=KIND[shell])
+    by_mass = make(mass=by_density.mass, kind=KIND[shell])
     assert by_mass.isclose(by_density, rtol=1e-14)
-    assert by_density.frame == "body" and make(mass=1, shell=shell, frame="B").frame == "B"
+    assert by_density.frame == "body" and make(mass=1, kind=KIND[shell], frame="B").frame == "B"
     # at fixed mass, the inertia is linear in mass
-    np.testing.assert_allclose(make(mass=4.0, shell=shell).inertia_com, 4 * make(mass=1.0, shell=shell).inertia_com,
+    np.testing.assert_allclose(make(mass=4.0, kind=KIND[shell]).inertia_com, 4 * make(mass=1.0, kind=KIND[shell]).inertia_com,
                                rtol=1e-14, atol=0)
 
 
@@ -497,8 +499,8 @@ def test_integer_and_float_inputs_agree():
 def test_scaling_law():
     # lengths x lam at fixed mass: inertia x lam^2 (every primitive, incl. the numerical ellipsoid shell)
     lam = 3.0
-    p = ellipsoid((1.0, 0.5, 0.2), mass=1.0, shell=True)
-    q = ellipsoid((lam, lam * 0.5, lam * 0.2), mass=1.0, shell=True)
+    p = ellipsoid((1.0, 0.5, 0.2), mass=1.0, kind="shell")
+    q = ellipsoid((lam, lam * 0.5, lam * 0.2), mass=1.0, kind="shell")
     np.testing.assert_allclose(q.inertia_com, lam ** 2 * p.inertia_com, rtol=1e-13, atol=0)
 
 
@@ -514,7 +516,7 @@ BAD = [
     (lambda: sphere(math.nan, mass=1), r"sphere: radius must be finite and positive, got nan"),
     (lambda: sphere(math.inf, mass=1), r"sphere: radius must be finite and positive, got inf"),
     (lambda: sphere("big", mass=1), r"sphere: radius must be a number, got 'big'"),
-    (lambda: ellipsoid((1, 1, -1), mass=1, shell=True), r"ellipsoid: semi_axes\[2\] must be finite and positive, got -1\.0"),
+    (lambda: ellipsoid((1, 1, -1), mass=1, kind="shell"), r"ellipsoid: semi_axes\[2\] must be finite and positive, got -1\.0"),
     (lambda: cylinder(1, 0, mass=1), r"cylinder: height must be finite and positive, got 0\.0"),
     (lambda: cylinder(-1, 1, mass=1), r"cylinder: radius must be finite and positive, got -1\.0"),
     (lambda: cone(1, math.nan, mass=1), r"cone: height must be finite and positive, got nan"),
@@ -537,14 +539,15 @@ BAD = [
     (lambda: spherical_shell(1, -0.5, mass=1), r"spherical_shell: inner_radius must be finite and positive, got -0\.5"),
     (lambda: sphere(1), r"sphere: give exactly one of density= or mass=, got neither"),
     (lambda: sphere(1, mass=1, density=1), r"sphere: give exactly one of density= or mass=, got both"),
-    (lambda: cylinder(1, 1, shell=True), r"cylinder shell: give exactly one of density= or mass=, got neither"),
+    (lambda: cylinder(1, 1, kind="shell"), r"cylinder shell: give exactly one of density= or mass=, got neither"),
     (lambda: sphere(1, mass=-1), r"mass must be finite and positive, got -1\.0"),
     (lambda: sphere(1, mass=0), r"mass must be finite and positive, got 0\.0"),
     (lambda: sphere(1, density=math.nan), r"density must be finite and positive, got nan"),
-    (lambda: sphere(1, mass=1, shell="yes"), r"sphere: shell must be True or False, got 'yes'"),
+    (lambda: sphere(1, mass=1, kind="hollow"), r"sphere: kind must be 'solid' or 'shell', got 'hollow'"),
+    (lambda: sphere(1, mass=1, kind=True), r"sphere: kind must be 'solid' or 'shell', got True"),
     (lambda: sphere(1e200, density=1), r"sphere: volume must be positive and finite, got inf"),
     (lambda: sphere(1e-120, mass=1), r"sphere: volume must be positive and finite, got 0\.0"),
-    (lambda: ellipsoid((1e150, 1e150, 1e149), density=1, shell=True),
+    (lambda: ellipsoid((1e150, 1e150, 1e149), density=1, kind="shell"),
      r"ellipsoid shell: the inertia is out of float64 range"),
 ]
 
@@ -582,7 +585,7 @@ PHYSICAL = ALL_CALLS + [
 @pytest.mark.parametrize("shell", [False, True], ids=["solid", "shell"])
 @pytest.mark.parametrize("name,make", PHYSICAL, ids=[c[0] for c in PHYSICAL])
 def test_every_primitive_is_physical(name, make, shell):
-    p = make(mass=1.7, shell=shell)
+    p = make(mass=1.7, kind=KIND[shell])
     assert p.check() == []
     moments, axes = p.principal()
     assert np.all(moments > 0)

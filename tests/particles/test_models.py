@@ -140,7 +140,7 @@ def test_six_point_distances_match_founding_formula():
     assert np.allclose(model.positions_principal, expect, rtol=0, atol=1e-15)
     assert np.array_equal(model.R_body_principal, np.eye(3))
     assert np.allclose(model.positions_body, expect, rtol=0, atol=1e-15)
-    assert model.kind == "six_point" and model.warnings == ()
+    assert model.kind == "six_point" and model.findings == ()
 
 
 # ---------------------------------------------------------------------------------------------- four-point geometry
@@ -244,7 +244,7 @@ def test_to_dict_is_json_ready():
     assert np.allclose(d["positions_principal"], model.positions_principal)
     assert np.array(d["R_body_principal"]).shape == (3, 3)
     assert d["p_body_com"] == [1.0, 0.0, 0.0]
-    assert d["warnings"] == []
+    assert d["findings"] == []
 
 
 def test_mass_properties_keeps_the_frame_name():
@@ -265,8 +265,8 @@ def test_triangle_violation_message_six_point():
         "no six-point model: I1 + I2 - I3 = -1 < 0 (needs d3^2 = 3/(2M) (I1 + I2 - I3) = -1.5 m^2 >= 0; "
         "principal moments (1, 1, 3) kg m^2 about the COM, tolerance 5e-12), whereas every real mass "
         "distribution has I_j + I_k - I_i = 2 sum m x_i^2 >= 0")
-    assert [v.code for v in exc.value.violations] == ["triangle_inequality"]
-    assert exc.value.violations[0].values["margin"] == -1.0
+    assert [v.code for v in exc.value.findings] == ["triangle_inequality"]
+    assert exc.value.findings[0].values["margin"] == -1.0
     assert isinstance(exc.value, InvalidInertiaError) and isinstance(exc.value, ValueError)
 
 
@@ -285,7 +285,7 @@ def test_negative_moment_reports_each_violated_inequality():
     assert "; I1 + I2 - I3 = -0.5 < 0 (needs d3^2 = 3/(2M) (I1 + I2 - I3) = -0.75 m^2 >= 0" in msg
     assert msg.endswith("; inertia is not positive definite: principal moments (-0.5, 1, 1) kg m^2, "
                         "smallest -0.5 <= tolerance 1.5e-12")
-    assert [v.code for v in exc.value.violations] == ["triangle_inequality", "triangle_inequality",
+    assert [v.code for v in exc.value.findings] == ["triangle_inequality", "triangle_inequality",
                                                       "not_positive_definite"]
 
 
@@ -330,9 +330,9 @@ def test_exact_flat_plate_six_point_has_two_points_at_the_com():
     assert model.positions_principal[4].tolist() == [0.0, 0.0, 0.0]
     assert model.positions_principal[5].tolist() == [0.0, 0.0, 0.0]
     assert np.array_equal(model.positions_body[4], props.com)
-    assert len(model.warnings) == 1
-    assert model.warnings[0].startswith("flat body: I1 + I2 - I3 = 0 kg m^2 is zero within 6e-12; d3 = 0 m, so "
-                                        "points 4 and 5 (+-d3 on principal axis 3) coincide at the COM")
+    assert [f.code for f in model.findings] == ["flat_body"]
+    assert model.findings[0].message.startswith("I1 + I2 - I3 = 0 kg m^2 is zero within 6e-12; d3 = 0 m, so "
+                                                "points 4 and 5 (+-d3 on principal axis 3) coincide at the COM")
     assert_reproduces(model, 1.0, props.com, props.inertia_com)
     json.dumps(model.to_dict())  # no -0.0 / NaN trouble
 
@@ -341,7 +341,7 @@ def test_exact_flat_plate_four_point_is_a_rectangle():
     props = MassProperties(1.0, [0.0, 0.0, 0.0], np.diag([1.0, 2.0, 3.0]))
     model = four_point_model(props)
     assert np.array_equal(model.positions_principal[:, 2], np.zeros(4))
-    assert "the four points lie in the plane normal to principal axis 3" in model.warnings[0]
+    assert "the four points lie in the plane normal to principal axis 3" in model.findings[0].message
     assert_reproduces(model, 1.0, props.com, props.inertia_com)
 
 
@@ -357,7 +357,8 @@ def test_rotated_point_lamina(make, seed):
     M, c, I = point_truth(rng.uniform(0.5, 2.0, 8), r)
     model = make(MassProperties(M, c, I))
     assert_reproduces(model, M, c, I)
-    assert model.warnings and model.warnings[0].startswith("flat body: I1 + I2 - I3 = ")
+    assert model.findings and model.findings[0].code == "flat_body"
+    assert model.findings[0].message.startswith("I1 + I2 - I3 = ")
     # the flat axis has (near) zero extent
     assert np.abs(model.positions_principal[:, 2]).max() <= 1e-6 * np.abs(model.positions_principal).max()
 
@@ -366,7 +367,7 @@ def test_margin_negative_within_tolerance_is_clipped_to_flat():
     I3 = 3.0 * (1.0 + 1e-13)  # margin -3e-13, tolerance 6e-12
     model = six_point_model(unphysical([1.0, 2.0, I3]))
     assert model.positions_principal[4, 2] == 0.0 and model.positions_principal[5, 2] == 0.0
-    assert model.warnings
+    assert model.findings
 
 
 def test_margin_negative_beyond_tolerance_is_refused():

@@ -85,7 +85,7 @@ def test_fix_changes_only_the_numbers(tmp_path, ext, variant, capsys):
     assert _outside_marks(fixed) == _outside_marks(data)           # every byte outside the inertial
     # inside it, only digits changed: the same bytes once the numbers are taken out
     assert _without_numbers(fixed) == _without_numbers(data)
-    np.testing.assert_allclose(read_robot(out).links[-1].inertial.inertia_declared, BAD_NEAREST, rtol=1e-15)
+    np.testing.assert_allclose(read_robot(out).links[-1].inertial.inertia_com_inertial, BAD_NEAREST, rtol=1e-15)
     assert main(["check", str(out)]) == 0
     # a second fix has nothing to do: byte-identical, and it says so
     again = tmp_path / f"again.{ext}"
@@ -110,7 +110,7 @@ def test_fix_from_geometry_changes_only_the_inertial(tmp_path, ext):
     half = np.array([0.05, 0.1, 0.15]) if ext != "xml" else np.array([0.1, 0.1, 0.1])   # the box
     box = inertial.mass / 3 * np.diag([half[1] ** 2 + half[2] ** 2, half[0] ** 2 + half[2] ** 2,
                                        half[0] ** 2 + half[1] ** 2])
-    np.testing.assert_allclose(inertial.inertia_link, box, rtol=1e-12, atol=1e-17)
+    np.testing.assert_allclose(inertial.inertia_com, box, rtol=1e-12, atol=1e-17)
 
 
 def test_fixed_files_load_in_mujoco_and_pinocchio(tmp_path):

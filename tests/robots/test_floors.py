@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from inertia.cli.main import main
+from tests.robots._report import sev
 
 INERTIA = '<inertia ixx="{0}" iyy="{0}" izz="{0}" ixy="0" ixz="0" iyz="0"/>'
 
@@ -35,7 +36,7 @@ def _urdf(tmp_path, *parts, name="r.urdf"):
 def _check(capsys, path):
     code = main(["check", str(path), "--format", "json"])
     report = json.loads(capsys.readouterr().out)
-    found = {(lk["name"], f["code"]) for lk in report["links"] for f in lk["errors"] + lk["warnings"]}
+    found = {(lk["name"], f["code"]) for lk in report["links"] for f in sev(lk, "error") + sev(lk, "warning")}
     return code, report, found
 
 
@@ -75,7 +76,7 @@ def test_a_massless_link_that_moves_alone_is_an_error_mujoco_agrees(tmp_path, ca
     # an error, and the message says so
     path = _urdf(tmp_path, _link("base", 2.0, 0.03), _link("finger"), _joint("j", "base", "finger"), name="g.urdf")
     code, report, found = _check(capsys, path)
-    message = [f["message"] for lk in report["links"] for f in lk["errors"]][0]
+    message = [f["message"] for lk in report["links"] for f in sev(lk, "error")][0]
     assert code == 1 and "MuJoCo's URDF import infers" in message and _mujoco_loads(path)
 
 
@@ -121,18 +122,18 @@ def test_sdf_links_without_inertial_are_gazebos_default_not_massless(tmp_path, c
     path = tmp_path / "m.sdf"
     path.write_text('<sdf version="1.7"><model name="m"><link name="plain"/></model></sdf>')
     code, report, _ = _check(capsys, path)
-    notes = [n["code"] for lk in report["links"] for n in lk["notes"]]
+    notes = [n["code"] for lk in report["links"] for n in sev(lk, "note")]
     assert code == 0 and notes == ["sdf_default_inertial"] and report["massless_frames"] == []
 
 
 def test_empty_robot_and_dangling_joint_are_errors_not_zero_errors(tmp_path, capsys):
     empty = _urdf(tmp_path, "<!-- nothing -->\n", name="empty.urdf")
     code, report, _ = _check(capsys, empty)
-    assert code == 1 and [e["code"] for e in report["errors"]] == ["no_links"]
+    assert code == 1 and [e["code"] for e in sev(report, "error")] == ["no_links"]
     dangling = _urdf(tmp_path, _link("base", 1.0, 0.1), _joint("j", "base", "ghost"), name="d.urdf")
     code, report, _ = _check(capsys, dangling)
-    assert code == 1 and [e["code"] for e in report["errors"]] == ["joints_unreadable"]
-    assert "ghost" in report["errors"][0]["message"]
+    assert code == 1 and [e["code"] for e in sev(report, "error")] == ["joints_unreadable"]
+    assert "ghost" in sev(report, "error")[0]["message"]
 
 
 def test_group_mass_is_the_composite_of_the_welded_links():
@@ -152,7 +153,7 @@ def test_group_mass_is_the_composite_of_the_welded_links():
         from inertia import MassProperties
 
         i = link.inertial
-        return MassProperties(i.mass, i.com_link, i.inertia_link)
+        return MassProperties(i.mass, i.com_link, i.inertia_com)
 
     mass, moments = group_mass(model, members, props_of)
     assert mass == 2.0

@@ -14,6 +14,7 @@ from scipy.spatial.transform import Rotation
 from inertia.cli.main import main
 from inertia.robots import read_robot, robot_mass_properties
 from tests.robots._oracles import mujoco_bodies, mujoco_compiles, pinocchio_links, worst_body_difference
+from tests.robots._report import sev
 
 #: per-body agreement with MuJoCo's compiler on primitives and declared inertials (float64 rounding)
 MUJOCO_RTOL = 1e-12
@@ -38,7 +39,9 @@ def _check_json(capsys, path) -> tuple[int, dict]:
 
 
 def _codes(report: dict, kind: str) -> set:
-    return {f["code"] for f in report[kind]} | {f["code"] for lk in report["links"] for f in lk[kind]}
+    """The codes of the findings of ``kind`` ("errors", "warnings", "notes") in a check report's JSON."""
+    severity = kind[:-1]
+    return {f["code"] for part in [report] + report["links"] for f in part["findings"] if f["severity"] == severity}
 
 
 # ---------------------------------------------------------------------------------- case 1
@@ -145,7 +148,7 @@ def test_case04_sdf_pose_forms_hold_in_inertials_and_shapes(tmp_path, form):
     link = read_robot(path).link("l")
     Rm = R.as_matrix()
     np.testing.assert_allclose(link.inertial.com_link, [0.1, 0.2, 0.3], atol=1e-15)
-    np.testing.assert_allclose(link.inertial.inertia_link, Rm @ np.diag([0.1, 0.2, 0.25]) @ Rm.T, atol=1e-15)
+    np.testing.assert_allclose(link.inertial.inertia_com, Rm @ np.diag([0.1, 0.2, 0.25]) @ Rm.T, atol=1e-15)
     np.testing.assert_allclose(link.geometries[0].R_link_geom, Rm, atol=1e-15)
     np.testing.assert_allclose(link.geometries[0].p_link_geom, [0.1, 0.2, 0.3], atol=1e-15)
 
@@ -218,7 +221,7 @@ def test_case07_kinematic_loops_are_named_not_refused(tmp_path, capsys):
 """})
     code, report = _check_json(capsys, path)
     assert code == 0 and "kinematic_loop" in _codes(report, "notes")
-    assert "joint 'ac_screw' (its child link 'c' already has a parent)" in report["notes"][0]["message"]
+    assert "joint 'ac_screw' (its child link 'c' already has a parent)" in sev(report, "note")[0]["message"]
     total = robot_mass_properties(path).total
     assert total.mass == 3.0
     np.testing.assert_allclose(total.com, [2 / 3, 1 / 3, 0], atol=1e-15)
@@ -298,8 +301,11 @@ def test_case11_a_stray_end_tag_is_read_as_mujoco_reads_it(tmp_path, capsys):
                                           '</worldbody>\n</mujoco>\n</mujoco>\n'})
     assert mujoco_compiles(path) is None
     assert worst_body_difference(path)[0] < MUJOCO_RTOL
-    code, out, _ = _run(capsys, "check", path)
-    assert code == 0 and f"warning content_after_root: {path}:4: markup after the end of the root element" in out
+    code, out, _ = _run(capsys, "check", path, "--format", "json")
+    (found,) = json.loads(out)["findings"]
+    assert code == 0 and (found["code"], found["severity"], found["where"]) == ("content_after_root", "warning",
+                                                                                f"{path}:4")
+    assert found["message"].startswith("markup after the end of the root element")
     path.write_text(path.read_text() + "text after the stray end tag: tinyxml2 stopped before it\n")
     assert mujoco_compiles(path) is None and _run(capsys, "check", path)[0] == 0
     path.write_text(path.read_text().split("</mujoco>")[0] + "</mujoco>\n junk")

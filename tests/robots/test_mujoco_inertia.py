@@ -15,6 +15,7 @@ from inertia.robots.geometry import link_geometry_properties
 from inertia.robots.io import read_robot
 from inertia.robots.mujoco_inertia import MESH_INERTIA_MODES, mesh_inertia, principal_descending
 from tests._make import write_binary_stl
+from tests.robots._report import sev
 
 
 def tube_mesh(r_in: float, r_out: float, h: float, n: int = 24):
@@ -175,7 +176,7 @@ def test_legacy_is_exact_on_a_convex_mesh_and_shell_is_the_box_shell():
     flip = np.einsum("ij,ij->i", np.cross(E - D, F - D), hull.equations[:, :3]) < 0
     faces[flip] = faces[flip][:, ::-1]
     area, com, inertia = mesh_inertia(box, faces, "shell")
-    shell = primitives.box((0.2, 0.4, 0.6), density=1.0, shell=True)
+    shell = primitives.box((0.2, 0.4, 0.6), density=1.0, kind="shell")
     assert area == pytest.approx(shell.mass, rel=1e-12)
     np.testing.assert_allclose(inertia, shell.inertia_com, rtol=1e-12, atol=1e-18)
 
@@ -203,10 +204,10 @@ def test_check_warns_when_legacy_inertia_is_far_from_the_solid(tmp_path, tube_st
 <body name="exact"><freejoint/><geom type="mesh" mesh="e"/></body></worldbody></mujoco>""")
     main(["check", str(path), "--format", "json"])
     links = {lk["name"]: lk for lk in json.loads(capsys.readouterr().out)["links"]}
-    assert [w["code"] for w in links["legacy"]["warnings"]] == ["legacy_mesh_inertia"]
-    assert links["exact"]["warnings"] == [] and links["exact"]["errors"] == []
+    assert [w["code"] for w in sev(links["legacy"], "warning")] == ["legacy_mesh_inertia"]
+    assert sev(links["exact"], "warning") == [] and sev(links["exact"], "error") == []
     # the numbers in the message are the two computations
     v, f = tube_stl[1], tube_stl[2]
     v32 = np.asarray(v, np.float32).astype(float)
-    assert f"{1000 * mesh_inertia(v32, f, 'legacy')[0]:.6g} kg" in links["legacy"]["warnings"][0]["message"]
-    assert f"{1000 * mesh_inertia(v32, f, 'exact')[0]:.6g} kg" in links["legacy"]["warnings"][0]["message"]
+    assert f"{1000 * mesh_inertia(v32, f, 'legacy')[0]:.6g} kg" in sev(links["legacy"], "warning")[0]["message"]
+    assert f"{1000 * mesh_inertia(v32, f, 'exact')[0]:.6g} kg" in sev(links["legacy"], "warning")[0]["message"]

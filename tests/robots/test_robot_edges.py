@@ -256,7 +256,7 @@ def test_sdf_absent_fields_keep_sdf_defaults(tmp_path):
                     '</inertia></inertial></link></model></sdf>')
     inertial = read_robot(path).links[0].inertial
     assert inertial.mass == 1.0
-    assert inertial.inertia_declared.tolist() == [[1.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    assert inertial.inertia_com_inertial.tolist() == [[1.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]]
 
 
 def test_a_second_top_level_default_adds_to_the_first(tmp_path):

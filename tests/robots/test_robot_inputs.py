@@ -14,6 +14,7 @@ from inertia.errors import MissingDependencyError, RobotFileError
 from inertia.robots.check import check_model
 from inertia.robots.io import read_robot
 from inertia.robots.whole import robot_mass_properties
+from tests.robots._report import sev
 
 
 def _run(capsys, *argv):
@@ -255,5 +256,5 @@ def test_check_reads_a_xacro_file_with_its_arguments(capsys, workspace):
     assert code == 0 and [lk["name"] for lk in json.loads(out)["links"]] == ["base", "arm"]
     code, out, _ = _run(capsys, "check", path, "--package-path", workspace, "--xacro-arg", "arm_mass:=-2",
                         "--format", "json")
-    errors = [(lk["name"], e["code"]) for lk in json.loads(out)["links"] for e in lk["errors"]]
+    errors = [(lk["name"], e["code"]) for lk in json.loads(out)["links"] for e in sev(lk, "error")]
     assert code == 1 and ("arm", "non_positive_mass") in errors

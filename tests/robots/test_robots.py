@@ -17,6 +17,7 @@ from inertia.robots import check_model, inertial_block, nearest_physical_inertia
 from inertia.robots.geometry import SUMMED_OVERLAP, link_geometry_properties
 from inertia.robots.mjcf import quat_matrix
 from inertia.robots.xmlsafe import RobotFileError
+from tests.robots._report import sev
 
 # The robot files come from the `robots` fixture (tests/conftest.py): written by
 # tests/_make.py ("made") or ../shared/data/robots ("real"), in the same layout.
@@ -38,13 +39,14 @@ def test_invalid_simple_arm_reports_the_documented_triangle_violation(capsys, ro
     report = json.loads(out)
     assert code == 1
     assert report["file"] == str(SIMPLE_ARM)
-    errors = [(lk["name"], e["code"], e["message"]) for lk in report["links"] for e in lk["errors"]]
-    assert [(n, c) for n, c, _ in errors] == [("arm_base", "triangle_inequality")]
+    errors = [(lk["name"], e["code"], e["message"], e["where"]) for lk in report["links"] for e in sev(lk, "error")]
+    assert [(n, c) for n, c, _, _ in errors] == [("arm_base", "triangle_inequality")]
     assert "I1 + I2 = 2.12 < I3 = 100.11 (margin -98" in errors[0][2]  # 1.01 + 1.11 < 100.11
-    assert f"{SIMPLE_ARM}:5" in errors[0][2]  # file:line of the <inertial>
+    assert errors[0][3].startswith(f"{SIMPLE_ARM}:5:")  # file:line of the <inertial>
     arm_base = report["links"][0]
     assert arm_base["name"] == "arm_base" and arm_base["line"] == 4
-    assert set(arm_base) >= {"name", "line", "errors", "warnings"}
+    assert set(arm_base) == {"name", "line", "findings"}
+    assert set(arm_base["findings"][0]) == {"code", "severity", "message", "where", "values"}
 
 
 @pytest.mark.parametrize("key", GOOD)
@@ -53,7 +55,7 @@ def test_good_robots_have_no_errors_and_no_warnings(key, capsys, robots):
     code, out, _ = _run(capsys, "check", path, "--format", "json")
     report = json.loads(out)
     assert code == 0
-    assert all(not lk["errors"] and not lk["warnings"] for lk in report["links"]), report
+    assert all(not sev(lk, "error") and not sev(lk, "warning") for lk in report["links"]), report
     assert len(report["links"]) >= least_links
 
 
@@ -72,7 +74,7 @@ def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys, ro
     changed = [i for i, (x, y) in enumerate(zip(a, b)) if x != y]
     assert changed and all(any(t in a[i] for t in ("<ixx>", "<iyy>", "<izz>", "<ixy>", "<ixz>", "<iyz>"))
                            for i in changed)
-    fixed = read_robot(out).link("arm_base").inertial.inertia_declared
+    fixed = read_robot(out).link("arm_base").inertial.inertia_com_inertial
     np.testing.assert_allclose(fixed, nearest_physical_inertia(np.diag([1.11, 100.11, 1.01])), rtol=1e-15)
     assert inertia.massprops.is_physical(fixed)
     # refusing to overwrite the input without --in-place
@@ -168,7 +170,7 @@ def test_written_inertial_reads_back_to_the_same_numbers(tmp_path, fmt):
     back = read_robot(path).link("l").inertial
     assert back.mass == body.mass
     assert np.array_equal(back.com_link, body.com)
-    np.testing.assert_allclose(back.inertia_link, body.inertia_com, rtol=0, atol=1e-17)
+    np.testing.assert_allclose(back.inertia_com, body.inertia_com, rtol=0, atol=1e-17)
     if fmt == "mjcf":  # the diaginertia + quat alternative in the comment is the same body
         import re
 
@@ -208,7 +210,7 @@ def test_fix_from_geometry_matches_the_primitives(tmp_path, capsys):
     got = read_robot(out).link("base").inertial
     assert got.mass == 3.0
     np.testing.assert_allclose(got.com_link, expected.com, atol=1e-15)
-    np.testing.assert_allclose(got.inertia_link, expected.inertia_com, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(got.inertia_com, expected.inertia_com, rtol=1e-12, atol=1e-15)
     assert out.read_text().startswith('<?xml version="1.0"?>\n<!-- a two-shape link -->')
     assert read_robot(out).link("frame_only").inertial is None
 
@@ -261,9 +263,9 @@ def test_missing_mesh_is_a_warning_and_the_check_goes_on(tmp_path, capsys):
     rep = json.loads(out)
     a, b = rep["links"]
     assert code == 1
-    assert [e["code"] for e in a["errors"]] == ["non_positive_mass"]
-    assert [w["code"] for w in a["warnings"]] == ["mesh_not_found"]
-    assert b["errors"] == [] and b["warnings"] == []
+    assert [e["code"] for e in sev(a, "error")] == ["non_positive_mass"]
+    assert [w["code"] for w in sev(a, "warning")] == ["mesh_not_found"]
+    assert sev(b, "error") == [] and sev(b, "warning") == []
 
 
 def test_package_and_model_uris_resolve_with_search_paths(tmp_path, capsys, robots):
@@ -277,10 +279,10 @@ def test_package_and_model_uris_resolve_with_search_paths(tmp_path, capsys, robo
     urdf.write_text(src.replace("../meshes/link1.stl", "package://my_robot/meshes/link1.stl"))
     code, out, _ = _run(capsys, "check", urdf, "--format", "json")
     link1 = [lk for lk in json.loads(out)["links"] if lk["name"] == "link1"][0]
-    assert "mesh_not_found" in [w["code"] for w in link1["warnings"]]
+    assert "mesh_not_found" in [w["code"] for w in sev(link1, "warning")]
     code, out, _ = _run(capsys, "check", urdf, "--format", "json", "--package-path", tmp_path / "pkgs")
     link1 = [lk for lk in json.loads(out)["links"] if lk["name"] == "link1"][0]
-    assert link1["warnings"] == [] and code == 0
+    assert sev(link1, "warning") == [] and code == 0
 
 
 def test_mass_units_convert_at_the_edge(tmp_path, capsys):
@@ -314,9 +316,9 @@ def test_mjcf_bodies_without_inertial_are_checked_through_their_geoms(tmp_path, 
     code, out, _ = _run(capsys, "check", xml, "--format", "json")
     ok, opened = json.loads(out)["links"]
     assert code == 0
-    assert ok["errors"] == [] and ok["warnings"] == []
-    assert [w["code"] for w in opened["warnings"]] == ["geometry_unusable"]
-    assert "non_manifold_edges" in opened["warnings"][0]["message"]
+    assert sev(ok, "error") == [] and sev(ok, "warning") == []
+    assert [w["code"] for w in sev(opened, "warning")] == ["geometry_unusable"]
+    assert "non_manifold_edges" in sev(opened, "warning")[0]["message"]
 
 
 def test_cad_sign_products_are_diagnosed_and_flipped(tmp_path, capsys):
@@ -332,11 +334,11 @@ def test_cad_sign_products_are_diagnosed_and_flipped(tmp_path, capsys):
     urdf.write_text('<robot name="r">\n  <link name="motor">\n    <inertial><mass value="0.15"/><inertia '
                     + " ".join(f'{k}="{v}"' for k, v in e.items()) + '/></inertial>\n  </link>\n</robot>\n')
     code, out, _ = _run(capsys, "check", urdf, "--format", "json")
-    (err,) = json.loads(out)["links"][0]["errors"]
+    (err,) = sev(json.loads(out)["links"][0], "error")
     assert code == 1 and err["code"] == "triangle_inequality" and "--flip-products" in err["message"]
     fixed = tmp_path / "fixed.urdf"
     assert _run(capsys, "fix", urdf, "-o", fixed, "--flip-products")[0] == 0
-    np.testing.assert_allclose(read_robot(fixed).link("motor").inertial.inertia_declared, J, rtol=1e-15)
+    np.testing.assert_allclose(read_robot(fixed).link("motor").inertial.inertia_com_inertial, J, rtol=1e-15)
     assert _run(capsys, "check", fixed)[0] == 0
 
 
@@ -349,7 +351,7 @@ def test_mjcf_include_is_expanded_and_messages_point_into_the_included_file(tmp_
     code, out, _ = _run(capsys, "check", scene, "--format", "json")
     (link,) = json.loads(out)["links"]
     assert code == 1 and link["name"] == "b"
-    assert link["errors"][0]["message"].startswith(f"{tmp_path / 'body.xml'}:4: link 'b'")
+    assert sev(link, "error")[0]["where"] == f"{tmp_path / 'body.xml'}:4: link 'b'"
     assert _run(capsys, "fix", scene, "-o", tmp_path / "out.xml")[0] == 1  # would lose the fix: refused
     (tmp_path / "loop.xml").write_text('<mujoco><include file="loop.xml"/></mujoco>')
     assert _run(capsys, "check", tmp_path / "loop.xml")[0] == 2
@@ -362,7 +364,7 @@ def test_declaration_after_a_comment_is_read_and_written_back(tmp_path, capsys):
     f = tmp_path / "m.sdf"
     f.write_text(text)
     code, out, _ = _run(capsys, "check", f, "--format", "json")
-    assert code == 1 and json.loads(out)["links"][0]["errors"][0]["code"] == "triangle_inequality"
+    assert code == 1 and sev(json.loads(out)["links"][0], "error")[0]["code"] == "triangle_inequality"
     fixed = tmp_path / "fixed.sdf"
     assert _run(capsys, "fix", f, "-o", fixed)[0] == 0
     assert fixed.read_text().startswith('<!-- license header -->\n<?xml version="1.0" ?>\n<sdf version="1.4">')

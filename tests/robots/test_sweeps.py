@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 from inertia.cli.main import main
 from inertia.robots import read_robot, robot_mass_properties
 from tests.robots._oracles import mujoco_compiles, pinocchio_links, worst_body_difference
+from tests.robots._report import sev
 
 #: per-body agreement with MuJoCo on primitives and declared inertials
 MUJOCO_RTOL = 1e-12
@@ -260,7 +261,7 @@ def test_check_json_of_a_tolerance_case_names_mujocos_floor(tmp_path, capsys):
     path = _tolerance_case(tmp_path, 1e-9, "a moment 1e-12 of the others", True)
     assert main(["check", str(path), "--format", "json"]) == 1
     report = json.loads(capsys.readouterr().out)
-    assert [e["code"] for lk in report["links"] for e in lk["errors"]] == ["below_simulator_floor"]
+    assert [e["code"] for lk in report["links"] for e in sev(lk, "error")] == ["below_simulator_floor"]
 
 
 # ------------------------------------------------------------------------ SDF <include>

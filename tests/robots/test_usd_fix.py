@@ -216,7 +216,7 @@ def test_a_body_the_source_gives_no_mass_is_kept_and_said_why(tmp_path):
 def _findings(path):
     rep = check_stage(path)
     return ({f.code for lk in rep.links for f in lk.errors}, {f.code for lk in rep.links for f in lk.warnings},
-            {f.code for f in rep.warnings})
+            {f.code for f in rep.warnings})   # the stage's own
 
 
 def test_check_names_each_openusd_problem(tmp_path):

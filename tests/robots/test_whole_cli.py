@@ -63,7 +63,7 @@ def test_a_subtree_is_mujocos_subtree_and_its_inertial_block_is_in_the_links_fra
     R, p = d.xmat[arm].reshape(3, 3), d.xpos[arm]
     assert back.mass == pytest.approx(data["mass"], rel=1e-15)
     np.testing.assert_allclose(R @ back.com_link + p, data["com"], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(R @ back.inertia_link @ R.T, data["inertia_com"], rtol=0, atol=1e-16)
+    np.testing.assert_allclose(R @ back.inertia_com @ R.T, data["inertia_com"], rtol=0, atol=1e-16)
 
 
 def test_the_table_lists_every_link_with_its_source(capsys, made):

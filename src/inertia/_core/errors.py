@@ -1,37 +1,21 @@
 """Exception and warning types of the inertia package (public face: :mod:`inertia.errors`).
 
-Every error the package raises on purpose derives from :class:`InertiaError`, so a caller
-can catch them all with one ``except`` clause.  Each also derives from the closest built-in
-type (``ValueError``, ``OSError``, ...) so that generic handlers work.
-
-Each error carries a stable, machine-readable ``code`` (a short snake_case string): the
-class's own code, or a more specific one given where it is raised (a mesh file that is
-``"not_found"``, a mesh whose first defect is ``"open_edges"``).  Programs (the batch table's
-``reason`` column among them) read the code, never the message text, which may be reworded.
-
-=========================  ==========================================================
-class                      codes
-=========================  ==========================================================
-InertiaError               ``inertia_error`` (base; not raised itself)
-InputError                 ``invalid_input``, ``unwritable`` (an output path that cannot be written)
-InvalidInertiaError        ``invalid_inertia``
-NoEquivalentModelError     ``no_equivalent_model``
-MeshError                  ``invalid_mesh``, ``non_positive_volume``, ``zero_area``,
-                           ``not_orientable``, or the code of the mesh's first defect
-                           (``open_edges``, ``inverted``, ... see ``MeshReport``)
-MeshFileError              ``unreadable``, ``not_found``, ``empty``, ``malformed``,
-                           ``unsupported_format``, ``too_large``
-MissingDependencyError     ``missing_dependency``
-IntegrationError           ``integration_failed``
-RobotFileError             ``robot_file``
-=========================  ==========================================================
+Every error the package raises on purpose derives from :class:`InertiaError` (catch them all
+with one ``except``) and from the closest built-in type (``ValueError``, ``OSError``, ...).
+Each carries a stable ``code`` from the one registry of codes,
+:data:`inertia.errors.CODES`, which the findings of every check share: the class's own code, or
+a more specific one (a mesh file that is ``not_found``, a mesh whose first defect is
+``open_edges``).  ``findings`` holds the :class:`~inertia.errors.Finding` objects behind it.
+Programs read the code, never the message text.
 """
 
 from __future__ import annotations
 
-__all__ = ["InertiaError", "InputError", "InvalidInertiaError", "NoEquivalentModelError", "MeshError",
-           "MeshFileError", "MissingDependencyError", "IntegrationError", "RobotFileError", "InertiaWarning",
-           "MeshDefectWarning"]
+from .findings import CODES, Finding
+
+__all__ = ["CODES", "Finding", "InertiaError", "InputError", "InvalidInertiaError", "NoEquivalentModelError",
+           "MeshError", "MeshFileError", "MissingDependencyError", "IntegrationError", "RobotFileError",
+           "InertiaWarning", "MeshDefectWarning"]
 
 
 class InertiaError(Exception):
@@ -40,16 +24,20 @@ class InertiaError(Exception):
     Attributes
     ----------
     code : str
-        Stable machine-readable code (see the module docstring); the class's default unless a
-        more specific one was given with ``code=``.
+        A key of :data:`CODES`: the class's default unless a more specific one was given.
+    findings : tuple of Finding
+        The facts behind the error (empty when the message says all).
     """
 
     code = "inertia_error"
+    findings: tuple = ()
 
-    def __init__(self, message: str = "", *, code: str | None = None):
+    def __init__(self, message: str = "", *, code: str | None = None, findings=()):
         super().__init__(message)
         if code is not None:
             self.code = code
+        if findings:
+            self.findings = tuple(findings)
 
 
 class InputError(InertiaError, ValueError):
@@ -59,19 +47,9 @@ class InputError(InertiaError, ValueError):
 
 
 class InvalidInertiaError(InertiaError, ValueError):
-    """Mass properties that are not physical.
-
-    Attributes
-    ----------
-    violations : list of inertia.massprops.validity.Violation
-        Every violated condition, with its code, message and numbers.
-    """
+    """Mass properties that are not physical; ``findings`` holds every violated condition."""
 
     code = "invalid_inertia"
-
-    def __init__(self, message: str, violations=(), *, code: str | None = None):
-        super().__init__(message, code=code)
-        self.violations = list(violations)
 
 
 class NoEquivalentModelError(InvalidInertiaError):
@@ -85,19 +63,21 @@ class MeshError(InertiaError, ValueError):
 
     Attributes
     ----------
-    report : inertia.geometry.report.MeshReport or None
-        The full defect report (every defect with counts and example locations).  Without a
-        ``code=``, the code is that of the report's first error-level defect.
+    report : inertia.geometry.MeshReport or None
+        The full report of the mesh; ``findings`` are its errors, and without a ``code=`` the
+        code is the first one's.
+    remedies : tuple of (str, str)
+        The ``(keyword, value)`` pairs of :func:`inertia.mesh_properties` that would give a
+        result, e.g. ``(("repair", "orient"), ("on_defect", "warn"))``.
     """
 
     code = "invalid_mesh"
 
-    def __init__(self, message: str, report=None, *, code: str | None = None):
-        if code is None and report is not None:
-            errors = [d.code for d in getattr(report, "errors", ())]
-            code = errors[0] if errors else None
-        super().__init__(message, code=code)
+    def __init__(self, message: str, report=None, *, code: str | None = None, remedies=()):
+        errors = tuple(getattr(report, "errors", ()))
+        super().__init__(message, code=code or (errors[0].code if errors else None), findings=errors)
         self.report = report
+        self.remedies = tuple(remedies)
 
 
 class MeshFileError(InertiaError, OSError):

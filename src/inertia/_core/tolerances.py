@@ -4,6 +4,8 @@ Each is relative to a natural scale of the quantity tested, so the checks do not
 depend on units.  All are keyword-overridable where they are used.
 """
 
+import math
+
 #: Symmetry: |I - I^T| <= SYMMETRY_RTOL * max|I| (elementwise).  Loose enough for
 #: tensors printed with ~12 significant digits, tight enough to catch sign slips.
 SYMMETRY_RTOL = 1e-9
@@ -54,22 +56,33 @@ SIMULATOR_MIN_VALUE = 1e-15
 FLOAT32_ROUNDOFF = 2.0 ** -24
 
 
-def coordinate_precision(vertices, radius: float, unit_factor: float = 1.0) -> float:
+def coordinate_precision(vertices, radius: float) -> float:
     """The relative precision of a body's inertia that its mesh coordinates allow: 0 for
     double-precision data, else ``4 FLOAT32_ROUNDOFF max|v| / radius`` when every coordinate,
-    divided by ``unit_factor`` (the file's unit in metres), is a float32 value.
+    in one of the length units of :data:`inertia._core.units.LENGTH_UNITS`, is a float32 value
+    (binary STL, many glTF and PLY files).
 
     ``radius``: the body's largest radius of gyration (m, the units of ``vertices``).  A
     coordinate off by ``d`` moves a moment ``m r^2`` by about ``2 m r d``; twice that bounds it.
     """
     import numpy as np
 
+    from .units import LENGTH_UNITS
+
     v = np.asarray(vertices, dtype=np.float64)
     if v.size == 0 or not radius > 0:
         return 0.0
-    raw = v / unit_factor if unit_factor != 1.0 else v
-    as32 = raw.astype(np.float32).astype(np.float64)
-    biggest = float(np.abs(raw).max())
-    if biggest == 0.0 or float(np.abs(as32 - raw).max()) > 1e-12 * biggest:
+    biggest = float(np.abs(v).max())
+    if not 0.0 < biggest < math.inf:
         return 0.0
-    return min(4.0 * FLOAT32_ROUNDOFF * float(np.abs(v).max()) / radius, 0.5)
+    for factor in LENGTH_UNITS.values():   # a sample first: most float64 data fails it at once
+        if biggest / factor > 3e38:          # beyond float32's range
+            continue
+        for rows in (v[:64], v):
+            raw = rows / factor
+            scale = float(np.abs(raw).max(initial=0.0))
+            if float(np.abs(raw.astype(np.float32).astype(np.float64) - raw).max(initial=0.0)) > 1e-12 * scale:
+                break
+        else:
+            return min(4.0 * FLOAT32_ROUNDOFF * biggest / radius, 0.5)
+    return 0.0

@@ -16,29 +16,33 @@ def _jobs_from(sources, density, mass, units):
                         density=density, mass=mass, units=units)
 
 
-def mass_properties_table(sources, *, density=None, mass=None, units: str = "m", shell: bool = False,
-                          fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3, self_crossing: str = "search",
+def mass_properties_table(sources, *, density=None, mass=None, units: str = "m", kind: str = "solid",
+                          on_defect: str = "raise", repair: str | None = None, robust_tol: float = 1e-3,
+                          robust_budget: float | None = None, self_crossing: str = "search",
                           scheduler="synchronous", n_workers: int | None = None, chunk_files: int | None = None):
     """One row per mesh file (columns: :data:`inertia.batch.record.COLUMNS`) as a pandas DataFrame.
 
     ``sources``: paths, folders, globs or manifests (as ``inertia batch``), or a list of
     :class:`Job`.  ``scheduler``: ``"synchronous"`` (default, this process), ``"threads"``
     (a thread per core here: see :mod:`inertia.batch.run`), ``"cluster"`` (a local Dask
-    cluster), a ``"tcp://..."`` address or a ``distributed.Client``.  Bad files are rows with
-    ``status == "error"`` and a ``reason``; nothing is written to disk.
+    cluster), a ``"tcp://..."`` address or a ``distributed.Client``.  The mesh options are
+    those of :func:`inertia.mesh_properties`.  Bad files are rows with ``status == "error"``
+    and a ``reason``; nothing is written to disk.
     """
+    from ..massprops.mesh import check_options
+
     require("pandas", "a mass-properties table")
+    check_options(kind, on_defect, repair, self_crossing)
     jobs = _jobs_from(sources, density, mass, units)
-    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol, "self_crossing": self_crossing}
+    options = {"kind": kind, "on_defect": on_defect, "repair": repair, "robust_tol": robust_tol,
+               "robust_budget": robust_budget, "self_crossing": self_crossing}
     rows = execute(jobs, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files)
     return to_frame(rows)
 
 
-def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", shell: bool = False,
-                         fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-                          robust_tol: float = 1e-3, self_crossing: str = "search",
+def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", kind: str = "solid",
+                         on_defect: str = "raise", repair: str | None = None, robust_tol: float = 1e-3,
+                         robust_budget: float | None = None, self_crossing: str = "search",
                          files_per_partition: int = 16):
     """The same table as a lazy ``dask.dataframe.DataFrame`` (for results larger than memory).
 
@@ -49,8 +53,11 @@ def mass_properties_dask(sources, *, density=None, mass=None, units: str = "m", 
     db = require("dask.bag", "a lazy Dask table")
     dd = require("dask.dataframe", "a lazy Dask table")
 
-    options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-               "robust_tol": robust_tol, "self_crossing": self_crossing}
+    from ..massprops.mesh import check_options
+
+    check_options(kind, on_defect, repair, self_crossing)
+    options = {"kind": kind, "on_defect": on_defect, "repair": repair, "robust_tol": robust_tol,
+               "robust_budget": robust_budget, "self_crossing": self_crossing}
     default = Job("", density, mass, units)
     if isinstance(sources, dd.DataFrame):
         bag = sources.to_bag(format="dict").map(lambda rec: _job_from_record(rec, default))

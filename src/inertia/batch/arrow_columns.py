@@ -131,8 +131,9 @@ def strings(values):
 
 
 def lists(values, arrow_type):
-    """A list<float64> or list<string> column (``arrow_type``); elements are kept as they are
-    (a NaN inside a list is a value).  None for a value of another kind."""
+    """A list<float64>, list<string> or list<struct of strings> column (``arrow_type``);
+    elements are kept as they are (a NaN inside a list is a value).  None for a value of
+    another kind."""
     import pyarrow as pa
 
     n = len(values)
@@ -153,6 +154,8 @@ def lists(values, arrow_type):
                 return None
     if pa.types.is_string(arrow_type.value_type):
         child = strings(flat)
+    elif pa.types.is_struct(arrow_type.value_type):
+        child = _string_structs(flat, arrow_type.value_type)
     else:
         child = _plain_floats(flat)
     if child is None:
@@ -161,6 +164,19 @@ def lists(values, arrow_type):
     bitmap, nulls = _validity(valid)
     return pa.Array.from_buffers(arrow_type, n, [bitmap, pa.py_buffer(offsets.astype(np.int32))],
                                  null_count=nulls, children=[child])
+
+
+def _string_structs(values, struct_type):
+    """A struct column whose fields are all strings, from dicts; None for a value of another kind."""
+    import pyarrow as pa
+
+    if not all(isinstance(v, dict) for v in values):
+        return None
+    fields = list(struct_type)
+    children = [strings([v.get(f.name) for v in values]) for f in fields]
+    if any(c is None for c in children):
+        return None
+    return pa.StructArray.from_arrays(children, fields=fields)
 
 
 def _plain_floats(values):

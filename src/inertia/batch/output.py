@@ -16,7 +16,9 @@ from .._core.errors import InputError
 from .record import COLUMNS
 
 FORMATS = ("parquet", "csv", "jsonl")
-_LIST_COLUMNS = ("warnings", "com", "inertia_com", "principal_moments", "principal_axes")
+_LIST_COLUMNS = ("findings", "com", "inertia_com", "principal_moments", "principal_axes")
+#: the fields of a finding in the table (all text; ``values`` is JSON)
+FINDING_FIELDS = ("code", "severity", "message", "where", "values")
 
 
 def format_of(path, fmt: str | None = None) -> str:
@@ -60,8 +62,8 @@ def arrow_schema():
     types.update({c: pa.int64() for c in _INT_COLUMNS})
     types.update({c: pa.float64() for c in _FLOAT_COLUMNS})
     types.update({c: pa.bool_() for c in _BOOL_COLUMNS})
-    types["warnings"] = pa.list_(pa.string())
-    types.update({c: pa.list_(pa.float64()) for c in _LIST_COLUMNS if c != "warnings"})
+    types.update({c: pa.list_(pa.float64()) for c in _LIST_COLUMNS})
+    types["findings"] = pa.list_(pa.struct([(name, pa.string()) for name in FINDING_FIELDS]))
     return pa.schema([(c, types[c]) for c in COLUMNS])
 
 

@@ -12,11 +12,11 @@ import os
 import time
 import warnings
 
-from .._core.units import DEFAULT_DENSITY  # noqa: F401 - exported (inertia.batch.DEFAULT_DENSITY): water
+from .._core.units import DEFAULT_DENSITY
 from .sources import Job
 
 #: the columns of the table, in order
-COLUMNS = ("path", "size_bytes", "mtime_ns", "status", "reason", "message", "warnings", "units", "density",
+COLUMNS = ("path", "size_bytes", "mtime_ns", "status", "reason", "message", "findings", "units", "density",
            "mass", "volume", "com", "inertia_com", "principal_moments", "principal_axes", "n_vertices",
            "n_faces", "watertight", "winding_consistent", "elapsed_s", "options")
 
@@ -25,15 +25,15 @@ COLUMN_DOCS = {
     "path": "absolute path of the mesh file",
     "size_bytes": "file size when read (with mtime_ns and path: the resume key)",
     "mtime_ns": "file modification time, ns since the epoch",
-    "status": "ok | warning (result valid, see warnings) | error (no result; see reason)",
-    "reason": "error code (the error's stable code, see inertia.errors): not_found, unreadable, malformed, empty, "
+    "status": "ok | warning (result valid, see findings) | error (no result; see reason)",
+    "reason": "error code (a key of inertia.errors.CODES): not_found, unreadable, malformed, empty, "
               "unsupported_format, non_finite, out_of_range, bad_index, open_edges, non_manifold_edges, "
               "inconsistent_winding, inverted, overlapping_shells, non_positive_volume, zero_area, not_orientable, "
-              "invalid_mesh, "
-              "invalid_input, invalid_inertia, missing_dependency, internal_error, "
+              "invalid_mesh, invalid_input, invalid_inertia, missing_dependency, internal_error, "
               "crashed (the file's worker process was lost)",
     "message": "the full error message (empty when ok)",
-    "warnings": "list of warning texts (accepted defects, zero-area faces)",
+    "findings": "list of findings {code, severity, message, where, values (JSON text)}: notes, accepted defects, "
+                "the robust solid's bounds; for an error row, the defects behind it",
     "units": "length unit the file was read in",
     "density": "kg/m^3 used (mean density when mass was given)",
     "mass": "kg",
@@ -47,13 +47,16 @@ COLUMN_DOCS = {
     "watertight": "every edge used by exactly two faces",
     "winding_consistent": "shared edges traversed in opposite directions",
     "elapsed_s": "seconds to read and process the file",
-    "options": "every option that shapes the row (units, density or mass as given, shell, fix_orientation, "
-               "on_defect, robust, self_crossing, inertia version); with path, size_bytes and mtime_ns: the resume key",
+    "options": "every option that shapes the row (units, density or mass as given, kind, on_defect, repair, "
+               "robust_tol, self_crossing, inertia version); with path, size_bytes and mtime_ns: the resume key",
 }
 
+#: the options of a batch row: those of :func:`inertia.mesh_properties`
+DEFAULT_OPTIONS = {"kind": "solid", "on_defect": "raise", "repair": None, "robust_tol": 1e-3, "robust_budget": None,
+                   "self_crossing": "search"}
 
-def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
-                robust: bool = False, robust_tol: float = 1e-3, self_crossing: str = "search") -> str:
+
+def options_key(job: Job, **options) -> str:
     """The ``options`` column: ``name=value`` pairs of everything that changes a row.
 
     A resumed run keeps an earlier row only when this key is the same (a run in other
@@ -62,27 +65,40 @@ def options_key(job: Job, *, shell: bool = False, fix_orientation: bool = False,
     def num(x):
         return None if x is None else float(x)
 
-    return _options_text(str(job.units), num(job.density), num(job.mass), bool(shell), bool(fix_orientation),
-                         on_defect, bool(robust), float(robust_tol) if robust else None, self_crossing)
+    o = {**DEFAULT_OPTIONS, **options}
+    robust = o["on_defect"] == "robust"
+    return _options_text(str(job.units), num(job.density), num(job.mass), o["kind"], o["on_defect"], o["repair"],
+                         float(o["robust_tol"]) if robust else None, o["self_crossing"])
 
 
 @functools.lru_cache(maxsize=256)
-def _options_text(units, density, mass, shell, fix_orientation, on_defect, robust, robust_tol, self_crossing) -> str:
+def _options_text(units, density, mass, kind, on_defect, repair, robust_tol, self_crossing) -> str:
     """:func:`options_key`'s text (the same for every file of a run: made once)."""
     from .._core.version import __version__
 
     def num(x):
         return "" if x is None else repr(x)
 
-    return (f"units={units} density={num(density)} mass={num(mass)} shell={int(shell)} "
-            f"fix_orientation={int(fix_orientation)} on_defect={on_defect} robust={int(robust)} "
-            + (f"robust_tol={robust_tol!r} " if robust else "") +
-            f"self_crossing={self_crossing} version={__version__}")
+    return (f"units={units} density={num(density)} mass={num(mass)} kind={kind} on_defect={on_defect} "
+            f"repair={repair or ''} " + (f"robust_tol={robust_tol!r} " if robust_tol is not None else "")
+            + f"self_crossing={self_crossing} version={__version__}")
+
+
+def finding_cells(findings) -> list:
+    """Findings as the table holds them: dicts of strings, ``values`` as JSON text."""
+    import json
+
+    out = []
+    for f in findings:
+        d = f.to_dict()
+        d["values"] = json.dumps(d["values"])
+        out.append(d)
+    return out
 
 
 def _empty_row(job: Job) -> dict:
     row = dict.fromkeys(COLUMNS)
-    row.update(path=job.path, units=job.units, warnings=[], reason="", message="")
+    row.update(path=job.path, units=job.units, findings=[], reason="", message="")
     try:
         st = os.stat(job.path)
         row.update(size_bytes=int(st.st_size), mtime_ns=int(st.st_mtime_ns))
@@ -113,17 +129,17 @@ def _reraise_interrupt(exc: BaseException) -> None:
         cur = cur.__cause__ or cur.__context__
 
 
-def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise",
-                 robust: bool = False, robust_tol: float = 1e-3, self_crossing: str = "search") -> dict:
-    """The row for one job.  Never raises for a bad file: the row says what went wrong."""
+def process_file(job: Job, **options) -> dict:
+    """The row for one job (``options``: those of :func:`inertia.mesh_properties`, see
+    :data:`DEFAULT_OPTIONS`).  Never raises for a bad file: the row says what went wrong."""
     from .._core.errors import InertiaError
     from ..geometry.mesh_io import load_mesh
-    from ..massprops.mesh import compute_mesh_properties
+    from ..geometry.report import watertight, winding_consistent
+    from ..massprops.mesh import mesh_properties
 
     t0 = time.perf_counter()
     row = _empty_row(job)
-    row["options"] = options_key(job, shell=shell, fix_orientation=fix_orientation, on_defect=on_defect,
-                                 robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
+    row["options"] = options_key(job, **options)
     density, mass = job.density, job.mass
     if density is None and mass is None:
         density = DEFAULT_DENSITY
@@ -131,30 +147,27 @@ def process_file(job: Job, *, shell: bool = False, fix_orientation: bool = False
         vertices, faces = load_mesh(job.path, units=job.units)
         row.update(n_vertices=int(len(vertices)), n_faces=int(len(faces)))
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # accepted defects are recorded in props.warnings
-            props, report = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                                             fix_orientation=fix_orientation, on_defect=on_defect, robust=robust,
-                                             robust_tol=robust_tol, self_crossing=self_crossing,
-                                             frame="body", name=job.path, stacklevel=2, with_report=True,
-                                             welded=True)
+            warnings.simplefilter("ignore")  # accepted defects are recorded in props.findings
+            props = mesh_properties(vertices, faces, density=density, mass=mass, name=job.path,
+                                    **{**DEFAULT_OPTIONS, **options})
         moments, axes = props.principal()
-        measure = props.volume if props.volume is not None else float("nan")
+        codes = {f.code for f in props.findings}
         row.update(
-            status="warning" if props.warnings else "ok",
-            warnings=list(props.warnings),
-            density=float(density) if density is not None else float(props.mass / measure),
-            mass=float(props.mass), volume=None if props.volume is None else float(props.volume),
+            status="warning" if props.findings else "ok",
+            findings=finding_cells(props.findings),
+            density=float(density) if density is not None else float(props.mass / props.volume),
+            mass=float(props.mass), volume=float(props.volume),
             com=props.com.tolist(), inertia_com=props.inertia_com.ravel().tolist(),
             principal_moments=moments.tolist(), principal_axes=axes.ravel().tolist(),
-            watertight=bool(report.watertight), winding_consistent=bool(report.winding_consistent),
+            watertight=watertight(codes), winding_consistent=winding_consistent(codes),
         )
     except InertiaError as exc:
         _reraise_interrupt(exc)
         report = getattr(exc, "report", None)
         if report is not None:
-            row.update(watertight=bool(report.watertight), winding_consistent=bool(report.winding_consistent),
+            row.update(watertight=report.watertight, winding_consistent=report.winding_consistent,
                        n_faces=int(report.n_faces))
-        row.update(status="error", reason=_reason_of(exc), message=str(exc))
+        row.update(status="error", reason=_reason_of(exc), message=str(exc), findings=finding_cells(exc.findings))
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop a dataset run
         _reraise_interrupt(exc)
         row.update(status="error", reason="internal_error", message=f"{type(exc).__name__}: {exc}")

@@ -558,14 +558,15 @@ def execute(jobs, *, options: dict, scheduler=None, n_workers: int | None = None
 
 
 def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=None, units: str = "m",
-              shell: bool = False, fix_orientation: bool = False, on_defect: str = "raise", robust: bool = False,
-              robust_tol: float = 1e-3, self_crossing: str = "search", scheduler=None,
+              kind: str = "solid", on_defect: str = "raise", repair: str | None = None, robust_tol: float = 1e-3,
+              robust_budget: float | None = None, self_crossing: str = "search", scheduler=None,
               n_workers: int | None = None, chunk_files: int | None = None, resume: bool = False,
               overwrite: bool = False, progress: bool = True, on_part=None) -> BatchSummary:
     """Mass properties of every mesh in ``sources``, written to ``output`` (see the module docstring).
 
-    ``on_part(part_path, rows)`` is called after each part file is written (progress hooks;
-    see :data:`PART_S`).
+    ``kind``, ``on_defect``, ``repair``, ``robust_tol``, ``robust_budget`` and ``self_crossing``
+    are those of :func:`inertia.mesh_properties`.  ``on_part(part_path, rows)`` is called after
+    each part file is written (progress hooks; see :data:`PART_S`).
     Returns a :class:`BatchSummary`; the table itself is in ``output``.
     """
     t0 = time.perf_counter()
@@ -574,8 +575,9 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
     for module in ("pyarrow",) + (() if fmt == "parquet" else ("pandas",)):
         _available(module, "a batch run")
     output_folder(output)  # a clear error now, not after the work, when it cannot be written
-    if on_defect not in ("raise", "warn"):
-        raise InputError(f"on_defect must be 'raise' or 'warn', got {on_defect!r}")
+    from ..massprops.mesh import check_options
+
+    check_options(kind, on_defect, repair, self_crossing)
     jobs = sources if sources and all(isinstance(j, Job) for j in sources) else \
         collect_jobs(sources, density=density, mass=mass, units=units)
     with _OutputLock(output):   # a second run on this output is refused, by name
@@ -590,8 +592,8 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         if parts_dir.is_dir():
             for tmp in parts_dir.glob(f".{PART_PREFIX}*.tmp"):
                 tmp.unlink(missing_ok=True)
-        options = {"shell": shell, "fix_orientation": fix_orientation, "on_defect": on_defect, "robust": robust,
-                   "robust_tol": robust_tol, "self_crossing": self_crossing}
+        options = {"kind": kind, "on_defect": on_defect, "repair": repair, "robust_tol": robust_tol,
+                   "robust_budget": robust_budget, "self_crossing": self_crossing}
         previous = _previous_tables(output, fmt, parts_dir) if resume else []
         todo = _jobs_to_do(jobs, previous, options, output, recompute_stale=overwrite)
         try:

@@ -36,7 +36,7 @@ def _validate_bodies(mass: np.ndarray, inertia: np.ndarray) -> None:
             index = tuple(int(i) for i in np.unravel_index(k, inertia.shape[:-2]))
             where = "" if inertia.ndim == 2 else f" (body {index})"
             raise InvalidInertiaError(f"inertia_body is not physical{where}: "
-                                      + "; ".join(v.message for v in violations), violations)
+                                      + "; ".join(v.message for v in violations), findings=violations)
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,7 @@ _MODULES = ("mesh_io", "mesh_arrays", "checks", "report", "orient", "integrals",
 _EXPORTS = {
     "load_mesh": "mesh_io", "UNITS": "mesh_io", "SUPPORTED_EXTENSIONS": "mesh_io",
     "validate_inputs": "mesh_arrays", "weld_vertices": "mesh_arrays", "compact_vertices": "mesh_arrays",
-    "check_mesh": "checks", "MeshReport": "report", "Defect": "report", "SEVERITY": "report",
+    "check_mesh": "checks", "MeshReport": "report",
     "orient_faces": "orient",
     "solid_integrals": "integrals", "shell_integrals": "integrals", "central_inertia": "integrals",
     "BOX_CORNER_SIGNS": "shapes", "box_edges": "shapes", "cylinder_mesh": "shapes", "merge_meshes": "shapes",

@@ -1,7 +1,7 @@
 """Defect checks of triangle meshes, each reported by name with a count and an example location.
 
 :func:`check_mesh` answers "will the volume integrals of this mesh be right?" before any
-number is computed.  Every defect is a :class:`Defect` with a stable ``code``:
+number is computed.  Every defect is a :class:`~inertia.errors.Finding` with a stable ``code``:
 
 =======================  ===============================================================
 code                     meaning
@@ -53,7 +53,7 @@ from .._ext import integrals as _k
 from .integrals import solid_integrals, solid_sums_moments
 from .intersections import overlapping_components, winding_numbers
 from .mesh_arrays import connected_components, faces_in_range, validate_inputs, weld_map
-from .report import SEVERITY, Defect, MeshReport, fmt_point, plural
+from .report import MESH_CODES, MeshReport, fmt_point, mesh_finding, plural
 from .self_crossing import NEGLIGIBLE_RTOL, SEARCH_MAX_FACES, Crossing, crossing_effect, self_crossing
 
 _MAX_CONTAIN_POINTS = 6  # extreme vertices of a component tested for nesting in another
@@ -169,26 +169,25 @@ def _analyse_clean(vertices: np.ndarray, faces: np.ndarray, welded: bool, weld_f
     return None
 
 
-def _intersecting_defect(crossing, effect: dict, whole: str) -> Defect:
+def _intersecting_defect(crossing, effect: dict, whole: str):
     """The defect ``self_intersecting`` for ``crossing`` (the first found), weighed by ``effect``;
     ``whole`` says what passes through itself."""
     a, b = crossing.faces
     figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
-    return Defect("self_intersecting", 1,
+    return mesh_finding("self_intersecting", 1,
                   f"{whole} through itself (the integrals count the region it encloses twice, or negative), e.g. "
                   f"faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds once the "
                   f"integrals are off by up to {figures} (relative)",
-                  {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect},
-                  SEVERITY["self_intersecting"])
+                        {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect})
 
 
-def _negligible_note(crossing, effect: dict) -> Defect:
+def _negligible_note(crossing, effect: dict):
     a, b = crossing.faces
     figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
-    return Defect("self_crossing_negligible", 1,
+    return mesh_finding("self_crossing_negligible", 1,
                   f"faces {a} and {b} cross near {fmt_point(crossing.point)}, but the crossings change the mass "
                   f"properties by at most {figures} (relative; under {NEGLIGIBLE_RTOL:g}): the solid is taken as "
-                  "given", {"faces": (a, b), "effect": dict(effect)}, "note")
+                        "given", {"faces": (a, b), "effect": dict(effect)})
 
 
 def _crossing_of(vertices, faces, center, search: bool, face_twins=None):
@@ -208,19 +207,19 @@ def clean_analysis(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fa
     return _analyse_clean(vertices, faces, welded, weld_first, search)
 
 
-def _unchecked_note(n_faces: int) -> Defect:
-    return Defect("self_crossing_unchecked", 1,
+def _unchecked_note(n_faces: int):
+    return mesh_finding("self_crossing_unchecked", 1,
                   f"not proven free of self-crossings: the shell ({plural(n_faces, 'face')}) is not star-shaped from "
                   f"its center of mass, and the face-pair search stops at {SEARCH_MAX_FACES} faces (0.2-0.6 us a "
                   "face); inertia.geometry.self_crossing.first_crossing runs it, robust=True integrates any crossing",
-                  {"n_faces": n_faces}, "note")
+                        {"n_faces": n_faces})
 
 
 class _Defects(list):
     """The defects found so far; ``add`` appends one with its severity."""
 
     def add(self, code, count, message, example):
-        self.append(Defect(code, int(count), message, example, SEVERITY[code]))
+        self.append(mesh_finding(code, count, message, example))
 
 
 def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = False, full: bool = False,
@@ -273,8 +272,7 @@ def analyse_mesh(vertices: np.ndarray, faces: np.ndarray, *, welded: bool = Fals
                 _inverted_pass(vertices, ft, tidx, analysis, defects)
                 _overlap_pass(vertices, ft, tidx, analysis, defects)
                 _self_crossing_pass(vertices, ft, tidx, analysis, defects, self_crossing == "search")
-    order_codes = list(SEVERITY)
-    defects.sort(key=lambda d: order_codes.index(d.code))
+    defects.sort(key=lambda d: MESH_CODES.index(d.code))
     analysis.report = MeshReport(tuple(defects), V, F, n_welded, int(analysis.n_components), signed_volume,
                                  total_area)
     return analysis
@@ -524,13 +522,13 @@ def _self_crossing_pass(vertices, ft, tidx, analysis, defects, search: bool = Tr
         whole = "the closed surface passes" if K == 1 else \
             f"{plural(len(found), 'closed component')} of {K} {'passes' if len(found) == 1 else 'pass'}"
         defect = _intersecting_defect(*found[0], whole)
-        defects.add(defect.code, len(found), defect.message, defect.example)
+        defects.add(defect.code, len(found), defect.message, defect.values["example"])
     elif negligible:
         note = _negligible_note(*negligible[0])
-        defects.add(note.code, len(negligible), note.message, note.example)
+        defects.add(note.code, len(negligible), note.message, note.values["example"])
     if unchecked and not found:
         note = _unchecked_note(len(ft))
-        defects.add(note.code, unchecked, note.message, note.example)
+        defects.add(note.code, unchecked, note.message, note.values["example"])
 
 
 def _volume_centroid(vertices, faces) -> np.ndarray:

@@ -117,7 +117,7 @@ def orient_faces(vertices, faces) -> tuple[np.ndarray, int]:
 
     v, f = validate_inputs(vertices, faces)
     an = analyse_mesh(v, f, full=True)
-    hard = [d for d in an.report.defects if d.code in ("empty", "non_finite", "out_of_range", "bad_index")]
+    hard = [d for d in an.report.findings if d.code in ("empty", "non_finite", "out_of_range", "bad_index")]
     if hard:
         raise MeshError("cannot orient the mesh: " + "; ".join(f"{d.code}: {d.message}" for d in hard),
                         report=an.report)

@@ -1,62 +1,45 @@
-"""The mesh defect report: defect codes and their severity, :class:`Defect`, :class:`MeshReport`."""
+"""The mesh report: what :func:`inertia.geometry.check_mesh` found, as findings in a fixed order."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-__all__ = ["SEVERITY", "Defect", "MeshReport", "fmt_point", "plural"]
+from .._core.findings import Finding
 
+__all__ = ["MESH_CODES", "MeshReport"]
 
-#: Severity of each code for a closed solid: "error" makes the solid integrals wrong
-#: (or impossible), "note" does not.
-SEVERITY = {
-    "empty": "error",
-    "non_finite": "error",
-    "out_of_range": "error",
-    "bad_index": "error",
-    "degenerate_faces": "note",
-    "duplicate_faces": "error",
-    "open_edges": "error",
-    "non_manifold_edges": "error",
-    "inconsistent_winding": "error",
-    "inverted": "error",
-    "overlapping_shells": "error",
-    "self_intersecting": "error",
-    "self_crossing_unchecked": "note",
-    "self_crossing_negligible": "note",
-}
+#: the codes of a mesh report, in the order they are listed (severities: inertia.errors.CODES)
+MESH_CODES = ("empty", "non_finite", "out_of_range", "bad_index", "degenerate_faces", "duplicate_faces",
+              "open_edges", "non_manifold_edges", "inconsistent_winding", "inverted", "overlapping_shells",
+              "self_intersecting", "self_crossing_unchecked", "self_crossing_negligible")
 
 
+def mesh_finding(code: str, count: int, message: str, example: dict) -> Finding:
+    """A mesh check's finding: ``values`` holds the ``count`` (vertices, faces, edges or components)
+    and the ``example`` (the first occurrence: ``vertex``, ``face``, ``faces``, ``edge``,
+    ``coords``, ``component``, plus numbers)."""
+    return Finding(code, message, values={"count": int(count), "example": example})
 
-@dataclass(frozen=True)
-class Defect:
-    """One kind of defect found in a mesh.
 
-    Attributes
-    ----------
-    code : str, stable name (see the module docstring).
-    count : int, how many (vertices, faces, edges or components; the message says which).
-    message : str, one sentence with the count and the example location.
-    example : dict, the first occurrence: keys among ``vertex``, ``face``, ``faces``, ``edge``
-        (vertex index pair), ``coords`` (tuple of (x, y, z)), ``component``, plus numbers.
-    severity : str, ``"error"`` (solid integrals wrong) or ``"note"`` (harmless for the integrals).
-    """
+def watertight(codes) -> bool:
+    """Every edge is used by exactly two faces, for a mesh whose findings have ``codes``."""
+    return not (set(codes) & {"empty", "non_finite", "bad_index", "open_edges", "non_manifold_edges"})
 
-    code: str
-    count: int
-    message: str
-    example: dict = field(default_factory=dict, compare=False, hash=False)
-    severity: str = "error"
+
+def winding_consistent(codes) -> bool:
+    """Every shared edge is traversed in opposite directions, for a mesh whose findings have ``codes``."""
+    return not (set(codes) & {"empty", "bad_index", "inconsistent_winding"})
 
 
 @dataclass(frozen=True)
 class MeshReport:
-    """Result of :func:`check_mesh`.
+    """What :func:`inertia.geometry.check_mesh` found in a mesh.
 
     Attributes
     ----------
-    defects : tuple of Defect, in a fixed order (the order of the codes table).
+    findings : tuple of Finding, in the order of :data:`MESH_CODES`; severity ``"error"``
+        (the solid integrals would be wrong) or ``"note"`` (harmless for them).
     n_vertices, n_faces : int, as given.
     n_welded : int, vertices merged into another of exactly equal position.
     n_components : int, edge-connected components (0 when the topology was not checked).
@@ -64,7 +47,7 @@ class MeshReport:
     area : float, total surface area (NaN when coordinates are not finite).
     """
 
-    defects: tuple = ()
+    findings: tuple = ()
     n_vertices: int = 0
     n_faces: int = 0
     n_welded: int = 0
@@ -74,13 +57,13 @@ class MeshReport:
 
     @property
     def codes(self) -> tuple:
-        """Codes of every defect found (notes included)."""
-        return tuple(d.code for d in self.defects)
+        """Codes of every finding (notes included)."""
+        return tuple(d.code for d in self.findings)
 
     @property
     def errors(self) -> tuple:
-        """Defects that make the mass properties of a closed solid wrong."""
-        return tuple(d for d in self.defects if d.severity == "error")
+        """The findings that make the mass properties of a closed solid wrong."""
+        return tuple(d for d in self.findings if d.severity == "error")
 
     @property
     def ok(self) -> bool:
@@ -93,24 +76,24 @@ class MeshReport:
     @property
     def watertight(self) -> bool:
         """Every edge is used by exactly two faces (after welding), and the mesh could be checked."""
-        return not (set(self.codes) & {"empty", "non_finite", "bad_index", "open_edges", "non_manifold_edges"})
+        return watertight(self.codes)
 
     @property
     def winding_consistent(self) -> bool:
         """Every edge shared by two faces is traversed in opposite directions by them."""
-        return not (set(self.codes) & {"empty", "bad_index", "inconsistent_winding"})
+        return winding_consistent(self.codes)
 
     def get(self, code: str):
-        """The :class:`Defect` with ``code``, or None."""
-        for d in self.defects:
+        """The finding with ``code``, or None."""
+        for d in self.findings:
             if d.code == code:
                 return d
         return None
 
     def count(self, code: str) -> int:
-        """The count of defect ``code`` (0 when absent)."""
+        """The count of finding ``code`` (0 when absent)."""
         d = self.get(code)
-        return 0 if d is None else d.count
+        return 0 if d is None else d.values["count"]
 
     def summary(self) -> str:
         """Several lines of text: the sizes, the flags, then one line per defect."""
@@ -119,17 +102,14 @@ class MeshReport:
                  f"{self.n_components} components",
                  f"watertight: {'yes' if self.watertight else 'no'}; "
                  f"winding consistent: {'yes' if self.winding_consistent else 'no'}; signed volume: {vol}"]
-        if not self.defects:
+        if not self.findings:
             lines.append("no defects")
-        for d in self.defects:
+        for d in self.findings:
             lines.append(f"- {d.code} ({d.severity}): {d.message}")
         return "\n".join(lines)
 
     def __str__(self) -> str:
         return self.summary()
-
-
-# ---------------------------------------------------------------------------------- inputs
 
 
 # ---------------------------------------------------------------------------------- formatting

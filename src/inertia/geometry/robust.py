@@ -58,13 +58,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.errors import InputError
+from .._core.findings import Finding
 from .._ext import robust as _k
 from ._robust_caps import CapGeometry, Caps, cap_region_bound
 from ._robust_pieces import Pieces, unpacked_sums
 from .integrals import reference_point
 from .mesh_arrays import validate_inputs, weld_map
 
-__all__ = ["AMBIGUOUS_HIGH", "AMBIGUOUS_LOW", "RobustResult", "derived_bounds", "robust_integrals"]
+__all__ = ["RobustResult", "robust_integrals"]
 
 #: Winding numbers strictly between these count as ambiguous.
 AMBIGUOUS_LOW, AMBIGUOUS_HIGH = 0.1, 0.9
@@ -90,13 +91,12 @@ class RobustResult:
         Absolute bounds of the errors (elementwise): ``|true - value| <= bound``.
     ambiguous_volume : float
         Upper bound of the volume where ``0.1 < w < 0.9`` (model ambiguity, not an error).
-    converged : bool, the bounds meet ``tol`` (see :attr:`relative_bounds`).
-    defects : tuple of str, what was found (holes, overlaps, cut faces, inside-out shells).
+    converged : bool, the bounds meet ``tol`` (see :attr:`bounds`).
+    findings : tuple of Finding, what was found, with the codes of
+        :func:`inertia.geometry.check_mesh` (``duplicate_faces``, ``open_edges``,
+        ``non_manifold_edges``, ``inconsistent_winding``, ``inverted``, ``overlapping_shells``
+        for faces that cross) and ``undecided_windings``, ``bound_not_reached``.
     stats : dict, counts and timings.
-    codes : tuple of str, the same in :func:`inertia.geometry.checks.check_mesh`'s codes
-        (``duplicate_faces``, ``open_edges``, ``non_manifold_edges``, ``inconsistent_winding``,
-        ``inverted``, ``overlapping_shells`` for faces that cross), so that a caller need not
-        run the full check as well.
     """
 
     volume: float
@@ -109,10 +109,14 @@ class RobustResult:
     ambiguous_volume: float
     converged: bool
     tol: float
-    defects: tuple = ()
+    findings: tuple = ()
     stats: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict, repr=False)
-    codes: tuple = ()
+
+    @property
+    def codes(self) -> tuple:
+        """The codes of :attr:`findings`."""
+        return tuple(f.code for f in self.findings)
 
     @property
     def ambiguous_fraction(self) -> float:
@@ -139,14 +143,15 @@ class RobustResult:
         return self.derived["bound_central_second"]
 
     @property
-    def bound_inertia_relative(self) -> float:
-        """Bound of ``|I error|_F / |I|_F`` for the central inertia ``tr(C) 1 - C`` (any density)."""
-        return self.derived["relative"]["inertia"]
+    def bounds(self) -> dict:
+        """Relative error bounds: ``volume`` / |V|, ``com`` / radius of gyration, ``inertia``
+        (``|I error|_F / |I|_F`` of the central inertia, any density)."""
+        return dict(self.derived["relative"])
 
     @property
-    def relative_bounds(self) -> dict:
-        """Bounds relative to natural scales: volume / |V|, COM / radius of gyration, inertia / |I|_F."""
-        return dict(self.derived["relative"])
+    def error_bound(self) -> float:
+        """The largest of :attr:`bounds`: the relative precision of the result."""
+        return max(self.derived["relative"].values())
 
 
 def derived_bounds(vol, first, second, bv, bf, bs) -> dict:
@@ -219,10 +224,10 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         raise InputError(f"threads must be None or a positive integer, got {threads!r}")
     threads = int(threads or 0)
     v, f, mult, r, used, n_valid = _prepared(vertices, faces, reference)
-    defects = []
+    found = {}   # code -> message
     if (mult > 1).any():
-        defects.append(f"{int((mult > 1).sum())} faces listed more than once with the same orientation "
-                       "(counted with multiplicity)")
+        found["duplicate_faces"] = (f"{int((mult > 1).sum())} faces listed more than once with the same "
+                                    "orientation (counted with multiplicity)")
     # every integral is taken about the box center p (one apex for all the pieces: the
     # weighted chain is closed only as a whole), then moved to the reference exactly
     vu = v[used]
@@ -231,18 +236,21 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     caps, chain, cert, nbr = _closed_chain(v, f, mult, eps, threads)
     ne = len(caps.edges)
     stats = {"faces": len(faces), "boundary_edges": ne, "caps": len(caps.apex)}
-    if ne:
-        defects.append(f"open or inconsistently wound boundary: {ne} edges in {len(caps.apex)} "
-                       f"loop(s), closed by caps ({int(caps.planar_simple.sum())} flat)")
+    for code, n, what in zip(("open_edges", "inconsistent_winding", "non_manifold_edges"), caps.edge_kinds,
+                             ("open", "inconsistently wound", "non-manifold")):
+        if n:
+            found[code] = (f"{n} {what} edges; the boundary ({ne} edges in {len(caps.apex)} loop(s)) is closed "
+                           f"by caps ({int(caps.planar_simple.sum())} flat)")
     pieces = Pieces(*chain, p, eps, cert, nbr, threads)
     stats.update(pieces.find_cuts())
-    if pieces.n_cut_faces:
-        defects.append(f"{pieces.n_cut_pairs} pairs of faces cross or touch "
-                       f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping shells")
+    if _mesh_faces_cross(pieces, len(f)):
+        found["overlapping_shells"] = (f"{pieces.n_cut_pairs} pairs of faces cross or touch "
+                                       f"({pieces.n_cut_faces} faces affected): self-intersections or overlapping "
+                                       "shells")
     # 1. uncut faces: one winding evaluation per patch, then exact sums
     vol, first, second, n_uncertain = _uncut_sums(pieces, p, stats)
     if n_uncertain:
-        defects.append(f"{n_uncertain} faces whose side windings could not be decided (treated as unresolved)")
+        found["undecided_windings"] = f"{n_uncertain} faces whose side windings could not be decided (bounded)"
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
     amb, (bv, bf, bs) = _cap_terms(caps, v, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps, stats,
                                    threads)
@@ -259,31 +267,32 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     bv, bf, bs = bv + ev, bf + ef, bs + es
     stats.update(info)
     if pieces.w_max >= 2:
-        defects.append("regions of winding number >= 2: overlapping shells or repeated faces (counted once: union)")
+        found["overlapping_shells"] = "; ".join(filter(None, (found.get("overlapping_shells"), (
+            "regions of winding number >= 2: overlapping shells or repeated faces (counted once: union)"))))
     if pieces.w_min <= -1:
-        defects.append("regions of negative winding number: inside-out shells outside the solid (counted as empty)")
+        found["inverted"] = "regions of negative winding number: inside-out shells outside the solid (counted as empty)"
     der = derived_bounds(vol, first, second, bv, bf, bs)
     ok = all(x <= tol for x in der["relative"].values())
     if not ok:
-        defects.append(f"the error bound did not reach tol={tol:g} within the budget: "
-                       + ", ".join(f"{k} {x:.3g}" for k, x in der["relative"].items()))
+        found["bound_not_reached"] = (f"the error bound did not reach tol={tol:g} within the budget: "
+                                      + ", ".join(f"{k} {x:.3g}" for k, x in der["relative"].items()))
     if r is not None:
         vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
         p = r
     stats["seconds"] = time.perf_counter() - t0
-    codes = _codes(caps.edge_kinds, n_valid > len(f), pieces, len(f))
-    return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol,
-                        tuple(defects), stats, der, codes)
+    if n_valid > len(f) and "duplicate_faces" not in found:
+        found["duplicate_faces"] = f"{n_valid - len(f)} faces repeat or cancel another (counted once, or not at all)"
+    order = ("duplicate_faces", "open_edges", "non_manifold_edges", "inconsistent_winding", "inverted",
+             "overlapping_shells", "undecided_windings", "bound_not_reached")
+    findings = tuple(Finding(code, found[code]) for code in order if code in found)
+    return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol, findings,
+                        stats, der)
 
 
-def _codes(edge_kinds, duplicates, pieces, n_mesh):
-    """check_mesh's codes for what the robust pass found (see :class:`RobustResult`)."""
-    crossing = bool(np.any((np.repeat(np.arange(len(pieces.F)), np.diff(pieces.cut_ptr)) < n_mesh)
-                           & (pieces.cut_idx < n_mesh)))
-    found = {"duplicate_faces": duplicates, "open_edges": edge_kinds[0] > 0,
-             "non_manifold_edges": edge_kinds[2] > 0, "inconsistent_winding": edge_kinds[1] > 0,
-             "inverted": pieces.w_min <= -1, "overlapping_shells": crossing}
-    return tuple(code for code, hit in found.items() if hit)
+def _mesh_faces_cross(pieces, n_mesh: int) -> bool:
+    """Two faces of the mesh (not of the caps) cross or touch."""
+    return bool(np.any((np.repeat(np.arange(len(pieces.F)), np.diff(pieces.cut_ptr)) < n_mesh)
+                       & (pieces.cut_idx < n_mesh)))
 
 
 def _closed_chain(v, f, mult, eps, threads):

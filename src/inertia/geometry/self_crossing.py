@@ -108,7 +108,7 @@ def crossing_effect(vertices, faces, exact) -> dict:
     C_e, C_r = mine["central_second"], theirs["central_second"]
     I_e, I_r = np.trace(C_e) * np.eye(3) - C_e, np.trace(C_r) * np.eye(3) - C_r
     k = np.sqrt(max(float(np.trace(C_r)), 0.0) / V) if V > 0 else np.inf
-    rel = res.relative_bounds
+    rel = res.bounds
     with np.errstate(all="ignore"):
         return {"volume": abs(vol - res.volume) / V + rel["volume"],
                 "com": float(np.linalg.norm(first_r / vol - res.first / res.volume)) / k + rel["com"],

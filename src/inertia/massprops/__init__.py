@@ -20,7 +20,7 @@ _EXPORTS = {
     "elements_from_inertia": "tensor",
     "principal_axes": "principal", "principal_frame": "principal", "PrincipalFrame": "principal",
     "principal_axes_batch": "principal", "degenerate_groups": "principal",
-    "check_inertia": "validity", "is_physical": "validity", "Violation": "validity",
+    "check_inertia": "validity", "is_physical": "validity",
     "raise_if_invalid": "validity", "as_principal_moments": "validity",
     "box": "primitives", "sphere": "primitives", "ellipsoid": "primitives", "cylinder": "primitives",
     "cone": "primitives", "capsule": "primitives", "torus": "primitives", "tube": "primitives",

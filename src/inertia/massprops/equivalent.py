@@ -48,10 +48,11 @@ from fractions import Fraction
 import numpy as np
 
 from .._core.errors import InputError, NoEquivalentModelError
+from .._core.findings import Finding
 from .._core.tolerances import PHYSICAL_RTOL
 from .._core.validation import as_rotation_matrix, as_vector3, frozen_array
 from .properties import CanonicalForm, MassProperties
-from .validity import Violation, check_inertia
+from .validity import check_inertia
 
 __all__ = [
     "EquivalentBox",
@@ -66,7 +67,7 @@ __all__ = [
 _AXIS_TRIPLES = ((0, 1, 2), (1, 0, 2), (2, 0, 1))
 
 # violations after which the principal moments are meaningless: stop before computing them
-_FATAL_CODES = ("mass_not_positive", "not_finite", "not_symmetric")
+_FATAL_CODES = ("non_positive_mass", "non_finite", "not_symmetric")
 
 
 def _fmt(a) -> str:
@@ -133,7 +134,7 @@ def principal_second_moments(props: MassProperties, *, model: str = "equivalent 
     inertia.errors.NoEquivalentModelError
         Mass not positive, tensor not symmetric or not positive definite, or a margin
         ``I_j + I_k - I_i < -tolerance``.  The message lists every violation with its numbers;
-        ``.violations`` holds them as :class:`inertia.massprops.validity.Violation`.
+        ``.findings`` holds them.
     inertia.errors.InputError
         ``props`` is not a :class:`MassProperties`.
     """
@@ -142,28 +143,28 @@ def principal_second_moments(props: MassProperties, *, model: str = "equivalent 
     others = [v for v in check_inertia(props.inertia_com, props.mass, props.com, rtol=rtol)
               if v.code != "triangle_inequality"]  # re-checked below, per axis, with the model's formula
     if any(v.code in _FATAL_CODES for v in others):
-        raise NoEquivalentModelError(f"no {model}: " + "; ".join(v.message for v in others), others)
+        raise NoEquivalentModelError(f"no {model}: " + "; ".join(v.message for v in others), findings=others)
 
     cf = props.canonical()
     I_P = cf.moments  # ascending principal moments, kg m^2
     tol = rtol * max(abs(float(I_P.sum())), np.finfo(float).tiny)
     margins = np.empty(3)
-    triangle: list[Violation] = []
+    triangle: list[Finding] = []
     for i, j, k in _AXIS_TRIPLES:
         margins[i] = I_P[j] + I_P[k] - I_P[i]
         if margins[i] < -tol:
             need = factor * margins[i] / (2.0 * props.mass)
-            triangle.append(Violation(
+            triangle.append(Finding(
                 "triangle_inequality",
                 f"I{j + 1} + I{k + 1} - I{i + 1} = {margins[i]:.6g} < 0 (needs {_formula(symbol, factor, i, j, k)} "
                 f"= {need:.6g} m^2 >= 0; principal moments {_fmt(I_P)} kg m^2 about the COM, tolerance {tol:.3g})",
-                {"axis": i, "margin": float(margins[i]), "moments": I_P.tolist(), "tolerance": tol}))
+                values={"axis": i, "margin": float(margins[i]), "moments": I_P.tolist(), "tolerance": tol}))
     if triangle or others:
         parts = [v.message for v in triangle]
         if triangle:
             parts[-1] += ", whereas every real mass distribution has I_j + I_k - I_i = 2 sum m x_i^2 >= 0"
         parts += [v.message for v in others]
-        raise NoEquivalentModelError(f"no {model}: " + "; ".join(parts), triangle + others)
+        raise NoEquivalentModelError(f"no {model}: " + "; ".join(parts), findings=triangle + others)
 
     # within the tolerance: clip tiny negative margins (rounding) to an exactly flat axis
     s = 0.5 * np.clip(margins, 0.0, None)
@@ -173,27 +174,28 @@ def principal_second_moments(props: MassProperties, *, model: str = "equivalent 
     return PrincipalSecondMoments(cf, s, margins, flat, tol)
 
 
-def _flat_warnings(sm: PrincipalSecondMoments, what: str, symbol: str, dims) -> tuple:
-    """One warning per flat principal axis: the model is a lamina there (zero or rounding-size extent)."""
+def flat_findings(sm: PrincipalSecondMoments, detail) -> tuple:
+    """One ``flat_body`` finding per flat principal axis (zero or rounding-size extent);
+    ``detail(i)`` says what that means for the model."""
     out = []
     for i in sm.flat_axes:
         j, k = (a for a in range(3) if a != i)
-        out.append(f"flat body: I{j + 1} + I{k + 1} - I{i + 1} = {sm.margins[i]:.3g} kg m^2 is zero within "
-                   f"{sm.tolerance:.3g}, so the equivalent {what} is flat along principal axis {i + 1} "
-                   f"({symbol}{i + 1} = {dims[i]:.3g} m)")
+        out.append(Finding("flat_body", f"I{j + 1} + I{k + 1} - I{i + 1} = {sm.margins[i]:.3g} kg m^2 is zero "
+                           f"within {sm.tolerance:.3g}; {detail(i)}",
+                           values={"axis": i, "margin": float(sm.margins[i]), "tolerance": sm.tolerance}))
     return tuple(out)
 
 
 @dataclass(frozen=True, eq=False)
 class _EquivalentSolid:
-    """Common part of the uniform equivalent solids (mass, pose of the principal frame, warnings)."""
+    """Common part of the uniform equivalent solids (mass, pose of the principal frame, findings)."""
 
     mass: float
     dims: np.ndarray
     R_body_principal: np.ndarray
     p_body_com: np.ndarray
     frame: str = "body"
-    warnings: tuple = ()
+    findings: tuple = ()
 
     _kind = "solid"
     _dims_name = "dims"
@@ -213,7 +215,7 @@ class _EquivalentSolid:
                            frozen_array(as_rotation_matrix(self.R_body_principal, "R_body_principal",
                                                            allow_batch=False)))
         object.__setattr__(self, "p_body_com", frozen_array(as_vector3(self.p_body_com, "p_body_com")))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "findings", tuple(self.findings))
 
     # subclasses: principal moments and volume from the dimensions
     def principal_moments(self) -> np.ndarray:
@@ -247,7 +249,7 @@ class _EquivalentSolid:
         R_body_principal = self.R_body_principal
         I_F = R_body_principal @ np.diag(self.principal_moments()) @ R_body_principal.T
         return MassProperties(self.mass, self.p_body_com, 0.5 * (I_F + I_F.T), frame=self.frame,
-                              volume=self.volume, warnings=self.warnings, validate=False)
+                              volume=self.volume, findings=self.findings, validate=False)
 
     def to_dict(self) -> dict:
         """Plain-Python dict (JSON-ready); lengths in m, mass in kg, axes as columns in ``frame``."""
@@ -259,7 +261,7 @@ class _EquivalentSolid:
             "p_body_com": self.p_body_com.tolist(),
             "volume": self.volume,
             "frame": self.frame,
-            "warnings": list(self.warnings),
+            "findings": [f.to_dict() for f in self.findings],
         }
 
 
@@ -280,8 +282,8 @@ class EquivalentBox(_EquivalentSolid):
         Box centre (the COM) in frame F.
     frame : str
         Name of F.
-    warnings : tuple of str
-        Set when the box is a lamina (a zero edge, see :func:`equivalent_box`).
+    findings : tuple of Finding
+        ``flat_body`` when the box is a lamina (a zero edge, see :func:`equivalent_box`).
     """
 
     _kind = "box"
@@ -298,7 +300,7 @@ class EquivalentEllipsoid(_EquivalentSolid):
 
     The attributes of :class:`EquivalentBox`, with ``dims`` the semi-axes ``(a1, a2, a3)``
     along principal axes 1, 2, 3 (descending, also available as :attr:`semi_axes`) and
-    ``warnings`` set when the ellipsoid is a flat disc (a zero semi-axis, see
+    ``findings`` holding ``flat_body`` when the ellipsoid is a flat disc (a zero semi-axis, see
     :func:`equivalent_ellipsoid`).
     """
 
@@ -360,7 +362,8 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
     size = np.sqrt(12.0 * sm.second_moments / props.mass)  # b_i^2 = 12 s_i / M
     cf = sm.canonical
     return EquivalentBox(props.mass, size, cf.R_body_principal, cf.p_body_com, frame=props.frame,
-                         warnings=_flat_warnings(sm, "box", "b", size))
+                         findings=flat_findings(sm, lambda i: f"the equivalent box is flat along principal "
+                                                f"axis {i + 1} (b{i + 1} = {size[i]:.3g} m)"))
 
 
 def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> EquivalentEllipsoid:
@@ -383,7 +386,7 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     Notes
     -----
     ``a_i^2 = 5/(2M) (I_j + I_k - I_i)`` from ``I_i = M/5 (a_j^2 + a_k^2)``.  An exactly flat body
-    gives ``a3 = 0``, a zero-thickness elliptical disc with zero volume.  It is accepted with a warning.
+    gives ``a3 = 0``, a zero-thickness elliptical disc with zero volume.  It is accepted with a ``flat_body`` finding.
 
     Examples
     --------
@@ -398,4 +401,5 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     semi = np.sqrt(5.0 * sm.second_moments / props.mass)  # a_i^2 = 5 s_i / M
     cf = sm.canonical
     return EquivalentEllipsoid(props.mass, semi, cf.R_body_principal, cf.p_body_com, frame=props.frame,
-                               warnings=_flat_warnings(sm, "ellipsoid", "a", semi))
+                               findings=flat_findings(sm, lambda i: f"the equivalent ellipsoid is flat along "
+                                                      f"principal axis {i + 1} (a{i + 1} = {semi[i]:.3g} m)"))

@@ -1,30 +1,26 @@
-"""Mass properties of triangle meshes given as arrays (defect checks, then the exact kernel).
+"""Mass properties of triangle meshes: the mesh is checked, optionally repaired, then integrated.
 
-Policy: the mesh is checked first (:func:`inertia.geometry.checks.check_mesh`).  By
-default any defect that makes the result wrong raises :class:`inertia.errors.MeshError`
-naming every defect with its count and an example location; keyword options let the
-caller choose otherwise:
-
-* ``fix_orientation=True``: re-orient faces consistently per component and outward;
-* ``shell=True``: a thin shell of uniform surface density (open surfaces allowed,
-  orientation irrelevant);
-* ``on_defect="warn"``: accept the remaining defects, with :class:`MeshDefectWarning`
-  warnings that are also recorded in ``MassProperties.warnings``.
-
-Empty meshes, non-finite coordinates and out-of-range indices are always refused (there is
-nothing meaningful to compute), and so is a solid whose signed volume is not positive.
+Three orthogonal choices: ``kind`` (a ``"solid"`` or a thin ``"shell"``), ``repair``
+(``"orient"`` re-winds the faces consistently and outward first) and ``on_defect``, what to do
+with the defects left: ``"raise"`` a :class:`~inertia.errors.MeshError` naming each (default),
+``"warn"`` and integrate anyway, or integrate the ``"robust"`` solid of the surface with an
+error bound.  Whatever the choice, empty meshes, non-finite coordinates and bad indices are
+refused, and so is a solid whose volume is not positive.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import warnings
 
 import numpy as np
 
 from .._core.errors import InputError, MeshDefectWarning, MeshError
-from .._core.tolerances import COORDINATE_LIMIT
+from .._core.findings import Finding
+from .._core.tolerances import COORDINATE_LIMIT, coordinate_precision
 from .._core.validation import resolve_mass
-from ..geometry.checks import analyse_mesh
+from ..geometry.checks import analyse_mesh, clean_analysis
 from ..geometry.integrals import (
     REFINE_KAPPA,
     central_from_floats,
@@ -37,11 +33,11 @@ from ..geometry.mesh_arrays import compact_vertices, faces_in_range, validate_in
 from ..geometry.mesh_io import MERGE_RTOL, load_mesh
 from ..geometry.orient import orient_analysed
 
-__all__ = ["mesh_properties", "validate_inputs", "MeshDefectWarning", "ON_DEFECT"]
+__all__ = ["mesh_properties", "mesh_file_properties"]
 
-#: Accepted values of ``on_defect``.
-ON_DEFECT = ("raise", "warn")
-#: Accepted values of ``self_crossing`` (see :func:`mesh_properties`).
+KINDS = ("solid", "shell")
+ON_DEFECT = ("raise", "warn", "robust")
+REPAIRS = (None, "orient")
 SELF_CROSSING = ("search", "certificate")
 
 # Nothing can be computed with these, whatever the options.
@@ -50,14 +46,6 @@ _FATAL = ("empty", "non_finite", "out_of_range", "bad_index")
 _SOLID_ONLY = frozenset({"open_edges", "non_manifold_edges", "inconsistent_winding", "inverted", "overlapping_shells",
                          "self_intersecting", "self_crossing_unchecked"})
 _ORIENTATION = frozenset({"inconsistent_winding", "inverted"})
-
-
-def _check_mass_args(density, mass, what: str) -> None:
-    """Fail early (before any mesh work) when not exactly one of density / mass is given."""
-    if (density is None) == (mass is None):
-        raise InputError(f"{what}: give exactly one of density= or mass=, got "
-                         f"{'both' if density is not None else 'neither'}")
-
 
 #: what to do about each defect nothing can be computed with
 _FATAL_FIX = {"empty": "give a mesh with at least one triangle",
@@ -72,148 +60,157 @@ _REPAIR = {"open_edges": "close the holes, or merge near-coincident vertices as 
            "self_intersecting": "resolve the self-intersection (a boolean union of the shell with itself)"}
 
 
-def _options_text(codes: set, *, shell: bool, fix_orientation: bool) -> str:
-    """The sentence suggesting what the caller can do about ``codes``."""
+def _remedies(codes: set, *, kind: str, repair) -> tuple:
+    """The ``(keyword, value)`` options that would give a result for a mesh with ``codes``."""
     if codes & set(_FATAL):
-        fixes = [text for code, text in _FATAL_FIX.items() if code in codes]
-        return "Nothing can be computed from such a mesh: " + "; ".join(fixes) + "."
-    opts = []
-    if codes & _ORIENTATION and not fix_orientation:
-        opts.append("fix_orientation=True to re-orient the faces consistently and outward")
-    if codes & {"open_edges", "non_manifold_edges"} and not shell:
-        opts.append("shell=True to treat the surface as a thin shell (density in kg/m^2; open surfaces allowed)")
-    if not shell:
-        opts.append("robust=True for the solid the surface most nearly bounds (generalised winding number), "
-                    "with an error bound")
-    opts.append("on_defect='warn' to accept the result with the defects recorded as warnings")
-    how = [text for code, text in _REPAIR.items() if code in codes]
-    opts.append("repair the mesh" + (f" ({', '.join(how)})" if how else ""))
-    return "Options: " + "; ".join(opts) + "."
+        return ()
+    out = []
+    if codes & _ORIENTATION and repair is None:
+        out.append(("repair", "orient"))
+    if codes & {"open_edges", "non_manifold_edges"} and kind == "solid":
+        out.append(("kind", "shell"))
+    if kind == "solid":
+        out.append(("on_defect", "robust"))
+    out.append(("on_defect", "warn"))
+    return tuple(out)
 
 
-def _defect_error(what: str, defects, report, *, shell: bool, fix_orientation: bool, kind: str) -> MeshError:
+_REMEDY_TEXT = {("repair", "orient"): "to re-wind the faces consistently and outward",
+                ("kind", "shell"): "for a thin shell (density in kg/m^2; open surfaces allowed)",
+                ("on_defect", "robust"): "for the solid the surface most nearly bounds (generalised winding number), "
+                                         "with an error bound",
+                ("on_defect", "warn"): "to accept the result with the defects recorded as findings"}
+
+
+def _defect_error(what: str, defects, report, *, kind: str, repair) -> MeshError:
     """One-paragraph MeshError naming each defect (code, count, example) and the options."""
     parts = "; ".join(f"{d.code}: {d.message}" for d in defects)
     codes = {d.code for d in defects}
+    remedies = _remedies(codes, kind=kind, repair=repair)
     if codes & set(_FATAL):
-        why = ""
-    elif shell:
-        why = " Duplicate faces count their area twice in a shell."
-    elif codes == {"overlapping_shells"}:
-        why = " The volume integrals of closed parts that overlap count the overlap twice."
-    elif codes == {"self_intersecting"}:
-        why = " The volume integrals of a surface that passes through itself count what it encloses twice."
+        why = " Nothing can be computed from such a mesh: " + "; ".join(
+            text for code, text in _FATAL_FIX.items() if code in codes) + "."
     else:
-        why = (" The volume integrals of a surface that is not closed and consistently outward-wound "
-               "are wrong.")
-    msg = (f"{what} cannot be used as {kind}: {parts}.{why} "
-           f"{_options_text(codes, shell=shell, fix_orientation=fix_orientation)}")
-    return MeshError(msg, report=report)
+        if kind == "shell":
+            why = " Duplicate faces count their area twice in a shell."
+        elif codes == {"overlapping_shells"}:
+            why = " The volume integrals of closed parts that overlap count the overlap twice."
+        elif codes == {"self_intersecting"}:
+            why = " The volume integrals of a surface that passes through itself count what it encloses twice."
+        else:
+            why = " The volume integrals of a surface that is not closed and consistently outward-wound are wrong."
+        how = [text for code, text in _REPAIR.items() if code in codes]
+        why += " Options: " + "; ".join([f"{k}={v!r} {_REMEDY_TEXT[(k, v)]}" for k, v in remedies]
+                                        + ["repair the mesh" + (f" ({', '.join(how)})" if how else "")]) + "."
+    noun = "a thin shell" if kind == "shell" else "a solid"
+    return MeshError(f"{what} cannot be used as {noun}: {parts}.{why}", report=report, remedies=remedies)
 
 
-def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orientation, on_defect, frame, name,
-                     stacklevel, with_report: bool = False, welded: bool = False, robust: bool = False,
-                     robust_tol: float = 1e-3, self_crossing: str = "search"):
-    """Implementation of :func:`mesh_properties` (``stacklevel`` points warnings at the caller).
+def check_options(kind="solid", on_defect="raise", repair=None, self_crossing="search", density=None, mass=0.0,
+                  what: str = "mesh") -> None:
+    """Refuse unknown option values and the combinations that mean nothing, before any mesh work."""
+    for name, value, allowed in (("kind", kind, KINDS), ("on_defect", on_defect, ON_DEFECT),
+                                 ("repair", repair, REPAIRS), ("self_crossing", self_crossing, SELF_CROSSING)):
+        if value not in allowed:
+            raise InputError(f"{name} must be one of {allowed}, got {value!r}")
+    if kind == "shell" and on_defect == "robust":
+        raise InputError("on_defect='robust' integrates a solid; a thin shell (kind='shell') needs no closed "
+                         "surface: use on_defect='raise' or 'warn'")
+    if kind == "shell" and repair == "orient":
+        raise InputError("repair='orient' winds a solid's faces outward; a thin shell's orientation does not "
+                         "matter: leave repair=None")
+    if (density is None) == (mass is None):
+        raise InputError(f"{what}: give exactly one of density= or mass=, got "
+                         f"{'both' if density is not None else 'neither'}")
 
-    ``with_report=True`` returns ``(properties, report)``, the report of the mesh as checked
-    (after any orientation fix), so batch callers need not analyse the mesh twice.
-    ``welded=True``: the vertices are known distinct and all used (as :func:`load_mesh`
-    returns them); skips the welding and the compaction.
-    """
-    from .properties import MassProperties
 
+def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair, frame, name, robust_tol,
+                     robust_budget, self_crossing, stacklevel, welded=False):
+    """:func:`mesh_properties` (``stacklevel`` points warnings at the caller; ``welded``: the
+    vertices are distinct and all used, as :func:`load_mesh` returns them)."""
     what = f"mesh {name}" if name else "mesh"
-    kind = "a thin shell" if shell else "a solid"
-    if on_defect not in ON_DEFECT:
-        raise InputError(f"on_defect must be one of {ON_DEFECT}, got {on_defect!r}")
-    if self_crossing not in SELF_CROSSING:
-        raise InputError(f"self_crossing must be one of {SELF_CROSSING}, got {self_crossing!r}")
-    _check_mass_args(density, mass, what)
+    check_options(kind, on_defect, repair, self_crossing, density, mass, what)
+    if on_defect == "robust" and not (robust_tol > 0):
+        raise InputError(f"robust_tol must be positive, got {robust_tol!r}")
     v, f = validate_inputs(vertices, faces)
+    where = name or ""
 
-    if robust and not shell and not with_report and not fix_orientation:
-        props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, tol=robust_tol,
-                               stacklevel=stacklevel + 1)
+    def done(props):
+        # a radius of gyration no larger than the largest: the precision errs on the coarse side
+        precision = coordinate_precision(v, math.sqrt(float(np.diagonal(props.inertia_com).max()) / props.mass))
+        return dataclasses.replace(props, precision=precision) if precision > props.precision else props
+
+    if on_defect == "robust" and repair is None and kind == "solid":
+        props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, where=where,
+                               tol=robust_tol, budget=robust_budget, stacklevel=stacklevel + 1)
         if props is not None:
-            return props
+            return done(props)
     analysis = analyse_mesh(v, f, welded=welded, weld_first=False, self_crossing=self_crossing)
     report = analysis.report
-    if analysis.solid_sums is not None and not shell:   # a clean solid: its sums came with the check
-        props = _clean_solid_properties(analysis.solid_sums, v, f, density=density, mass=mass, frame=frame,
-                                        what=what, notes=_note_texts(report, what, shell))
-        return (props, report) if with_report else props
-    fatal = [d for d in report.defects if d.code in _FATAL]
+    if analysis.solid_sums is not None and kind == "solid":   # a clean solid: its sums came with the check
+        return done(_clean_solid(analysis.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
+                                 findings=_notes(report, where, kind)))
+    fatal = [d for d in report.findings if d.code in _FATAL]
     if fatal:
-        raise _defect_error(what, fatal, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
+        raise _defect_error(what, fatal, report, kind=kind, repair=repair)
 
-    notes: list[str] = []
-    if fix_orientation and not shell and set(report.codes) & _ORIENTATION:
+    findings: list = []
+    if repair == "orient" and set(report.codes) & _ORIENTATION:
         f, n_flipped, analysis = orient_analysed(v, f, analysis, what)
         report = analysis.report
-        notes.append(f"{what}: fix_orientation flipped {n_flipped} of {len(f)} faces")
+        findings.append(Finding("orientation_repaired", f"repair='orient' flipped {n_flipped} of {len(f)} faces",
+                                where=where, values={"flipped": n_flipped, "faces": len(f)}))
 
-    errors = [d for d in report.errors if not (shell and d.code in _SOLID_ONLY)]
-    if errors and robust and not shell:
-        props = _robust_properties(v, f, errors, density=density, mass=mass, frame=frame, what=what,
-                                   tol=robust_tol, notes=notes, stacklevel=stacklevel + 1)
-        return (props, report) if with_report else props
+    errors = [d for d in report.errors if not (kind == "shell" and d.code in _SOLID_ONLY)]
+    if errors and on_defect == "robust":
+        return done(_robust_solid(v, f, density=density, mass=mass, frame=frame, what=what, where=where,
+                                  tol=robust_tol, budget=robust_budget, findings=findings,
+                                  stacklevel=stacklevel + 1))
     if errors and on_defect == "raise":
-        raise _defect_error(what, errors, report, shell=shell, fix_orientation=fix_orientation, kind=kind)
+        raise _defect_error(what, errors, report, kind=kind, repair=repair)
     for d in errors:  # on_defect == "warn": accepted on request, loudly
-        text = f"{what}: {d.code} accepted (on_defect='warn'): {d.message}"
-        warnings.warn(text, MeshDefectWarning, stacklevel=stacklevel)
-        notes.append(text)
-    # Degenerate (zero-area) faces are a note, not an error: the solid kernel weights every
-    # term of a face by det = a.(b x c) = a.((b - a) x (c - a)), i.e. by its area vector, and
-    # the shell kernel by its area, so a zero-area face contributes exactly nothing.  The
-    # topology checks already skip faces that repeat a vertex and keep zero-area faces with
-    # distinct corners, so the closedness verdict stands with them.  Recorded, not raised.
-    notes += _note_texts(report, what, shell)
+        accepted = d.replace(severity="warning", where=where)
+        warnings.warn(f"{what}: {d.code} accepted (on_defect='warn'): {d.message}", MeshDefectWarning,
+                      stacklevel=stacklevel)
+        findings.append(accepted)
+    # Zero-area faces are a note, not an error: every term of the kernels is weighted by the
+    # face's area (vector), so they contribute exactly nothing.
+    findings += _notes(report, where, kind)
 
     # integrate over the referenced vertices only (unreferenced ones would move the
     # kernel's reference point and cost precision)
     vc, fc = (v, f) if welded else compact_vertices(v, f)
-    if shell:
+    from .properties import MassProperties
+
+    if kind == "shell":
         area, first, second, r = shell_integrals(vc, fc)
         if not area > 0:
             raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report,
                             code="zero_area")
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
         com, inertia = central_inertia(area, first, second, r, rho)
-        props = MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
-        return (props, report) if with_report else props
+        return done(MassProperties(m, com, inertia, frame=frame, findings=tuple(findings)))
     volume, first, second, r = solid_integrals(vc, fc)
     if not volume > 0:
         # refused even with on_defect="warn": a non-positive volume has no mass distribution
-        hint = ("; fix_orientation=True re-orients an inward-wound closed mesh" if volume < 0 and not fix_orientation
-                else "")
+        hint = "; repair='orient' re-winds an inward-wound closed mesh" if volume < 0 and repair is None else ""
         raise MeshError(f"{what} has signed volume {volume:.6g} <= 0, so it does not enclose a solid "
                         f"(faces wound inward, or a flat or open surface){hint}.", report=report,
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, first, second, r, rho)
-    props = MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
-    return (props, report) if with_report else props
+    return done(MassProperties(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings)))
 
 
-def _note_texts(report, what: str, shell: bool) -> list:
-    """The report's notes as recorded warnings (what each means for the result)."""
-    out = []
-    for d in report.defects:
-        if d.severity != "note" or (shell and d.code in _SOLID_ONLY):
-            continue
-        if d.code == "degenerate_faces":
-            out.append(f"{what}: {d.code} ignored (zero area adds nothing to the integrals): {d.message}")
-        else:
-            out.append(f"{what}: {d.code}: {d.message}")
-    return out
+def _notes(report, where: str, kind: str) -> list:
+    """The report's notes, located (a shell's notes about solid topology are dropped)."""
+    return [d.replace(where=where) for d in report.findings
+            if d.severity == "note" and not (kind == "shell" and d.code in _SOLID_ONLY)]
 
 
-def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=()):
-    """Mass properties from the volume sums of the compiled check (``clean_solid``'s ``out``);
-    a lopsided body (see :mod:`inertia.geometry.integrals`, error analysis item 4) is
-    integrated again about its COM, as :func:`solid_integrals` does."""
+def _clean_solid(sums, v, f, *, density, mass, frame, what, findings=()):
+    """Mass properties from the volume sums of the compiled check; a body far from the
+    kernel's reference point is integrated again about its COM (see :mod:`inertia.geometry.integrals`)."""
     from .properties import MassProperties
 
     volume, first, second, r, kappa = solid_sums_floats(sums)
@@ -223,118 +220,109 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=())
         first, second, r = first.tolist(), second.tolist(), r.tolist()
     m, rho = resolve_mass(volume, density, mass, what=what)   # refuses a volume that is not positive and finite
     com, inertia = central_from_floats(volume, first, second, r, rho)
-    return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
+    return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings))
 
 
-def _robust_direct(v, f, welded, *, density, mass, frame, what, tol, stacklevel):
-    """``robust=True`` without the full analysis (it costs as much as the robust solid): a
-    clean solid takes the exact path; a mesh with nothing fatal (indices in range, finite
-    coordinates within the limit) goes to the robust solid, whose own pass names the defects;
-    None otherwise (the full analysis then names the fatal ones)."""
-    from ..geometry.checks import clean_analysis
-
+def _robust_direct(v, f, welded, *, density, mass, frame, what, where, tol, budget, stacklevel):
+    """``on_defect="robust"`` without the full analysis (it costs as much as the robust solid):
+    a clean solid takes the exact path; a mesh with nothing fatal goes to the robust solid,
+    whose own pass names the defects; None otherwise (the full analysis then names the fatal ones)."""
     clean = clean_analysis(v, f, welded=welded)
     if clean is not None and clean.solid_sums is not None:
-        return _clean_solid_properties(clean.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
-                                       notes=_note_texts(clean.report, what, False))
+        return _clean_solid(clean.solid_sums, v, f, density=density, mass=mass, frame=frame, what=what,
+                            findings=_notes(clean.report, where, "solid"))
     if not len(f) or not faces_in_range(f, len(v)):
         return None
     with np.errstate(invalid="ignore"):
         if not np.all(np.abs(v) <= COORDINATE_LIMIT):
             return None
-    return _robust_properties(v, f, None, density=density, mass=mass, frame=frame, what=what, tol=tol, notes=[],
-                              stacklevel=stacklevel + 1)
+    return _robust_solid(v, f, density=density, mass=mass, frame=frame, what=what, where=where, tol=tol,
+                         budget=budget, findings=[], stacklevel=stacklevel + 1)
 
 
-def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, stacklevel):
-    """The solid {w >= 1/2} of an imperfect mesh (:func:`inertia.geometry.robust.robust_integrals`),
-    with its error bound and its defects recorded in the warnings."""
+def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findings, stacklevel):
+    """The solid {w >= 1/2} of an imperfect mesh (:func:`inertia.geometry.robust.robust_integrals`):
+    its findings, and one ``robust_solid`` finding carrying the bounds; ``precision`` is the
+    inertia's bound."""
     from ..geometry.robust import robust_integrals
     from .properties import MassProperties
 
-    if not (tol > 0):
-        raise InputError(f"robust_tol must be positive, got {tol!r}")
-    res = robust_integrals(v, f, tol=tol)
+    # TODO(robust budget): pass the geometry layer's budget and progress hook once it has them
+    res = robust_integrals(v, f, tol=tol, time_budget=budget)
     volume = float(res.volume)
     if not volume > 0:
         raise MeshError(f"{what}: the robust solid (generalised winding number >= 1/2) is empty: the surface "
-                        f"encloses no volume ({'; '.join(res.defects) or 'no defect named'}).",
+                        f"encloses no volume ({'; '.join(d.message for d in res.findings) or 'no defect named'}).",
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, np.asarray(res.first, float), np.asarray(res.second, float),
                                    np.asarray(res.reference, float), rho)
-    rel = {k: float(x) for k, x in res.relative_bounds.items()}
-    bounds = ", ".join(f"{k} {x:.2g}" for k, x in rel.items())
-    codes = ", ".join(sorted({d.code for d in errors} if errors is not None else set(res.codes)))
-    text = (f"{what}: robust solid for a mesh with {codes} (the points of generalised winding number >= 1/2"
-            f"{'; ' + '; '.join(res.defects) if res.defects else ''}); relative error bounds: {bounds}")
+    bounds = res.bounds
+    text = (f"robust solid (the points of generalised winding number >= 1/2) of a mesh with "
+            f"{', '.join(res.codes) or 'no defect'}; relative error bounds: "
+            + ", ".join(f"{k} {x:.2g}" for k, x in bounds.items()))
     if not res.converged:
-        text += f"; NOT within robust_tol {tol:g} (the refinement budget ran out)"
-    warnings.warn(text, MeshDefectWarning, stacklevel=stacklevel)
-    return MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes) + (text,))
+        text += f"; NOT within robust_tol {tol:g} (the budget ran out)"
+    warnings.warn(f"{what}: {text}", MeshDefectWarning, stacklevel=stacklevel)
+    robust = Finding("robust_solid", text, where=where,
+                     values={"error_bound": res.error_bound, "bounds": bounds, "tol": tol, "converged": res.converged,
+                             "ambiguous_volume": res.ambiguous_volume})
+    found = [d.replace(severity="warning", where=where) for d in res.findings]
+    # the inertia's relative bound is the result's precision (a bound of 1/2 or more says nothing)
+    return MassProperties(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings) + (robust, *found),
+                          precision=min(bounds["inertia"], 0.5))
 
 
-def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fix_orientation=False,
-                    on_defect="raise", frame: str = "body", name: str | None = None, robust: bool = False,
-                    robust_tol: float = 1e-3, self_crossing: str = "search"):
+def mesh_properties(vertices, faces, *, density=None, mass=None, kind: str = "solid", on_defect: str = "raise",
+                    repair: str | None = None, frame: str = "body", name: str | None = None,
+                    robust_tol: float = 1e-3, robust_budget: float | None = None, self_crossing: str = "search"):
     """Mass properties of a triangle mesh, checked for defects first.
 
     Parameters
     ----------
     vertices : (V, 3) float, m, in the frame ``frame``.
-    faces : (F, 3) int, vertex indices, counter-clockwise seen from outside (float arrays of
-        integral values are accepted).
-    density : float, kg/m^3 (kg/m^2 when ``shell``); or
+    faces : (F, 3) int, vertex indices, counter-clockwise seen from outside.
+    density : float, kg/m^3 (kg/m^2 for a shell); or
     mass : float, kg (exactly one of the two).
-    shell : bool
-        Treat the surface as a thin shell of uniform surface density: open surfaces and
-        any orientation are allowed.  Empty meshes, NaN/inf coordinates, bad indices and
-        duplicate faces are still refused.
-    fix_orientation : bool
-        Re-orient the faces consistently per edge-connected component (breadth-first over
-        the face adjacency) and outward (positive signed volume; cavities nested in another
-        component inward).  Raises MeshError when a component is not orientable.
-    on_defect : {"raise", "warn"}
-        ``"raise"`` (default): a defect that makes the result wrong raises MeshError.
-        ``"warn"``: accept it; a :class:`MeshDefectWarning` is issued and the text is
-        recorded in the result's ``warnings``.  A solid of non-positive volume is refused
-        either way.
-    frame : str, name of the frame of ``vertices`` (bookkeeping).
-    name : str, optional, how messages name the mesh (e.g. its file path).
-    robust : bool
-        Opt-in answer for an imperfect solid (open, non-manifold, inconsistently wound,
-        overlapping or self-intersecting): the solid is the set of points whose generalised
-        winding number is at least 1/2 (:func:`inertia.geometry.robust.robust_integrals`),
-        integrated with an error bound refined below ``robust_tol`` (relative, for the volume,
-        the COM and the inertia).  A warning names the defects and the bounds, which are also
-        in ``warnings``.  A closed, consistently wound mesh takes the exact path either way.
-    robust_tol : float, the relative bound to reach (default 1e-3).
+    kind : {"solid", "shell"}
+        ``"shell"``: a thin shell of uniform surface density (open surfaces and any winding allowed).
+    on_defect : {"raise", "warn", "robust"}
+        What to do with the defects that would make the result wrong: raise
+        :class:`~inertia.errors.MeshError` (default); accept them (a :class:`MeshDefectWarning`,
+        and each defect in ``findings`` as a warning); or integrate the solid of points whose
+        generalised winding number is at least 1/2 (solids only), with relative error bounds
+        refined below ``robust_tol``, in a ``robust_solid`` finding and in ``precision``.
+    repair : {None, "orient"}
+        ``"orient"``: re-wind the faces consistently per component and outward first (solids only).
+    frame : str, name of the frame of ``vertices``.
+    name : str, optional, how messages and findings name the mesh (e.g. its file path).
+    robust_tol : float, the relative bound the robust solid aims at (default 1e-3).
+    robust_budget : float, optional, seconds the robust refinement may take (default: no limit).
     self_crossing : {"search", "certificate"}
-        How a closed shell is shown not to pass through itself: ``"search"`` (default) proves
-        it in the integrals' pass when it is star-shaped from its center of mass, and
-        otherwise tests face pairs (up to 200,000 faces; 10-50x the cost of the integrals);
-        ``"certificate"`` only tries the proof, and a shell it does not prove gets the note
-        ``self_crossing_unchecked`` in ``warnings`` (for bulk work where that cost matters).
+        How a closed shell is shown not to pass through itself: ``"search"`` proves it in one
+        pass when it is star-shaped from its COM and otherwise tests face pairs (up to 200,000
+        faces); ``"certificate"`` only tries the proof, and notes ``self_crossing_unchecked``.
 
     Returns
     -------
     MassProperties
-        ``mass`` kg, ``com`` (3,) m, ``inertia_com`` (3, 3) kg m^2 about the COM in ``frame``
-        (negated products), ``volume`` m^3 (NaN for shells), ``warnings`` (notes and
-        accepted defects).
+        SI units in ``frame``; ``volume`` NaN for shells; ``findings`` (notes, accepted
+        defects, repairs, the robust solid's bounds); ``precision``, the relative precision
+        the input allows (float32 coordinates, a robust bound).
 
     Raises
     ------
     MeshError
-        The mesh has defects (``.report`` holds the full :class:`MeshReport`).
+        The mesh has defects (``.report`` is the full :class:`~inertia.geometry.MeshReport`,
+        ``.remedies`` the options that would give a result).
     InputError
-        Wrong array shapes or types, both or neither of density/mass, bad ``on_defect``.
+        Wrong shapes or types, both or neither of density and mass, an unknown option or a
+        combination that means nothing (a shell with ``on_defect="robust"`` or ``repair``).
 
     Notes
     -----
-    Degenerate (zero-area) faces are recorded in ``warnings`` but never raise: they add
-    nothing to the integrals.  The integrals are exact for a closed, consistently
-    outward-wound surface (divergence theorem; Eberly, "Polyhedral mass properties").
+    The integrals are exact for a closed, consistently outward-wound surface (divergence
+    theorem; Eberly, "Polyhedral mass properties").
 
     Examples
     --------
@@ -345,31 +333,23 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, shell=False, fi
     >>> round(p.mass, 12), p.com.shape, p.inertia_com.shape
     (1.0, (3,), (3, 3))
     """
-    return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame, name=name,
-                            stacklevel=3, robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
+    return _mesh_properties(vertices, faces, density=density, mass=mass, kind=kind, on_defect=on_defect,
+                            repair=repair, frame=frame, name=name, robust_tol=robust_tol,
+                            robust_budget=robust_budget, self_crossing=self_crossing, stacklevel=3)
 
 
-def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", shell: bool = False,
-                         fix_orientation: bool = False, on_defect: str = "raise", frame: str = "body",
-                         merge_rtol: float = MERGE_RTOL, robust: bool = False, robust_tol: float = 1e-3,
+def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", kind: str = "solid",
+                         on_defect: str = "raise", repair: str | None = None, frame: str = "body",
+                         merge_rtol: float = MERGE_RTOL, robust_tol: float = 1e-3, robust_budget: float | None = None,
                          self_crossing: str = "search"):
-    """Mass properties of the triangle mesh in a file (see :func:`inertia.geometry.mesh_io.load_mesh` and
-    :func:`inertia.massprops.mesh.mesh_properties` for the parameters).
+    """Mass properties of the triangle mesh in a file: :func:`inertia.load_mesh` (``units``,
+    ``merge_rtol``), then :func:`mesh_properties` (the other options); messages name the file.
 
-    ``density`` is kg/m^3 (kg/m^2 with ``shell=True``) whatever ``units`` the file uses:
-    coordinates are converted to metres first.  MeshError messages and recorded warnings
-    name the file.
-
-    Returns
-    -------
-    MassProperties in frame ``frame`` (the file's coordinate frame), SI units.
+    ``density`` is kg/m^3 (kg/m^2 for a shell) whatever the file's ``units``: coordinates are
+    converted to metres first.  Returns MassProperties in the file's frame, SI units.
     """
-    from ..massprops.mesh import compute_mesh_properties
-
     vertices, faces = load_mesh(path, units=units, merge_rtol=merge_rtol)
-    # stacklevel 3: warnings point at the caller of mesh_file_properties
-    return compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                            fix_orientation=fix_orientation, on_defect=on_defect, frame=frame,
-                            name=str(path), stacklevel=3, welded=merge_rtol > 0, robust=robust,
-                            robust_tol=robust_tol, self_crossing=self_crossing)
+    return _mesh_properties(vertices, faces, density=density, mass=mass, kind=kind, on_defect=on_defect,
+                            repair=repair, frame=frame, name=str(path), robust_tol=robust_tol,
+                            robust_budget=robust_budget, self_crossing=self_crossing, stacklevel=3,
+                            welded=merge_rtol > 0)

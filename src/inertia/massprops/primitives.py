@@ -7,7 +7,7 @@ axes of the body frame) for a body of uniform density.  Each takes exactly one o
 * ``mass=`` [kg], or
 * ``density=`` [kg/m^3 for solids; kg/m^2, i.e. mass per unit area, for thin shells],
 
-and, where it exists, ``shell=True`` for the *thin-shell* variant: uniform surface
+and, where it exists, ``kind="shell"`` for the *thin-shell* variant: uniform surface
 density over the whole closed boundary surface (end caps and faces included).
 Solids carry their ``volume`` [m^3]; shells have ``volume = NaN``.
 
@@ -70,11 +70,11 @@ def _lengths3(value, name: str, what: str) -> tuple[float, float, float]:
     return float(v[0]), float(v[1]), float(v[2])
 
 
-def _flag(value, name: str, what: str) -> bool:
-    """A strict boolean flag (so that ``shell="no"`` is not silently truthy)."""
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    raise InputError(f"{what}: {name} must be True or False, got {value!r}")
+def _is_shell(kind, what: str) -> bool:
+    """``kind`` is ``"shell"`` (True) or ``"solid"`` (False); anything else is refused."""
+    if kind in ("solid", "shell"):
+        return kind == "shell"
+    raise InputError(f"{what}: kind must be 'solid' or 'shell', got {kind!r}")
 
 
 def _uniform_body(what: str, measure: float, com, gyration_sq, mass, density, *, shell: bool,
@@ -101,7 +101,7 @@ def _uniform_body(what: str, measure: float, com, gyration_sq, mass, density, *,
 
 
 # ----------------------------------------------------------------------------- box
-def box(size, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def box(size, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform rectangular box (cuboid), centered at the origin, edges along the body axes.
 
     Parameters
@@ -111,8 +111,8 @@ def box(size, *, mass=None, density=None, shell: bool = False, frame: str = "bod
     mass : float, kg, optional
         Total mass.  Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 (surface density) when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 (surface density) for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin shell made of the six faces, uniform surface density.
     frame : str, default "body"
         Name recorded on the result.
@@ -137,7 +137,8 @@ def box(size, *, mass=None, density=None, shell: bool = False, frame: str = "bod
     >>> p.inertia_com.shape, float(p.inertia_com[0, 0])
     ((3, 3), 13.0)
     """
-    what = "box shell" if _flag(shell, "shell", "box") else "box"
+    shell = _is_shell(kind, "box")
+    what = "box shell" if shell else "box"
     a, b, c = _lengths3(size, "size", "box")
     if not shell:
         # Wikipedia list, "solid cuboid": I_xx = m (b^2 + c^2) / 12, cyclic.
@@ -154,7 +155,7 @@ def box(size, *, mass=None, density=None, shell: bool = False, frame: str = "bod
 
 
 # ----------------------------------------------------------------------------- sphere / ellipsoid
-def sphere(radius, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def sphere(radius, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform solid ball or thin spherical shell, centered at the origin.
 
     Parameters
@@ -163,8 +164,8 @@ def sphere(radius, *, mass=None, density=None, shell: bool = False, frame: str =
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin spherical shell (uniform surface density).
     frame : str, default "body"
 
@@ -183,7 +184,7 @@ def sphere(radius, *, mass=None, density=None, shell: bool = False, frame: str =
     >>> float(sphere(1.0, mass=5.0).inertia_com[2, 2])
     2.0
     """
-    shell = _flag(shell, "shell", "sphere")
+    shell = _is_shell(kind, "sphere")
     what = "sphere shell" if shell else "sphere"
     r = _length(radius, "radius", "sphere")
     if shell:
@@ -195,7 +196,7 @@ def sphere(radius, *, mass=None, density=None, shell: bool = False, frame: str =
                          mass, density, shell=False, frame=frame)
 
 
-def ellipsoid(semi_axes, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def ellipsoid(semi_axes, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform solid ellipsoid or thin ellipsoidal shell, centered, semi-axes along x, y, z.
 
     Parameters
@@ -205,8 +206,8 @@ def ellipsoid(semi_axes, *, mass=None, density=None, shell: bool = False, frame:
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin shell of uniform surface density over the ellipsoid surface.
     frame : str, default "body"
 
@@ -230,7 +231,7 @@ def ellipsoid(semi_axes, *, mass=None, density=None, shell: bool = False, frame:
     aspect ratio (checked against Carlson's ``R_G`` and adaptive quadrature in the tests).
     A sphere (``a = b = c``) reproduces ``2/3 m r^2`` to rounding.
     """
-    shell = _flag(shell, "shell", "ellipsoid")
+    shell = _is_shell(kind, "ellipsoid")
     what = "ellipsoid shell" if shell else "ellipsoid"
     a, b, c = _lengths3(semi_axes, "semi_axes", "ellipsoid")
     if not shell:
@@ -244,7 +245,7 @@ def ellipsoid(semi_axes, *, mass=None, density=None, shell: bool = False, frame:
 
 
 # ----------------------------------------------------------------------------- cylinder, tube, cone
-def cylinder(radius, height, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def cylinder(radius, height, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform solid circular cylinder or closed thin cylindrical shell; axis z, centered.
 
     Parameters
@@ -255,8 +256,8 @@ def cylinder(radius, height, *, mass=None, density=None, shell: bool = False, fr
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin closed shell: the lateral surface *and* both end discs, uniform surface density.
     frame : str, default "body"
 
@@ -272,7 +273,7 @@ def cylinder(radius, height, *, mass=None, density=None, shell: bool = False, fr
     ``int x^2 dA = pi r^3 h``, ``int z^2 dA = pi r h^3 / 6``) and two discs at ``z = +-h/2``
     (each ``A = pi r^2``, ``int x^2 dA = pi r^4 / 4``, ``int z^2 dA = pi r^2 h^2 / 4``).
     """
-    shell = _flag(shell, "shell", "cylinder")
+    shell = _is_shell(kind, "cylinder")
     what = "cylinder shell" if shell else "cylinder"
     r = _length(radius, "radius", "cylinder")
     h = _length(height, "height", "cylinder")
@@ -290,7 +291,7 @@ def cylinder(radius, height, *, mass=None, density=None, shell: bool = False, fr
     return _uniform_body(what, area, np.zeros(3), k2, mass, density, shell=True, frame=frame)
 
 
-def tube(outer_radius, inner_radius, height, *, mass=None, density=None, shell: bool = False,
+def tube(outer_radius, inner_radius, height, *, mass=None, density=None, kind: str = "solid",
          frame: str = "body"):
     """Uniform hollow circular cylinder (thick-walled tube); axis z, centered.
 
@@ -302,7 +303,7 @@ def tube(outer_radius, inner_radius, height, *, mass=None, density=None, shell: 
         for a tube without a bore).
     height, mass, density, frame
         As for :func:`cylinder`.
-    shell : bool, default False
+    kind : {"solid", "shell"}, default "solid"
         Thin closed shell over the whole boundary: outer and inner lateral surfaces and
         the two annular end faces, uniform surface density.
 
@@ -319,7 +320,7 @@ def tube(outer_radius, inner_radius, height, *, mass=None, density=None, shell: 
     ``int z^2 dA = pi r h^3 / 6``) at ``r = r1, r2`` plus two annuli at ``z = +-h/2``
     (each ``A = pi (r2^2 - r1^2)``, ``int x^2 dA = pi (r2^4 - r1^4) / 4``).
     """
-    shell = _flag(shell, "shell", "tube")
+    shell = _is_shell(kind, "tube")
     what = "tube shell" if shell else "tube"
     r2 = _length(outer_radius, "outer_radius", "tube")
     r1 = _length(inner_radius, "inner_radius", "tube")
@@ -346,7 +347,7 @@ def tube(outer_radius, inner_radius, height, *, mass=None, density=None, shell: 
     return _uniform_body(what, area, np.zeros(3), k2, mass, density, shell=True, frame=frame)
 
 
-def cone(radius, height, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def cone(radius, height, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform solid right circular cone or closed thin conical shell; axis z.
 
     Frame: the base disc lies in the plane ``z = 0`` centered on the z axis, the apex
@@ -362,8 +363,8 @@ def cone(radius, height, *, mass=None, density=None, shell: bool = False, frame:
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin closed shell: the lateral (slanted) surface *and* the base disc.
     frame : str, default "body"
 
@@ -386,7 +387,7 @@ def cone(radius, height, *, mass=None, density=None, shell: bool = False, frame:
     ``z_c = s h / (3 (s + r))``, ``I_zz = m r^2 / 2`` and
     ``I_xx = m (r^2 / 4 + s h^2 (s + 3 r) / (18 (s + r)^2))``.
     """
-    shell = _flag(shell, "shell", "cone")
+    shell = _is_shell(kind, "cone")
     what = "cone shell" if shell else "cone"
     r = _length(radius, "radius", "cone")
     h = _length(height, "height", "cone")
@@ -407,7 +408,7 @@ def cone(radius, height, *, mass=None, density=None, shell: bool = False, frame:
 
 
 # ----------------------------------------------------------------------------- capsule
-def capsule(radius, length, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def capsule(radius, length, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform capsule (cylinder with hemispherical ends); axis z, centered.
 
     Parameters
@@ -420,8 +421,8 @@ def capsule(radius, length, *, mass=None, density=None, shell: bool = False, fra
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin shell over the closed surface (lateral cylinder + two hemispheres).
     frame : str, default "body"
 
@@ -448,7 +449,7 @@ def capsule(radius, length, *, mass=None, density=None, shell: bool = False, fra
       ``m_h (5/12 r^2 + (L/2 + r/2)^2) = m_h (2/3 r^2 + L^2/4 + L r/2)``; the open lateral
       cylinder has ``I_zz = m_c r^2``, ``I_xx = m_c (r^2/2 + L^2/12)``.
     """
-    shell = _flag(shell, "shell", "capsule")
+    shell = _is_shell(kind, "capsule")
     what = "capsule shell" if shell else "capsule"
     r = _length(radius, "radius", "capsule")
     L = _length(length, "length", "capsule", allow_zero=True)
@@ -479,7 +480,7 @@ def capsule(radius, length, *, mass=None, density=None, shell: bool = False, fra
 
 
 # ----------------------------------------------------------------------------- torus
-def torus(major_radius, minor_radius, *, mass=None, density=None, shell: bool = False, frame: str = "body"):
+def torus(major_radius, minor_radius, *, mass=None, density=None, kind: str = "solid", frame: str = "body"):
     """Uniform solid ring torus or thin toroidal shell; ring in the xy plane, axis z, centered.
 
     Parameters
@@ -492,8 +493,8 @@ def torus(major_radius, minor_radius, *, mass=None, density=None, shell: bool = 
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
     density : float, optional
-        kg/m^3 for the solid; kg/m^2 when ``shell``.
-    shell : bool, default False
+        kg/m^3 for the solid; kg/m^2 for ``kind="shell"``.
+    kind : {"solid", "shell"}, default "solid"
         Thin shell over the torus surface (uniform surface density).
     frame : str, default "body"
 
@@ -512,7 +513,7 @@ def torus(major_radius, minor_radius, *, mass=None, density=None, shell: bool = 
     ``int rho^2 dA = 4 pi^2 R a (R^2 + 3 a^2 / 2)``, ``int z^2 dA = 2 pi^2 R a^3``, so
     ``I_zz = m (R^2 + 3 a^2 / 2)``, ``I_xx = I_yy = m (R^2 / 2 + 5 a^2 / 4)``.
     """
-    shell = _flag(shell, "shell", "torus")
+    shell = _is_shell(kind, "torus")
     what = "torus shell" if shell else "torus"
     R = _length(major_radius, "major_radius", "torus")
     a = _length(minor_radius, "minor_radius", "torus")
@@ -539,7 +540,7 @@ def spherical_shell(outer_radius, inner_radius=None, *, mass=None, density=None,
     inner_radius : float, m, optional
         Radius of the concentric spherical cavity, ``0 < inner_radius < outer_radius``.
         ``None`` (default) gives the thin shell of radius ``outer_radius``, the same as
-        ``sphere(outer_radius, shell=True)``.  Equal radii are refused (the thick shell
+        ``sphere(outer_radius, kind="shell")``.  Equal radii are refused (the thick shell
         would have no volume); use ``inner_radius=None`` for the thin-shell limit.
     mass : float, kg, optional
         Give exactly one of ``mass`` and ``density``.
@@ -563,7 +564,7 @@ def spherical_shell(outer_radius, inner_radius=None, *, mass=None, density=None,
     """
     r2 = _length(outer_radius, "outer_radius", "spherical_shell")
     if inner_radius is None:
-        return sphere(r2, mass=mass, density=density, shell=True, frame=frame)
+        return sphere(r2, mass=mass, density=density, kind="shell", frame=frame)
     r1 = _length(inner_radius, "inner_radius", "spherical_shell")
     if not r1 < r2:
         raise InputError(f"spherical_shell: inner_radius must be smaller than outer_radius, got inner_radius = "

@@ -19,7 +19,7 @@ from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.validation import as_float_array, as_matrix3, as_rotation_matrix, as_vector3, frozen_array
 from . import tensor as _t
 from .principal import PrincipalFrame, principal_frame
-from .validity import Violation, check_inertia, raise_if_invalid
+from .validity import check_inertia, raise_if_invalid
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,8 +38,9 @@ class MassProperties:
         Name of the frame the vectors are expressed in (bookkeeping only; ``"body"`` by default).
     volume : float, m^3
         Volume of the solid when known (NaN otherwise, e.g. for point masses or thin shells).
-    warnings : tuple of str
-        Warnings raised while computing the value (e.g. mesh defects accepted on request).
+    findings : tuple of Finding
+        What was found while computing the value (mesh notes, defects accepted on request, a
+        robust solid's bounds).
     precision : float
         Relative precision of ``inertia_com`` that the input allows (0: exact input).  A mesh
         whose coordinates are float32 values carries about 1e-7; a robust result its error
@@ -56,7 +57,7 @@ class MassProperties:
     inertia_com: np.ndarray
     frame: str = "body"
     volume: float = math.nan
-    warnings: tuple = ()
+    findings: tuple = ()
     validate: bool = field(default=True, repr=False)
     precision: float = 0.0
 
@@ -71,7 +72,7 @@ class MassProperties:
         object.__setattr__(self, "com", frozen_array(com))
         object.__setattr__(self, "inertia_com", frozen_array(inertia))
         object.__setattr__(self, "volume", float(self.volume))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "findings", tuple(self.findings))
         precision = float(self.precision)
         if not (0.0 <= precision < 1.0):
             raise InputError(f"precision must be a relative precision in [0, 1), got {self.precision!r}")
@@ -86,7 +87,7 @@ class MassProperties:
     # ------------------------------------------------------------------ constructors
     @classmethod
     def _computed(cls, mass: float, com: np.ndarray, inertia: np.ndarray, *, frame: str = "body",
-                  volume: float = math.nan, warnings: tuple = (), precision: float = 0.0) -> "MassProperties":
+                  volume: float = math.nan, findings: tuple = (), precision: float = 0.0) -> "MassProperties":
         """Internal: a value this package has just computed (``com`` (3,) and ``inertia`` (3, 3)
         fresh float64 arrays, ``mass`` a float): validated for physics as every value is, without
         re-checking shapes and types (the per-call cost of a small mesh)."""
@@ -95,7 +96,7 @@ class MassProperties:
         com.setflags(write=False)
         inertia.setflags(write=False)
         for name, value in (("mass", float(mass)), ("com", com), ("inertia_com", inertia), ("frame", frame),
-                            ("volume", float(volume)), ("warnings", tuple(warnings)), ("validate", True),
+                            ("volume", float(volume)), ("findings", tuple(findings)), ("validate", True),
                             ("precision", float(precision))):
             object.__setattr__(obj, name, value)
         return obj
@@ -194,11 +195,11 @@ class MassProperties:
         """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
         pf = self.principal_frame(rtol=rtol)
         props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
-                               volume=self.volume, warnings=self.warnings, validate=False, precision=self.precision)
+                               volume=self.volume, findings=self.findings, validate=False, precision=self.precision)
         return CanonicalForm(props=props, R_body_principal=pf.R_body_principal, p_body_com=self.com,
                              degenerate=pf.degenerate, rtol=pf.rtol, frame=self.frame)
 
-    def check(self) -> list[Violation]:
+    def check(self) -> list:
         """Every physical-validity violation (empty when valid); see :mod:`inertia.massprops.validity`."""
         return check_inertia(self.inertia_com, self.mass, self.com)
 
@@ -218,7 +219,7 @@ class MassProperties:
     # ------------------------------------------------------------------ transforms
     def _replace(self, **kw) -> "MassProperties":
         args = dict(mass=self.mass, com=self.com, inertia_com=self.inertia_com, frame=self.frame,
-                    volume=self.volume, warnings=self.warnings, validate=False, precision=self.precision)
+                    volume=self.volume, findings=self.findings, validate=False, precision=self.precision)
         args.update(kw)
         return MassProperties(**args)
 
@@ -252,8 +253,9 @@ class MassProperties:
             raise InputError(f"mass must be positive and finite, got {mass!r}")
         return self._replace(mass=m, inertia_com=self.inertia_com * (m / self.mass))
 
-    def with_warnings(self, *warnings: str) -> "MassProperties":
-        return self._replace(warnings=self.warnings + tuple(warnings))
+    def with_findings(self, *findings) -> "MassProperties":
+        """The same value with ``findings`` (:class:`~inertia.errors.Finding`) added."""
+        return self._replace(findings=self.findings + tuple(findings))
 
     def __add__(self, other: "MassProperties") -> "MassProperties":
         """Combine two bodies expressed in the same frame (rigidly joined)."""
@@ -263,7 +265,7 @@ class MassProperties:
 
     # ------------------------------------------------------------------ export
     def to_dict(self) -> dict:
-        """Plain-Python dict (JSON-ready): mass, volume, com, inertia_com, principal moments/axes, frame, warnings."""
+        """Plain-Python dict (JSON-ready): mass, volume, com, inertia_com, principal moments/axes, frame, findings."""
         moments, axes = self.principal()
         return {
             "mass": self.mass,
@@ -273,7 +275,7 @@ class MassProperties:
             "principal_moments": moments.tolist(),
             "principal_axes": axes.tolist(),
             "frame": self.frame,
-            "warnings": list(self.warnings),
+            "findings": [f.to_dict() for f in self.findings],
         }
 
     def __eq__(self, other):
@@ -354,9 +356,9 @@ def combine(bodies, signs=None, *, frame=None, allow_negative: bool = False, val
         I += sgn * _t.inertia_about_point(b.inertia_com, b.mass, b.com, com)
     vols = np.array([b.volume for b in bodies]) * signs
     vol = float(vols.sum()) if np.all(np.isfinite(vols)) else math.nan
-    warnings = tuple(w for b in bodies for w in b.warnings)
+    findings = tuple(w for b in bodies for w in b.findings)
     return MassProperties(M, com, 0.5 * (I + I.T), frame=frame or bodies[0].frame, volume=vol,
-                          warnings=warnings, validate=validate, precision=max(b.precision for b in bodies))
+                          findings=findings, validate=validate, precision=max(b.precision for b in bodies))
 
 
 def point_masses(masses, positions, *, frame: str = "body", validate: bool = True):

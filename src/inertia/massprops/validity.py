@@ -1,9 +1,9 @@
 """Physical validity of mass properties, with every violation named and quantified.
 
-Conditions (checked in this order, all reported, none short-circuits another):
+Conditions (checked in this order, all reported as :class:`~inertia.errors.Finding`):
 
-* ``mass_not_positive``: mass must be finite and > 0;
-* ``not_finite``: every entry of the inertia matrix (and COM, if given) finite;
+* ``non_positive_mass``: mass must be finite and > 0;
+* ``non_finite``: every entry of the inertia matrix (and COM, if given) finite;
 * ``not_symmetric``: ``|I_ij - I_ji| <= SYMMETRY_RTOL * max|I|``;
 * ``not_positive_definite``: smallest principal moment ``> PHYSICAL_RTOL * trace`` (a rod
   or a point has a zero moment and is reported);
@@ -15,31 +15,19 @@ Conditions (checked in this order, all reported, none short-circuits another):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._core.errors import InputError, InvalidInertiaError
+from .._core.findings import Finding
 from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 from .._core.validation import as_float_array
 
 _TINY = float(np.finfo(float).tiny)     # the smallest normal float64
 
 
-@dataclass(frozen=True)
-class Violation:
-    """One violated condition: a stable ``code``, a readable ``message`` and the numbers."""
-
-    code: str
-    message: str
-    values: dict = field(default_factory=dict)
-
-    def __str__(self) -> str:
-        return self.message
-
-
 def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
-                  symmetry_rtol: float = SYMMETRY_RTOL) -> list[Violation]:
+                  symmetry_rtol: float = SYMMETRY_RTOL) -> list[Finding]:
     """Every physical-validity violation of one inertia matrix (empty list when valid).
 
     Parameters
@@ -50,16 +38,17 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     rtol, symmetry_rtol : float
         Tolerances, see the module docstring.
     """
-    out: list[Violation] = []
+    out: list[Finding] = []
     if mass is not None:
         m = float(mass)
         if not (math.isfinite(m) and m > 0):
-            out.append(Violation("mass_not_positive", f"mass must be positive and finite, got {m:.6g} kg", {"mass": m}))
+            out.append(Finding("non_positive_mass", f"mass must be positive and finite, got {m:.6g} kg",
+                               values={"mass": m}))
     if com is not None:
         c = np.asarray(com, float)
         if c.shape != (3,) or not all(map(math.isfinite, c.tolist())):
-            out.append(Violation("not_finite", f"center of mass must be 3 finite numbers, got {c.tolist()}",
-                                 {"com": c.tolist()}))
+            out.append(Finding("non_finite", f"center of mass must be 3 finite numbers, got {c.tolist()}",
+                               values={"com": c.tolist()}))
     I = np.asarray(inertia, float)
     if I.shape != (3, 3):
         raise InputError(f"inertia must have shape (3, 3), got {I.shape}")
@@ -67,16 +56,16 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     rows = I.tolist()
     flat = rows[0] + rows[1] + rows[2]
     if not all(map(math.isfinite, flat)):
-        out.append(Violation("not_finite", f"inertia holds non-finite entries: {rows}", {"inertia": rows}))
+        out.append(Finding("non_finite", f"inertia holds non-finite entries: {rows}", values={"inertia": rows}))
         return out
     scale = max(map(abs, flat))
     asym = max(abs(rows[0][1] - rows[1][0]), abs(rows[0][2] - rows[2][0]), abs(rows[1][2] - rows[2][1]))
     if asym > symmetry_rtol * max(scale, _TINY):
         i, j = np.unravel_index(np.argmax(np.abs(I - I.T)), I.shape)
-        out.append(Violation("not_symmetric",
+        out.append(Finding("not_symmetric",
                              f"inertia is not symmetric: I[{i},{j}] = {I[i, j]:.6g} but I[{j},{i}] = {I[j, i]:.6g} "
                              f"(difference {asym:.3g} > {symmetry_rtol:g} * max|I| = {symmetry_rtol * scale:.3g})",
-                             {"asymmetry": asym}))
+                             values={"asymmetry": asym}))
     # Work on I / max|I|: 0.5 (I + I^T), the eigensolver's squares and the trace cannot overflow
     # or underflow, whatever the magnitude (1e-300 to 1e308); moments are scaled back for messages.
     s = scale if scale > 0.0 else 1.0
@@ -88,17 +77,17 @@ def check_inertia(inertia, mass=None, com=None, *, rtol: float = PHYSICAL_RTOL,
     tol_unit = rtol * max(abs(float(np.sum(unit))), _TINY)
     tol = tol_unit * s
     if unit[0] <= tol_unit:
-        out.append(Violation("not_positive_definite",
+        out.append(Finding("not_positive_definite",
                              f"inertia is not positive definite: principal moments {_fmt(moments)} kg m^2, "
                              f"smallest {moments[0]:.6g} <= tolerance {tol:.3g}",
-                             {"moments": moments.tolist(), "tolerance": tol}))
+                             values={"moments": moments.tolist(), "tolerance": tol}))
     margin_unit = float(unit[0] + unit[1] - unit[2])
     margin = margin_unit * s
     if margin_unit < -tol_unit:
-        out.append(Violation("triangle_inequality",
+        out.append(Finding("triangle_inequality",
                              f"inertia fails the triangle inequality: I1 + I2 = {moments[0] + moments[1]:.6g} < "
                              f"I3 = {moments[2]:.6g} (margin {margin:.3g}; principal moments about the COM, kg m^2)",
-                             {"moments": moments.tolist(), "margin": margin, "tolerance": tol}))
+                             values={"moments": moments.tolist(), "margin": margin, "tolerance": tol}))
     return out
 
 
@@ -128,7 +117,7 @@ def raise_if_invalid(inertia, mass=None, com=None, *, what: str = "mass properti
     """Raise :class:`InvalidInertiaError` listing every violation, if any."""
     v = check_inertia(inertia, mass, com, **kwargs)
     if v:
-        raise InvalidInertiaError(f"{what} are not physical: " + "; ".join(x.message for x in v), v)
+        raise InvalidInertiaError(f"{what} are not physical: " + "; ".join(x.message for x in v), findings=v)
 
 
 def _fmt(a) -> str:
@@ -165,5 +154,5 @@ def as_principal_moments(moments, name: str = "moments", *, validate: bool = Tru
             violations = [v for v in violations if v.code != "triangle_inequality"]
         where = "" if I.ndim == 1 else f" at batch index {tuple(int(i) for i in np.unravel_index(k, I.shape[:-1]))}"
         raise InvalidInertiaError(f"{name} = {_fmt(flat[k])} kg m^2{where} are not the principal moments of a "
-                                  f"physical body: " + "; ".join(v.message for v in violations), violations)
+                                  f"physical body: " + "; ".join(v.message for v in violations), findings=violations)
     return I

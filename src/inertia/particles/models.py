@@ -35,7 +35,7 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.tolerances import PHYSICAL_RTOL
 from .._core.validation import as_float_array, as_rotation_matrix, as_vector3, frozen_array
-from ..massprops.equivalent import PrincipalSecondMoments, principal_second_moments
+from ..massprops.equivalent import flat_findings, principal_second_moments
 from ..massprops.properties import MassProperties
 
 __all__ = ["ParticleModel", "six_point_model", "four_point_model"]
@@ -75,8 +75,8 @@ class ParticleModel:
         The COM (origin of P) in F.
     frame : str
         Name of the body frame F (from the input MassProperties).
-    warnings : tuple of str
-        Notes on degenerate cases (a flat body has coinciding or coplanar points).
+    findings : tuple of Finding
+        ``flat_body`` for a flat body (its points coincide or are coplanar).
     positions_body : (n, 3) float, m
         Point positions in the body frame F:
         ``positions_body[k] = p_body_com + R_body_principal @ positions_principal[k]``.
@@ -94,7 +94,7 @@ class ParticleModel:
     R_body_principal: np.ndarray
     p_body_com: np.ndarray
     frame: str = "body"
-    warnings: tuple = ()
+    findings: tuple = ()
     positions_body: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -117,7 +117,7 @@ class ParticleModel:
         object.__setattr__(self, "R_body_principal", frozen_array(R_body_principal))
         object.__setattr__(self, "p_body_com", frozen_array(p_FBcm))
         object.__setattr__(self, "positions_body", frozen_array(p_F))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "findings", tuple(self.findings))
 
     # ------------------------------------------------------------------ queries
     @property
@@ -184,7 +184,7 @@ class ParticleModel:
 
         Keys: ``kind``, ``frame``, ``masses`` (n), ``positions_body`` (n x 3, in F),
         ``positions_principal`` (n x 3, in P), ``R_body_principal`` (3 x 3), ``p_body_com``
-        (3), ``warnings``.
+        (3), ``findings``.
         """
         return {
             "kind": self.kind,
@@ -194,21 +194,12 @@ class ParticleModel:
             "positions_principal": self.positions_principal.tolist(),
             "R_body_principal": self.R_body_principal.tolist(),
             "p_body_com": self.p_body_com.tolist(),
-            "warnings": list(self.warnings),
+            "findings": [f.to_dict() for f in self.findings],
         }
 
     def __repr__(self) -> str:
         return (f"ParticleModel(kind={self.kind!r}, n_points={self.n_points}, mass={self.mass:.6g}, "
                 f"frame={self.frame!r})")
-
-
-def _flat_notes(sm: PrincipalSecondMoments, detail) -> tuple:
-    out = []
-    for i in sm.flat_axes:
-        j, k = (a for a in range(3) if a != i)
-        out.append(f"flat body: I{j + 1} + I{k + 1} - I{i + 1} = {sm.margins[i]:.3g} kg m^2 is zero within "
-                   f"{sm.tolerance:.3g}; {detail(i)}")
-    return tuple(out)
 
 
 def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> ParticleModel:
@@ -272,11 +263,11 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
     for i in range(3):
         p_P[2 * i, i] = d[i]
         p_P[2 * i + 1, i] = 0.0 - d[i]  # 0.0 - 0.0 is +0.0: no "-0.0" for a flat axis
-    notes = _flat_notes(sm, lambda i: f"d{i + 1} = {d[i]:.3g} m, so points {2 * i} and {2 * i + 1} "
+    notes = flat_findings(sm, lambda i: f"d{i + 1} = {d[i]:.3g} m, so points {2 * i} and {2 * i + 1} "
                                       f"(+-d{i + 1} on principal axis {i + 1}) coincide at the COM")
     cf = sm.canonical
     return ParticleModel("six_point", np.full(6, M / 6.0), p_P, cf.R_body_principal, cf.p_body_com,
-                         frame=props.frame, warnings=notes)
+                         frame=props.frame, findings=notes)
 
 
 def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> ParticleModel:
@@ -339,8 +330,8 @@ def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> P
     M = props.mass
     c = np.sqrt(sm.second_moments / M)  # c_i^2 = s_i / M, metres
     p_P = TETRAHEDRON_SIGNS * c + 0.0  # r_k = diag(c) sigma_k; "+ 0.0" turns -0.0 (flat axis) into +0.0
-    notes = _flat_notes(sm, lambda i: f"c{i + 1} = {c[i]:.3g} m, so the four points lie in the plane normal to "
+    notes = flat_findings(sm, lambda i: f"c{i + 1} = {c[i]:.3g} m, so the four points lie in the plane normal to "
                                       f"principal axis {i + 1}")
     cf = sm.canonical
     return ParticleModel("four_point", np.full(4, M / 4.0), p_P, cf.R_body_principal, cf.p_body_com,
-                         frame=props.frame, warnings=notes)
+                         frame=props.frame, findings=notes)

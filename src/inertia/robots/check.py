@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._core.findings import Finding
 from .._core.tolerances import SIMULATOR_MIN_VALUE
 from .geometry import geometry_bounds, link_geometry_properties
 
@@ -50,39 +51,44 @@ AXIS_ANGLE_LIMIT_DEG = 45.0
 COM_MARGIN = 0.05
 
 
+class _Findings:
+    """A list of findings, with views by severity."""
+
+    findings: list
+
+    def add(self, code: str, message: str, *, where: str = "", severity: str = "", values=None) -> None:
+        self.findings.append(Finding(code, message, severity=severity, where=where, values=values or {}))
+
+    def _of(self, severity: str) -> list:
+        return [f for f in self.findings if f.severity == severity]
+
+    errors = property(lambda self: self._of("error"), doc="The findings of severity error.")
+    warnings = property(lambda self: self._of("warning"), doc="The findings of severity warning.")
+    notes = property(lambda self: self._of("note"), doc="The findings of severity note (what was not checked).")
+
+
 @dataclass
-class Finding:
-    code: str
-    message: str
+class LinkReport(_Findings):
+    """One link's (body's) findings; ``line`` where it is declared."""
 
-    def to_dict(self) -> dict:
-        return {"code": self.code, "message": self.message}
-
-
-@dataclass
-class LinkReport:
     name: str
     line: int | None
-    errors: list = field(default_factory=list)
-    warnings: list = field(default_factory=list)
-    notes: list = field(default_factory=list)  # what could not be checked, and why
+    findings: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "line": self.line, "errors": [e.to_dict() for e in self.errors],
-                "warnings": [w.to_dict() for w in self.warnings], "notes": [n.to_dict() for n in self.notes]}
+        return {"name": self.name, "line": self.line, "findings": [f.to_dict() for f in self.findings]}
 
 
 @dataclass
-class CheckReport:
+class CheckReport(_Findings):
+    """Every link's report, and the findings about the file as a whole (no links, joints that
+    cannot be read, what the reader read although other tools would not)."""
+
     file: str
     links: list
     #: links with no mass that simulators accept (fixed joints, or welded to a body with mass)
     massless_frames: list = field(default_factory=list)
-    #: findings about the file as a whole (no links; joints that cannot be read; what the
-    #: reader read although other tools would not)
-    errors: list = field(default_factory=list)
-    notes: list = field(default_factory=list)
-    warnings: list = field(default_factory=list)
+    findings: list = field(default_factory=list)
 
     @property
     def n_errors(self) -> int:
@@ -94,8 +100,15 @@ class CheckReport:
 
     def to_dict(self) -> dict:
         return {"file": self.file, "links": [lk.to_dict() for lk in self.links],
-                "massless_frames": list(self.massless_frames), "errors": [e.to_dict() for e in self.errors],
-                "warnings": [w.to_dict() for w in self.warnings], "notes": [n.to_dict() for n in self.notes]}
+                "massless_frames": list(self.massless_frames), "findings": [f.to_dict() for f in self.findings]}
+
+
+def reader_finding(code: str, text: str, severity: str = "warning") -> Finding:
+    """A reader's ``(code, "file:line: message")`` note as a finding (location in ``where``)."""
+    head, sep, rest = text.partition(": ")
+    if sep and " " not in head:
+        return Finding(code, rest, severity=severity, where=head)
+    return Finding(code, text, severity=severity)
 
 
 def inertia_violations(inertia, mass=None) -> list:
@@ -126,7 +139,7 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
     ``compiler``: MJCF's ``<compiler>`` mass options for the body (MuJoCo repairs what they cover)."""
     rep = LinkReport(link.name, link.line)
     for code, msg in link.notes:
-        rep.warnings.append(Finding(code, msg))
+        rep.findings.append(reader_finding(code, msg))
     inertial = link.inertial
     if link.inertia_from_geoms:  # MJCF: MuJoCo computes this body's inertia from its geoms
         return _check_from_geoms(link, rep, where, mesh_units, warnings)
@@ -134,32 +147,29 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         return rep
     at = f"{inertial_where or where}: link {link.name!r}"  # errors point at the <inertial> itself
     m = inertial.mass
-    if m == 0 and not np.any(inertial.inertia_declared):
+    if m == 0 and not np.any(inertial.inertia_com_inertial):
         return rep  # a massless frame: an idiom, unless it moves alone (the tree checks, robots.floors)
     if not (math.isfinite(m) and m > 0):
-        rep.errors.append(Finding("non_positive_mass", f"{at}: mass is {m!r} kg with a non-zero tensor; a body "
-                                  "needs a positive mass (a massless frame has mass 0 and a zero tensor)"))
-    codes = {"mass_not_positive": None, "not_finite": "not_positive_definite", "not_symmetric": "not_symmetric",
-             "not_positive_definite": "not_positive_definite", "triangle_inequality": "triangle_inequality"}
-    violations = inertia_violations(inertial.inertia_declared)
+        rep.add("non_positive_mass", f"mass is {m!r} kg with a non-zero tensor; a body needs a positive mass (a "
+                "massless frame has mass 0 and a zero tensor)", where=at, values={"mass": m})
+    violations = inertia_violations(inertial.inertia_com_inertial)
     hint = ""
     if any(v.code in ("triangle_inequality", "not_positive_definite") for v in violations):
-        flipped = flip_products(inertial.inertia_declared)
-        if not inertia_violations(flipped) and not np.array_equal(flipped, inertial.inertia_declared):
+        flipped = flip_products(inertial.inertia_com_inertial)
+        if not inertia_violations(flipped) and not np.array_equal(flipped, inertial.inertia_com_inertial):
             hint = ("; with the signs of its products of inertia flipped it is physical: they were probably "
                     "copied from CAD, which lists positive products (this format wants the tensor elements "
                     "ixy = -sum m x y); 'inertia fix --flip-products' flips them")
     for v in violations:
-        code = codes.get(v.code, v.code)
-        if code:
-            extra = hint if code in ("triangle_inequality", "not_positive_definite") else ""
-            rep.errors.append(Finding(code, f"{at}: {v.message}{extra}"))
-    if inertial.form == "fullinertia" and not any(e.code == "not_positive_definite" for e in rep.errors):
-        least = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_declared + inertial.inertia_declared.T))[0])
+        extra = hint if v.code in ("triangle_inequality", "not_positive_definite") else ""
+        rep.findings.append(v.replace(message=v.message + extra, where=at))
+    if inertial.form == "fullinertia" and not any(e.code in ("not_positive_definite", "non_finite")
+                                                  for e in rep.errors):
+        least = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_com_inertial + inertial.inertia_com_inertial.T))[0])
         if not least >= SIMULATOR_MIN_VALUE:  # MuJoCo's rule for fullinertia, moving body or not
-            rep.errors.append(Finding("not_positive_definite", (
-                f"{at}: fullinertia's smallest principal moment is {least:.3g} kg m^2, below {SIMULATOR_MIN_VALUE:g}: "
-                "MuJoCo refuses it (\"inertia must have positive eigenvalues\" in fullinertia)")))
+            rep.add("not_positive_definite", f"fullinertia's smallest principal moment is {least:.3g} kg m^2, below "
+                    f"{SIMULATOR_MIN_VALUE:g}: MuJoCo refuses it (\"inertia must have positive eigenvalues\" in "
+                    "fullinertia)", where=at, values={"moment": least, "floor": SIMULATOR_MIN_VALUE})
     if rep.errors and compiler:
         _compiler_repairs(rep, compiler)
     if violations or rep.errors or not warnings:
@@ -172,9 +182,9 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
             margin = COM_MARGIN * float(np.linalg.norm(hi - lo))
         c = inertial.com_link
         if np.any(c < lo - margin) or np.any(c > hi + margin):
-            rep.warnings.append(Finding("com_outside_geometry", (
-                f"{at}: center of mass {np.round(c, 6).tolist()} m lies outside the bounds of the link's shapes "
-                f"{np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()} m (link frame)")))
+            rep.add("com_outside_geometry", f"center of mass {np.round(c, 6).tolist()} m lies outside the bounds of "
+                    f"the link's shapes {np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()} m (link frame)",
+                    where=at, values={"com": c, "lo": lo, "hi": hi})
     # compare with the visual shapes when there are any (they describe the body; collision
     # shapes are often simplified stand-ins, like a foot sphere), else with the collision ones
     role = "visual" if any(g.role == "visual" for g in link.geometries) else "collision"
@@ -195,19 +205,20 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
         if code == "mesh_not_found":  # the reader's warning says it already: one message per missing mesh
             _mark_skipped(rep, msg, suffix)
             continue
-        rep.notes.append(Finding(code, f"{at}: {msg}{suffix}"))
+        rep.add(code, f"{msg}{suffix}", where=at, severity="note")
     if computed is not None:
-        declared_m, declared_R = _principal(inertial.inertia_link)
+        declared_m, declared_R = _principal(inertial.inertia_com)
         comp_m, comp_R = _principal(computed.inertia_com)
         ratios = declared_m / comp_m
         worst = float(np.max(np.maximum(ratios, 1 / ratios)))
         angle = _axes_angle(declared_m, declared_R, comp_m, comp_R)
         if worst > MOMENT_RATIO_LIMIT or (angle is not None and angle > AXIS_ANGLE_LIMIT_DEG):
-            rep.warnings.append(Finding("geometry_mismatch", (
-                f"{at}: declared principal moments {np.array2string(declared_m, precision=4)} kg m^2 vs "
-                f"{np.array2string(comp_m, precision=4)} from its {role} geometry at the declared mass "
-                f"(ratios {np.array2string(ratios, precision=3)}"
-                + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")")))
+            rep.add("geometry_mismatch", f"declared principal moments {np.array2string(declared_m, precision=4)} "
+                    f"kg m^2 vs {np.array2string(comp_m, precision=4)} from its {role} geometry at the declared mass "
+                    f"(ratios {np.array2string(ratios, precision=3)}"
+                    + (f", principal axes {angle:.0f} deg apart" if angle is not None else "") + ")",
+                    where=at, values={"declared_moments": declared_m, "geometry_moments": comp_m,
+                                      "axes_angle_deg": angle, "role": role})
     return rep
 
 
@@ -222,22 +233,23 @@ def _compiler_repairs(rep, compiler: dict) -> None:
                "triangle_inequality": compiler["balanceinertia"] == "true"}
     option = {"non_positive_mass": "boundmass", "not_positive_definite": "boundinertia",
               "triangle_inequality": "balanceinertia"}
-    if not all(repairs.get(e.code) for e in rep.errors) or any("is -" in e.message for e in rep.errors):
+    errors = rep.errors
+    if not all(repairs.get(e.code) for e in errors) or any(e.values.get("mass", 0.0) < 0 for e in errors):
         return  # something MuJoCo refuses remains (a negative mass is refused whatever the bounds)
-    for e in rep.errors:
-        rep.warnings.append(Finding("compiler_repairs_inertia", f"{e.message}; MuJoCo's <compiler "
-                                    f"{option[e.code]}={compiler[option[e.code]]!r}> repairs it when it compiles "
-                                    "the model (the file itself stays invalid for other tools)"))
-    rep.errors.clear()
+    rep.findings = [f for f in rep.findings if f.severity != "error"]
+    for e in errors:
+        rep.add("compiler_repairs_inertia", f"{e.message}; MuJoCo's <compiler "
+                f"{option[e.code]}={compiler[option[e.code]]!r}> repairs it when it compiles the model (the file "
+                "itself stays invalid for other tools)", where=e.where, values={**e.values, "repairs": e.code})
 
 
 def _mark_skipped(rep, problem: str, suffix: str) -> None:
     """Add ``suffix`` to the reader's mesh_not_found warning for the shape ``problem`` names
     (``"line N: ..."``), instead of a second message about the same mesh."""
     line = problem.split(":", 1)[0].removeprefix("line ").strip()
-    for w in rep.warnings:
-        if w.code == "mesh_not_found" and f":{line}: " in w.message and not w.message.endswith(suffix):
-            w.message += suffix
+    for k, w in enumerate(rep.findings):
+        if w.code == "mesh_not_found" and f":{line}: " in f"{w}: " and not w.message.endswith(suffix):
+            rep.findings[k] = w.replace(message=w.message + suffix)
 
 
 def _check_from_geoms(link, rep, where, mesh_units, warnings: bool = True):
@@ -245,16 +257,15 @@ def _check_from_geoms(link, rep, where, mesh_units, warnings: bool = True):
     at = f"{where}: body {link.name!r}"
     props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units, simulator=True)
     for code, msg in problems:
-        rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
+        rep.add(code, f"inertia comes from the geoms (inertiafromgeom), but {msg}", where=at, severity="warning")
     if props is not None:
         from ..massprops.validity import check_inertia
 
         for v in check_inertia(props.inertia_com, props.mass):  # sums of shapes: the default rounding
-            rep.errors.append(Finding(v.code if v.code != "mass_not_positive" else "non_positive_mass",
-                                      f"{at}: the inertia computed from its geoms: {v.message}"))
+            rep.findings.append(v.replace(message=f"the inertia computed from its geoms: {v.message}", where=at))
         if link.inertial is not None:
-            rep.notes.append(Finding("inertial_ignored", f"{at}: inertiafromgeom=\"true\": the declared "
-                                     "<inertial> is replaced by the geoms' inertia"))
+            rep.add("inertial_ignored", "inertiafromgeom=\"true\": the declared <inertial> is replaced by the "
+                    "geoms' inertia", where=at)
         if not rep.errors and warnings:
             _compare_legacy(link, props, rep, at, mesh_units)
     return rep
@@ -278,8 +289,8 @@ def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
     solid, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units)
     if solid is None:  # an open or non-manifold mesh: MuJoCo's number bounds no solid
         for code, msg in problems:
-            rep.warnings.append(Finding(code, f"{at}: {msg}; MuJoCo still infers mass {simulated.mass:.6g} kg "
-                                        "from it (pyramids to a centroid), which is not the mass of a solid"))
+            rep.add(code, f"{msg}; MuJoCo still infers mass {simulated.mass:.6g} kg from it (pyramids to a "
+                    "centroid), which is not the mass of a solid", where=at, severity="warning")
         return
     if not legacy:
         return
@@ -288,12 +299,13 @@ def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
     dI = float(np.max(np.abs(moments_sim - moments_solid) / moments_solid))
     if max(dm, dI) > LEGACY_RTOL:
         names = ", ".join(sorted({str(g.params.get("uri") or g.params.get("where")) for g in legacy}))
-        rep.warnings.append(Finding("legacy_mesh_inertia", (
-            f"{at}: MuJoCo's default mesh inertia (legacy) gives mass {simulated.mass:.6g} kg and principal "
-            f"moments {np.array2string(moments_sim, precision=4)} kg m^2, the exact solid {solid.mass:.6g} kg and "
+        rep.add("legacy_mesh_inertia", (
+            f"MuJoCo's default mesh inertia (legacy) gives mass {simulated.mass:.6g} kg and principal moments "
+            f"{np.array2string(moments_sim, precision=4)} kg m^2, the exact solid {solid.mass:.6g} kg and "
             f"{np.array2string(moments_solid, precision=4)} ({100 * dm:.0f} % in mass, up to {100 * dI:.0f} % in "
             f"a moment): legacy overcounts non-convex meshes ({names}); set inertia=\"exact\" (closed meshes) or "
-            "\"convex\" on the <mesh> asset, or declare an <inertial>")))
+            "\"convex\" on the <mesh> asset, or declare an <inertial>"), where=at,
+            values={"mass_relative": dm, "moment_relative": dI})
 
 
 def _well_defined(moments, i: int) -> bool:
@@ -340,16 +352,15 @@ def check_model(model, *, mesh_units: str = "m", warnings: bool = True) -> Check
                                 warnings=warnings, compiler=compiler))
     report = CheckReport(str(model.path), links)
     for code, message in getattr(doc, "notes", ()):
-        report.warnings.append(Finding(code, message))
+        report.findings.append(reader_finding(code, message))
     if not model.links and model.format == "mjcf":
-        report.notes.append(Finding("no_bodies", f"{model.path}: the file holds no body: nothing to check (MuJoCo "
-                                    "compiles it: an include fragment of defaults, assets or keyframes, or a "
-                                    "scene without bodies)"))
+        report.add("no_bodies", "the file holds no body: nothing to check (MuJoCo compiles it: an include fragment "
+                   "of defaults, assets or keyframes, or a scene without bodies)", where=str(model.path))
         return report
     if not model.links:
-        report.errors.append(Finding("no_links", f"{model.path}: the file holds no link: nothing to simulate or "
-                                     f"check ({'urdfdom' if model.format == 'urdf' else 'libsdformat'} refuses "
-                                     "such a robot)"))
+        report.add("no_links", "the file holds no link: nothing to simulate or check "
+                   f"({'urdfdom' if model.format == 'urdf' else 'libsdformat'} refuses such a robot)",
+                   where=str(model.path))
         return report
     _tree_checks(model, report, mesh_units, warnings)
     return report
@@ -366,7 +377,8 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
         try:
             read_tree(model)
         except InertiaError as exc:
-            report.errors.append(Finding("joints_unreadable", f"{exc} (the checks of moving bodies did not run)"))
+            report.findings.append(reader_finding("joints_unreadable", f"{exc} (the checks of moving bodies did not "
+                                                  "run)", "error"))
             return
 
     known: dict = {}
@@ -389,12 +401,12 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
 
     loops = getattr(model, "loop_joints", [])
     if loops:
-        report.notes.append(Finding("kinematic_loop", (
-            f"{model.path}: {len(loops)} joint{'s close' if len(loops) > 1 else ' closes'} a kinematic loop: "
+        report.add("kinematic_loop", (
+            f"{len(loops)} joint{'s close' if len(loops) > 1 else ' closes'} a kinematic loop: "
             + "; ".join(f"line {j.line}: joint {j.name!r} (its child link {child!r} already has a parent)"
                         for j, child in loops[:10]) + (" ..." if len(loops) > 10 else "")
             + ". Mass properties need no tree: each link is counted once, at the pose of the tree without "
-            "these joints")))
+            "these joints"), where=str(model.path))
     moving = floors.moving_links(model)
     groups = floors.welded_groups(model, moving)
     if model.format == "mjcf":
@@ -402,9 +414,9 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
     for g, members in groups.items():
         for i, _, _ in members:
             for what in model.links[i].static_only:
-                report.links[i].errors.append(Finding("plane_in_moving_body", (
-                    f"{what}: body {model.links[i].name!r} moves (it or a body it is welded to has a joint), and "
-                    "MuJoCo refuses it: \"plane only allowed in static bodies\"")))
+                report.links[i].add("plane_in_moving_body", f"body {model.links[i].name!r} moves (it or a body it is "
+                                    "welded to has a joint), and MuJoCo refuses it: \"plane only allowed in static "
+                                    "bodies\"", where=what)
     for g, members in groups.items():
         rep = report.links[g]
         if rep.errors:
@@ -414,15 +426,15 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
             joint = next((j for j in model.links[g].joints if j.kind != "fixed"), None)
             how = f"joint {joint.name!r} ({joint.type})" if joint is not None else "a free body"
             shapes = model.format == "urdf" and any(model.links[i].geometries for i, _, _ in members)
-            rep.errors.append(Finding("massless_moving_link", (
-                f"{_where(model, g)}: link {model.links[g].name!r} moves ({how}) but neither it nor any link welded "
+            rep.add("massless_moving_link", (
+                f"link {model.links[g].name!r} moves ({how}) but neither it nor any link welded "
                 "to it has mass: simulators refuse it (MuJoCo: \"mass and inertia of moving bodies must be larger "
                 "than mjMINVAL\"; Pinocchio's mass matrix is singular)"
                 + ("; MuJoCo's URDF import infers a mass from its shapes, Pinocchio and Gazebo do not" if shapes
-                   else "") + "; give it its inertial, or make the joint fixed")))
+                   else "") + "; give it its inertial, or make the joint fixed"), where=_where(model, g))
         elif not (mass >= SIMULATOR_MIN_VALUE and moments.min() >= SIMULATOR_MIN_VALUE):
-            message = floors.floor_message(model.links[g].name, mass, moments)
-            rep.errors.append(Finding("below_simulator_floor", f"{_where(model, g)}: {message}"))
+            rep.add("below_simulator_floor", floors.floor_message(model.links[g].name, mass, moments),
+                    where=_where(model, g), values={"mass": mass, "moments": moments})
     for i, (link, rep) in enumerate(zip(model.links, report.links)):
         props = props_of(link)
         if props is None or (props.mass == 0 and not np.any(props.inertia_com)):
@@ -430,8 +442,8 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
                 report.massless_frames.append(link.name)
             continue
         if model.format == "sdf" and link.inertial is None:
-            rep.notes.append(Finding("sdf_default_inertial", f"{_where(model, i)}: link {link.name!r} has no "
-                                     "<inertial>: Gazebo simulates it with mass 1 kg and moments 1 kg m^2"))
+            rep.add("sdf_default_inertial", f"link {link.name!r} has no <inertial>: Gazebo simulates it with mass "
+                    "1 kg and moments 1 kg m^2", where=_where(model, i))
         if link.inertial is not None and not rep.errors and warnings:
             _gyration(model, i, link, rep, mesh_units, floors)
 
@@ -443,10 +455,12 @@ def _static_zero_moments(model, report, in_motion: set) -> None:
         inertial = link.inertial
         if i in in_motion or inertial is None or inertial.form != "diaginertia":
             continue
-        if [e.code for e in rep.errors] == ["not_positive_definite"] and np.diag(inertial.inertia_declared).min() == 0:
-            rep.warnings += [Finding("static_degenerate_inertia", f"{e.message}; the body is welded to the world "
-                                     "(it never moves), and MuJoCo compiles it") for e in rep.errors]
-            rep.errors.clear()
+        errors = rep.errors
+        if [e.code for e in errors] == ["not_positive_definite"] and np.diag(inertial.inertia_com_inertial).min() == 0:
+            rep.findings = [f for f in rep.findings if f.severity != "error"]
+            for e in errors:
+                rep.add("static_degenerate_inertia", f"{e.message}; the body is welded to the world (it never moves), "
+                        "and MuJoCo compiles it", where=e.where, values=e.values)
 
 
 def _where(model, i: int) -> str:
@@ -463,7 +477,8 @@ def _gyration(model, i: int, link, rep, mesh_units: str, floors) -> None:
     k = floors.radius_of_gyration(link.inertial)
     size = floors.link_size(model, i, geometry_bounds(link, mesh_units=mesh_units))
     if math.isfinite(k) and size > 0 and k < floors.GYRATION_RATIO * size:
-        rep.warnings.append(Finding("implausible_inertia", (
-            f"{_where(model, i)}: link {link.name!r}: its largest radius of gyration sqrt(I3 / m) is {k:.3g} m, "
+        rep.add("implausible_inertia", (
+            f"link {link.name!r}: its largest radius of gyration sqrt(I3 / m) is {k:.3g} m, "
             f"under {floors.GYRATION_RATIO:g} of the {size:.3g} m the link spans: not the tensor of a body of "
-            "that size (a unit slip, or a placeholder such as 1e-6 kg m^2)")))
+            "that size (a unit slip, or a placeholder such as 1e-6 kg m^2)"), where=_where(model, i),
+            values={"radius_of_gyration": k, "size": size})

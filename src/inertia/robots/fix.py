@@ -306,7 +306,7 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
         if inertial is None or id(inertial.element) in edited:
             continue    # an MJCF <replicate> copies one <inertial>: it is fixed once, for every copy
         edited.add(id(inertial.element))
-        own, mass = inertial.inertia_declared * mass_scale, inertial.mass * mass_scale
+        own, mass = inertial.inertia_com_inertial * mass_scale, inertial.mass * mass_scale
         this = ed if model.document.start_byte(inertial.element) is not None else _Elsewhere()
         if mode == "flip":
             _fix_flip(this, model.format, inertial, own, mass_scale, report, link.name)
@@ -343,10 +343,10 @@ def _output_errors(model, data: bytes, path: Path, search_paths, mesh_units: str
     for link in fixed.links:
         if link.inertial is not None and mass_scale != 1.0:
             link.inertial.mass *= mass_scale
-            link.inertial.inertia_declared = link.inertial.inertia_declared * mass_scale
+            link.inertial.inertia_com_inertial = link.inertial.inertia_com_inertial * mass_scale
     found = check_model(fixed, mesh_units=mesh_units, warnings=False)
-    out = {"(file)": "; ".join(e.message for e in found.errors)} if found.errors else {}
+    out = {"(file)": "; ".join(str(e) for e in found.errors)} if found.errors else {}
     for lk in found.links:
         if lk.errors:
-            out[lk.name] = "; ".join(f"{e.code}: {e.message}" for e in lk.errors)
+            out[lk.name] = "; ".join(f"{e.code}: {e}" for e in lk.errors)
     return out

@@ -39,7 +39,7 @@ GYRATION_RATIO = 0.01
 
 def _massless(link) -> bool:
     i = link.inertial
-    return i is None or (i.mass == 0 and not np.any(i.inertia_declared))
+    return i is None or (i.mass == 0 and not np.any(i.inertia_com_inertial))
 
 
 def _static_sdf(model) -> bool:
@@ -120,7 +120,7 @@ def radius_of_gyration(inertial) -> float:
     if not inertial.mass > 0:
         return math.nan
     with np.errstate(all="ignore"):
-        top = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_declared + inertial.inertia_declared.T))[2])
+        top = float(np.linalg.eigvalsh(0.5 * (inertial.inertia_com_inertial + inertial.inertia_com_inertial.T))[2])
     return math.sqrt(top / inertial.mass) if top > 0 else 0.0
 
 

@@ -137,20 +137,21 @@ def shape_properties(geom, *, density: float = 1000.0, mesh_units: str = "m", si
     rho = geom.density if geom.density is not None else density
     k, p = geom.kind, geom.params
     shell = bool(p.get("shell", False))
+    kind = "shell" if shell else "solid"
     if "error" in p:
         raise InertiaError(p["error"])
     if k == "box":
-        props = primitives.box(tuple(p["size"]), density=rho, shell=shell)
+        props = primitives.box(tuple(p["size"]), density=rho, kind=kind)
     elif k == "sphere":
-        props = primitives.sphere(p["radius"], density=rho, shell=shell)
+        props = primitives.sphere(p["radius"], density=rho, kind=kind)
     elif k == "cylinder":
-        props = primitives.cylinder(p["radius"], p["length"], density=rho, shell=shell)
+        props = primitives.cylinder(p["radius"], p["length"], density=rho, kind=kind)
     elif k == "capsule":
-        props = primitives.capsule(p["radius"], p["length"], density=rho, shell=shell)
+        props = primitives.capsule(p["radius"], p["length"], density=rho, kind=kind)
     elif k == "ellipsoid" and shell and simulator:
         props = _mujoco_ellipsoid_shell(p["semi_axes"], rho, geom.mass)
     elif k == "ellipsoid":
-        props = primitives.ellipsoid(tuple(p["semi_axes"]), density=rho, shell=shell)
+        props = primitives.ellipsoid(tuple(p["semi_axes"]), density=rho, kind=kind)
     elif k == "mesh" and simulator and p.get("mujoco_inertia") is not None:
         props = _mujoco_mesh(p, rho, mesh_units)
     elif k == "mesh":
@@ -248,7 +249,7 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             if mesh_messages(g):
                 notes.append(("mesh_reader_message", f"line {g.line}: {r} mesh {g.params.get('path')}: its reader "
                               f"said: {'; '.join(mesh_messages(g))} (the triangles were read)"))
-            if any("overlapping_shells accepted" in w or "self_intersecting accepted" in w for w in part.warnings):
+            if any(f.code in ("overlapping_shells", "self_intersecting") for f in part.findings):
                 notes.append((SUMMED_OVERLAP, f"line {g.line}: {r} mesh {g.params.get('path')}: closed parts of "
                               "the mesh overlap; summed as the simulator sums them (the overlap counts twice)"))
         if problems:

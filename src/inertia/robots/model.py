@@ -1,9 +1,9 @@
 """What the readers return: links with their declared inertial and their geometry.
 
 Frames: every pose is in the **link frame** (URDF link, SDF link, MJCF body).
-``Inertial.inertia_link`` is the declared tensor about the center of mass, expressed in the
-link axes (negated products, ``L = I w``), after applying the inertial frame's rotation;
-``Inertial.inertia_declared`` is as written, in the inertial frame's axes.
+``Inertial.inertia_com`` is the declared tensor about the center of mass in the link axes
+(negated products, ``L = I w``); ``Inertial.inertia_com_inertial`` is the same tensor as
+written, in the inertial frame's axes (``inertia_com = R_link_inertial I R_link_inertial^T``).
 """
 
 from __future__ import annotations
@@ -22,16 +22,17 @@ class Inertial:
     mass: float
     com_link: np.ndarray
     R_link_inertial: np.ndarray
-    inertia_declared: np.ndarray
+    inertia_com_inertial: np.ndarray
     line: int | None = None
     element: object = None
     #: MJCF: how the tensor was written ("fullinertia" or "diaginertia"; MuJoCo judges them apart)
     form: str | None = None
 
     @property
-    def inertia_link(self) -> np.ndarray:
+    def inertia_com(self) -> np.ndarray:
+        """The declared tensor about the COM in the link axes (kg m^2)."""
         R = self.R_link_inertial
-        return R @ self.inertia_declared @ R.T
+        return R @ self.inertia_com_inertial @ R.T
 
 
 @dataclass

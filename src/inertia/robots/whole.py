@@ -116,7 +116,7 @@ def link_mass_properties(model, link, *, mesh_units: str = "m"):
         return props, "geometry" if props is not None else "none"
     if link.inertial is not None:
         i = link.inertial
-        return MassProperties(i.mass, i.com_link, i.inertia_link, validate=False), "declared"
+        return MassProperties(i.mass, i.com_link, i.inertia_com, validate=False), "declared"
     if model.format == "sdf":
         return MassProperties(SDF_DEFAULT_MASS, np.zeros(3), SDF_DEFAULT_MOMENT * np.eye(3)), "sdf_default"
     return None, "none"

@@ -34,13 +34,11 @@ is neither a rigid body nor a collider, e.g. a visual mesh: physics ignores it).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from ..._core.errors import InertiaError
 from ..._core.tolerances import SIMULATOR_MIN_VALUE
-from ..check import CheckReport, Finding, LinkReport
+from ..check import CheckReport, LinkReport
 from .mass import UNSET_TOLERANCE, body_mass, is_set, to_world_si
 from .stage import read_stage
 
@@ -52,41 +50,26 @@ HULL_RTOL = 0.05
 QUAT_NORM_ATOL = 1e-6
 
 
-@dataclass
-class UsdCheckReport(CheckReport):
-    """:class:`~inertia.robots.check.CheckReport` with stage-level warnings."""
-
-    warnings: list = field(default_factory=list)
-
-    @property
-    def n_warnings(self) -> int:
-        return len(self.warnings) + sum(len(lk.warnings) for lk in self.links)
-
-    def to_dict(self) -> dict:
-        out = super().to_dict()
-        out["warnings"] = [w.to_dict() for w in self.warnings]
-        return out
-
-
 def _attr_findings(rep, where: str, attrs, tol: float) -> None:
     if attrs.authored and not attrs.applied:
-        rep.warnings.append(Finding("mass_api_not_applied", f"{where}: mass attributes are authored but "
-                                    "PhysicsMassAPI is not applied: usd-core and PhysX ignore them"))
+        rep.add("mass_api_not_applied", "mass attributes are authored but PhysicsMassAPI is not applied: usd-core "
+                "and PhysX ignore them", where=where)
         return
     if attrs.mass is not None and attrs.mass < 0:
-        rep.errors.append(Finding("negative_mass", f"{where}: physics:mass = {attrs.mass:g} is negative: every "
-                                  "reader takes it as not set (0 and below mean \"not set\")"))
+        rep.add("negative_mass", f"physics:mass = {attrs.mass:g} is negative: every reader takes it as not set (0 "
+                "and below mean \"not set\")", where=where, values={"mass": attrs.mass})
     q = attrs.principal_axes
     if q is not None and is_set(q, tol) and abs(float(np.linalg.norm(q)) - 1.0) > QUAT_NORM_ATOL:
-        rep.errors.append(Finding("non_unit_principal_axes", (
-            f"{where}: physics:principalAxes {np.round(q, 7).tolist()} has norm {np.linalg.norm(q):.7g}, not 1: "
+        rep.add("non_unit_principal_axes", (
+            f"physics:principalAxes {np.round(q, 7).tolist()} has norm {np.linalg.norm(q):.7g}, not 1: "
             "NVIDIA's asset validator refuses it and usd-core turns it into a matrix that is no rotation; "
-            "'inertia fix' normalises it")))
+            "'inertia fix' normalises it"), where=where, values={"norm": float(np.linalg.norm(q))})
     d = attrs.diagonal_inertia
     if d is not None and np.any(d != 0) and not is_set(d, tol):
-        rep.warnings.append(Finding("inertia_below_usd_tolerance", (
-            f"{where}: physics:diagonalInertia {np.array2string(d, precision=4)} has norm {np.linalg.norm(d):.3g}, "
-            f"at most {UNSET_TOLERANCE:g} (stage units): usd-core's ComputeMassProperties reads it as not set")))
+        rep.add("inertia_below_usd_tolerance", (
+            f"physics:diagonalInertia {np.array2string(d, precision=4)} has norm {np.linalg.norm(d):.3g}, "
+            f"at most {UNSET_TOLERANCE:g} (stage units): usd-core's ComputeMassProperties reads it as not set"),
+            where=where, values={"norm": float(np.linalg.norm(d))})
 
 
 def _body_findings(stage, i: int, rep, tol: float) -> None:
@@ -103,38 +86,37 @@ def _body_findings(stage, i: int, rep, tol: float) -> None:
     try:
         bm = body_mass(stage, i, tol=tol)
     except InertiaError as exc:
-        rep.warnings.append(Finding("geometry_unusable", f"{where}: {exc}; its mass properties cannot be computed"))
+        rep.add("geometry_unusable", f"{exc}; its mass properties cannot be computed", where=where,
+                severity="warning")
         return
     props = to_world_si(stage, body, bm)
     if has_m and not has_I and (a.diagonal_inertia is None or not np.any(a.diagonal_inertia)):
         how = ("its colliders' inertia scaled to that mass" if body.colliders else
                f"usd-core's 0.1 m sphere, {bm.I_B[0, 0]:.3g} about each axis (stage units)")
-        rep.warnings.append(Finding("mass_without_inertia", f"{where}: physics:mass is authored without "
-                                    f"physics:diagonalInertia: the inertia is {how}"))
+        rep.add("mass_without_inertia", f"physics:mass is authored without physics:diagonalInertia: the inertia "
+                f"is {how}", where=where)
     if has_I and not has_m:
-        rep.warnings.append(Finding("inertia_without_mass", f"{where}: physics:diagonalInertia is authored without "
-                                    f"physics:mass: the mass ({props.mass:.6g} kg) comes from the colliders while the "
-                                    "inertia stays as authored"))
+        rep.add("inertia_without_mass", f"physics:diagonalInertia is authored without physics:mass: the mass "
+                f"({props.mass:.6g} kg) comes from the colliders while the inertia stays as authored", where=where)
     if bm.source == "fallback" and body.dynamic:
-        rep.errors.append(Finding("mass_fallback", f"{where}: no mass is authored and the body has no collider: "
-                                  "UsdPhysics' default 1 kg is used (usd-core returns -1)"))
+        rep.add("mass_fallback", "no mass is authored and the body has no collider: UsdPhysics' default 1 kg is "
+                "used (usd-core returns -1)", where=where)
     if bm.source == "default_density":
-        rep.warnings.append(Finding("default_density", f"{where}: no mass or density is authored: the mass "
-                                    f"{props.mass:.6g} kg is its colliders' volume at the default 1000 kg/m^3"))
-    codes = {"mass_not_positive": "non_positive_mass", "not_finite": "not_positive_definite"}
-    for v in check_inertia(props.inertia_com, props.mass):
-        rep.errors.append(Finding(codes.get(v.code, v.code), f"{where}: {v.message}"))
+        rep.add("default_density", f"no mass or density is authored: the mass {props.mass:.6g} kg is its "
+                "colliders' volume at the default 1000 kg/m^3", where=where)
+    rep.findings += [v.replace(where=where) for v in check_inertia(props.inertia_com, props.mass)]
     if body.dynamic and not rep.errors:
         w = np.linalg.eigvalsh(props.inertia_com)
         if 0 < props.mass < SIMULATOR_MIN_VALUE or 0 < w[0] < SIMULATOR_MIN_VALUE:
-            rep.errors.append(Finding("below_simulator_floor", (
-                f"{where}: mass {props.mass:.3g} kg, principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2: "
-                f"below {SIMULATOR_MIN_VALUE:g}, the least a simulator accepts for a moving body")))
+            rep.add("below_simulator_floor", (
+                f"mass {props.mass:.3g} kg, principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2: "
+                f"below {SIMULATOR_MIN_VALUE:g}, the least a simulator accepts for a moving body"), where=where,
+                values={"mass": props.mass, "moments": w})
     for part in bm.parts:
         if part.shape.startswith("hull ("):
-            rep.warnings.append(Finding("mesh_not_solid", (
-                f"{part.path}: the mesh collider is not a closed solid ({part.shape.split(': ', 1)[-1].rstrip(')')}): "
-                "its convex hull stands in for it, as PhysX cooks it for a dynamic body")))
+            rep.add("mesh_not_solid", (
+                f"the mesh collider is not a closed solid ({part.shape.split(': ', 1)[-1].rstrip(')')}): "
+                "its convex hull stands in for it, as PhysX cooks it for a dynamic body"), where=part.path)
     if body.dynamic and bm.parts and any(c.kind == "mesh" for c in body.colliders):
         _hull_finding(stage, i, bm, rep, tol)
 
@@ -152,30 +134,31 @@ def _hull_finding(stage, i: int, exact, rep, tol: float) -> None:
     if max(dm, dI) > HULL_RTOL:
         kinds = ", ".join(sorted({p.shape for p in physx.parts if p.shape != "exact"}))
         kg = stage.kilograms_per_unit
-        rep.warnings.append(Finding("hull_differs", (
-            f"{body.path}: PhysX simulates its triangle mesh as {kinds}: mass {m1 * kg:.6g} kg (the solid: "
+        rep.add("hull_differs", (
+            f"PhysX simulates its triangle mesh as {kinds}: mass {m1 * kg:.6g} kg (the solid: "
             f"{m0 * kg:.6g} kg, {100 * dm:.1f} % apart), principal moments up to {100 * dI:.1f} % apart; author "
-            "the body's mass, inertia and COM, or a convex collider")))
+            "the body's mass, inertia and COM, or a convex collider"), where=body.path,
+            values={"mass_relative": dm, "moment_relative": dI})
 
 
-def check_stage(stage, *, tol: float = UNSET_TOLERANCE) -> UsdCheckReport:
+def check_stage(stage, *, tol: float = UNSET_TOLERANCE) -> CheckReport:
     """The findings for every rigid body of a stage (a path or a read :class:`~.stage.Stage`)."""
     if not hasattr(stage, "bodies"):
         stage = read_stage(stage)
-    report = UsdCheckReport(str(stage.path), [])
+    report = CheckReport(str(stage.path), [])
     for i, body in enumerate(stage.bodies):
         rep = LinkReport(body.label if [b.label for b in stage.bodies].count(body.label) == 1 else body.path, None)
         _body_findings(stage, i, rep, tol)
         report.links.append(rep)
     missing = [name for name, done in zip(("metersPerUnit", "kilogramsPerUnit"), stage.units_authored) if not done]
     if missing:
-        report.warnings.append(Finding("missing_units", (
-            f"{stage.path}: {' and '.join(missing)} not authored: the fallbacks are 0.01 m per unit (centimetres) and "
-            "1 kg per unit; author them in the root layer's metadata")))
+        report.add("missing_units", (
+            f"{' and '.join(missing)} not authored: the fallbacks are 0.01 m per unit (centimetres) and "
+            "1 kg per unit; author them in the root layer's metadata"), where=str(stage.path))
     for path, attrs in stage.stray_mass:
-        report.warnings.append(Finding("mass_on_non_physics_prim", (
-            f"{path}: carries {'PhysicsMassAPI' if attrs.applied else 'mass attributes'} but is neither a rigid body "
-            "nor a collider: physics ignores it (put the mass on the body or on a collider)")))
+        report.add("mass_on_non_physics_prim", (
+            f"carries {'PhysicsMassAPI' if attrs.applied else 'mass attributes'} but is neither a rigid body "
+            "nor a collider: physics ignores it (put the mass on the body or on a collider)"), where=str(path))
     if not stage.bodies:
-        report.errors.append(Finding("no_links", f"{stage.path}: no prim has PhysicsRigidBodyAPI: nothing to check"))
+        report.add("no_links", "no prim has PhysicsRigidBodyAPI: nothing to check", where=str(stage.path))
     return report

@@ -149,7 +149,7 @@ def _mesh_solid(points, faces, what: str, approximation: str | None):
         return _MESH_CACHE[key]
     if approximation in (None, "meshSimplification", "sdf"):
         props, shape = _summed_solid(points, faces, what), "exact"
-        if props.warnings and any("accepted" in w for w in props.warnings):
+        if any(f.severity == "warning" for f in props.findings):   # defects accepted: overlapping parts
             shape = "exact (closed parts that overlap, summed as a simulator sums them)"
     elif approximation == "boundingCube":
         from ...massprops import primitives

@@ -419,7 +419,7 @@ def check_written(report: UsdFixReport, source=None, *, rename=None, tol: float 
     rep = check_stage(target, tol=unset_tolerance)
     for lk in rep.links:
         if lk.errors:
-            report.remaining[lk.name] = "; ".join(e.message for e in lk.errors)
+            report.remaining[lk.name] = "; ".join(str(e) for e in lk.errors)
 
 
 def _tolerance_hint(path, name: str, unset_tolerance: float) -> str:
