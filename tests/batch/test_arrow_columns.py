@@ -33,7 +33,7 @@ def _rows():
                 mtime_ns=1_700_000_000_123_456_789, n_vertices=8, n_faces=12, density=1000.0,
                 mass=1.0, volume=0.001, elapsed_s=0.002, watertight=True, winding_consistent=False,
                 findings=[], com=[0.0, 0.5, -0.25], inertia_com=[1.0] * 9,
-                principal_moments=[1.0, 2.0, 3.0], principal_axes=[0.0] * 9)
+                principal_moments=[1.0, 2.0, 3.0], R_body_principal=[0.0] * 9)
     return [
         full,
         dict(full, path="/data/ü/b.stl", status="error", reason="not_closed", message="edge (3, 4) ✗",

@@ -97,7 +97,9 @@ def test_check_a_stage_exits_1_on_errors_and_lists_usd_findings(tmp_path, capsys
     assert "error non_unit_principal_axes: physics:principalAxes [0.5, 0.0, 0.0, 0.0] has norm 0.5, not 1" in out
     code, out, _ = _run(capsys, "check", path, "--format", "json")
     data = json.loads(out)
-    assert data["links"][0]["errors"][0]["code"] == "non_unit_principal_axes" and data["warnings"] == []
+    found = data["links"][0]["findings"]
+    assert [(f["code"], f["severity"]) for f in found] == [("non_unit_principal_axes", "error")]
+    assert not [f for f in data["findings"] if f["severity"] == "warning"]
 
 
 def test_fix_from_then_diff_reports_nothing(robot, capsys):

@@ -56,8 +56,8 @@ def test_the_set_aside_directions_are_those_the_wheels_cannot_move():
     s = np.array([0.0, 1.0, 0.0])
     x = np.r_[np.zeros(6), 1.0, 0, 0, 0, 0.1 * s, np.zeros(3)]
     A, B = gyrostat_jacobians(x, None, 0.1, gyrostat=g)
-    L = g.body.inertia_body @ (0.1 * s)
-    c = np.r_[g.body.inertia_body @ L, L] / np.linalg.norm(L)
+    L = g.body.inertia_com @ (0.1 * s)
+    c = np.r_[g.body.inertia_com @ L, L] / np.linalg.norm(L)
     assert np.abs(c @ A[9:, 9:] - c).max() < 1e-12 * np.abs(c).max()
     assert np.abs(c @ B[9:, 6:]).max() < 1e-12 * np.abs(c).max()
     hold = design_spin_hold(g, s, 0.1, 0.1)

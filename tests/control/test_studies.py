@@ -42,7 +42,7 @@ def test_the_models_errors_stay_within_their_bounds():
     # the model's inertia, seen in the true principal frame, is turned by exactly `angle`
     R_true = body.R_body_principal
     for k in (0, 1, 499):
-        w, V = np.linalg.eigh(R_true.T @ models.inertia_body[k] @ R_true)
+        w, V = np.linalg.eigh(R_true.T @ models.inertia_com[k] @ R_true)
         assert np.allclose(w, np.sort(body.moments * scale[k]), rtol=1e-12)
         turn = np.linalg.det(V) * V                            # columns: the model's axes in the true frame
         order = np.argsort(body.moments * scale[k])

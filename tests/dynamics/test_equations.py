@@ -238,7 +238,7 @@ def test_diagnostics_values_and_batch_shapes():
     I = np.array([1.0, 2.0, 3.0])
     w = np.array([1.0, 0.0, 2.0])
     assert kinetic_energy(w, I) == pytest.approx(6.5)
-    assert kinetic_energy(w, inertia_body=np.diag(I)) == pytest.approx(6.5)
+    assert kinetic_energy(w, inertia_com=np.diag(I)) == pytest.approx(6.5)
     assert angular_momentum_norm(w, I) == pytest.approx(np.sqrt(37.0))
     q = quat_from_rotvec([0.0, 0.0, np.pi / 2])
     np.testing.assert_allclose(angular_momentum_world(q, w, I), [0.0, 1.0, 6.0], atol=1e-15)
@@ -278,11 +278,11 @@ def test_input_errors_name_the_argument():
         angular_acceleration_principal([1, 2, 3], [1.0, -1.0, 2.0])
     with pytest.raises(InputError, match=r"omega_body must have shape \(\.\.\., 3\), got \(2,\)"):
         angular_acceleration_principal([1, 2], [1.0, 1.0, 2.0])
-    with pytest.raises(InputError, match=r"inertia_body must be symmetric, got max \|I - I\^T\| = 1"):
+    with pytest.raises(InputError, match=r"inertia_com must be symmetric, got max \|I - I\^T\| = 1"):
         angular_acceleration_body([1, 2, 3], [[1, 1, 0], [0, 1, 0], [0, 0, 1]])
     with pytest.raises(InputError, match="torque_body holds a non-finite value"):
         angular_acceleration_principal([1, 2, 3], [1, 2, 3], [np.nan, 0, 0])
     with pytest.raises(InputError, match="give exactly one of moments= .* got both"):
-        kinetic_energy([1, 2, 3], [1, 2, 3], inertia_body=np.eye(3))
+        kinetic_energy([1, 2, 3], [1, 2, 3], inertia_com=np.eye(3))
     with pytest.raises(InputError, match=r"q_world_body must have shape \(\.\.\., 4\)"):
         quat_rate([1, 0, 0], [1, 2, 3])

@@ -117,7 +117,7 @@ def test_the_wheels_exchange_momentum_with_the_body_and_the_total_is_kept():
     u = np.r_[0.2, 0, 0, 0, 0, 0, 2e-3, -1e-3, 3e-3]
     run = gyrostat_rollout(x0, 1e-3, 2000, gyrostat=g, u=u, gravity=[0, 0, -9.81])
     S = run.states
-    m = S[:, 10:13] @ g.body.inertia_body.T + S[:, 13:] @ AXES
+    m = S[:, 10:13] @ g.body.inertia_com.T + S[:, 13:] @ AXES
     L = np.einsum("sij,sj->si", quat_to_matrix(S[:, 6:10]), m)
     assert np.abs(L - L[0]).max() < 2e-14 * np.linalg.norm(L[0])
     assert np.abs(S[-1, 13:] - x0[13:] - 2.0 * u[6:]).max() < 1e-14     # 2000 sums of h u
@@ -158,7 +158,7 @@ def test_a_rotated_gyrostat_moves_as_the_rotated_motion():
     rng = np.random.default_rng(4)
     g = Gyrostat(RigidBody(1.0, np.diag([0.02, 0.03, 0.04])), AXES)
     R = Rotation.random(random_state=rng)
-    gr = Gyrostat(RigidBody(1.0, R.as_matrix() @ g.body.inertia_body @ R.as_matrix().T), R.apply(AXES))
+    gr = Gyrostat(RigidBody(1.0, R.as_matrix() @ g.body.inertia_com @ R.as_matrix().T), R.apply(AXES))
     x = state([0.3, 4.0, -0.5], [0.01, 0.02, 0.0])
     xr = x.copy()
     xr[6:10] = as_wxyz(Rotation.from_quat([0, 0, 0, 1]) * R.inv())     # q_WB' = q_WB R^T: same world pose
@@ -219,7 +219,7 @@ def test_a_run_gets_the_same_bits_alone_anywhere_in_a_batch_and_on_any_thread_co
     for r in runs[1:]:
         assert np.array_equal(r.states, runs[0].states) and np.array_equal(r.tilt, runs[0].tilt)
     for i in (0, 15, 16, 47, 69):
-        one = g.with_body(RigidBody(g.body.mass[i], g.body.inertia_body[i]))
+        one = g.with_body(RigidBody(g.body.mass[i], g.body.inertia_com[i]))
         alone = gyrostat_rollout(x0[i], 1e-3, 20, gyrostat=one, feedback=WheelFeedback(fb.gain[i], fb.omega_ref,
                                                                                        fb.h_ref), **kw)
         assert np.array_equal(alone.states, runs[0].states[:, i]) and np.array_equal(alone.tilt, runs[0].tilt[:, i])

@@ -35,7 +35,7 @@ def general_body(rng, mass=1.0):
 
 
 def random_bodies(rng, n):
-    return RigidBody(rng.uniform(0.5, 2.0, n), np.stack([general_body(rng).inertia_body for _ in range(n)]))
+    return RigidBody(rng.uniform(0.5, 2.0, n), np.stack([general_body(rng).inertia_com for _ in range(n)]))
 
 
 # ------------------------------------------------------------------------------ independent truth
@@ -69,7 +69,7 @@ def test_translation_under_a_held_world_force_is_the_closed_form():
 
 def _dop853(body, x0, u, g, body_force, t_end):
     """The 13-state ODE in the body frame of a general body, DOP853 at rtol = atol = 1e-12."""
-    I, m = body.inertia_body, float(body.mass)
+    I, m = body.inertia_com, float(body.mass)
     F, tau = u[:3], u[3:]
 
     def rhs(_, y):
@@ -163,11 +163,11 @@ def test_a_body_gets_the_same_bits_alone_anywhere_in_a_batch_and_on_any_thread_c
     runs = [rollout(x0, u, 1e-3, 40, body=bodies, threads=t, **kw) for t in (1, 2, 3)]
     assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])
     for i in (0, 1, 63, 64, 127, 290, 299):
-        one = RigidBody(bodies.mass[i], bodies.inertia_body[i])
+        one = RigidBody(bodies.mass[i], bodies.inertia_com[i])
         alone = rollout(x0[i], u[i], 1e-3, 40, body=one, **kw)
         assert np.array_equal(alone, runs[0][:, i]), i
     sub = slice(5, 77)                                  # another batch size, other positions
-    part = RigidBody(bodies.mass[sub], bodies.inertia_body[sub])
+    part = RigidBody(bodies.mass[sub], bodies.inertia_com[sub])
     assert np.array_equal(rollout(x0[sub], u[sub], 1e-3, 40, body=part, **kw), runs[0][:, sub])
 
 

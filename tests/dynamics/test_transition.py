@@ -9,19 +9,18 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from inertia._core.rotations import quat_multiply, quat_to_matrix
-from inertia.dynamics import (
-    RigidBody,
+from inertia.dynamics import RigidBody, jacobians, pack_input, pack_state, step, unpack_state
+from inertia.dynamics.integrators import METHODS
+from inertia.dynamics.state import (
+    DTHETA_BODY,
+    OMEGA_BODY,
+    P_WORLD,
+    Q_WORLD_BODY,
+    V_WORLD,
     RigidState,
-    jacobians,
-    pack_input,
-    pack_state,
     perturb_state,
     state_error,
-    step,
-    unpack_state,
 )
-from inertia.dynamics.integrators import METHODS
-from inertia.dynamics.state import DTHETA_BODY, OMEGA_BODY, P_WORLD, Q_WORLD_BODY, V_WORLD
 from inertia.errors import InputError, InvalidInertiaError
 from tests.scipy_quat import as_wxyz, from_wxyz
 
@@ -240,7 +239,7 @@ def test_batched_equals_looped(method):
             assert np.allclose(xb[i, j], xl, rtol=0, atol=1e-15)
     # a batch of different bodies against the same state
     bodies = [general_body(rng)[0] for _ in range(3)]
-    batch = RigidBody(np.array([b.mass for b in bodies]), np.stack([b.inertia_body for b in bodies]))
+    batch = RigidBody(np.array([b.mass for b in bodies]), np.stack([b.inertia_com for b in bodies]))
     xs = step(x[0], u[0], 0.01, body=batch, method=method)
     for j, b in enumerate(bodies):
         assert np.allclose(xs[j], step(x[0, j], u[0, j], 0.01, body=b, method=method), rtol=0, atol=1e-14)
@@ -360,7 +359,7 @@ def test_jacobians_batched_equal_looped():
     for i in range(3):
         Ai, Bi = jacobians(x[i], u[i], 0.01, body=body, method="rk4")
         assert np.allclose(A[i], Ai, rtol=0, atol=1e-12) and np.allclose(B[i], Bi, rtol=0, atol=1e-12)
-    bodies = RigidBody(np.ones(3), np.stack([general_body(rng)[0].inertia_body for _ in range(3)]))
+    bodies = RigidBody(np.ones(3), np.stack([general_body(rng)[0].inertia_com for _ in range(3)]))
     A, B = jacobians(x, u, 0.01, body=bodies, method="splitting")
     assert A.shape == (3, 12, 12)
 
@@ -399,7 +398,7 @@ def test_errors_name_the_argument_and_value():
         step(x, None, 0.01, body=body, method="rk5")
     with pytest.raises(InputError, match=r"^force_frame must be 'world' or 'body', got 'inertial'$"):
         step(x, None, 0.01, body=body, force_frame="inertial")
-    with pytest.raises(InputError, match=r"^body must be a RigidBody \(mass, inertia_body\), got dict$"):
+    with pytest.raises(InputError, match=r"^body must be a RigidBody \(mass, inertia_com\), got dict$"):
         step(x, None, 0.01, body={"mass": 1.0})
     x_nan = x.copy()
     x_nan[0] = np.nan
@@ -417,11 +416,11 @@ def test_a_nearly_unit_quaternion_is_renormalised():
 
 
 def test_body_validation():
-    with pytest.raises(InvalidInertiaError, match=r"^inertia_body is not physical: inertia fails the triangle"):
+    with pytest.raises(InvalidInertiaError, match=r"^inertia_com is not physical: inertia fails the triangle"):
         RigidBody(1.0, np.diag([1.0, 1.0, 3.0]))
     with pytest.raises(InputError, match=r"^mass must be positive, got -1\.0 kg$"):
         RigidBody(-1.0, np.diag(BOX_MOMENTS))
-    with pytest.raises(InputError, match=r"^inertia_body must have shape \(\.\.\., 3, 3\), got \(3,\)$"):
+    with pytest.raises(InputError, match=r"^inertia_com must have shape \(\.\.\., 3, 3\), got \(3,\)$"):
         RigidBody(1.0, BOX_MOMENTS)
     RigidBody(1.0, np.diag([1.0, 1.0, 3.0]), validate=False)       # opt-out
 

@@ -63,7 +63,8 @@ def test_watertight_meshes_load_report_ok_and_match_trimesh(meshes, name):
     np.testing.assert_allclose(p.com, com, rtol=0, atol=1e-10 * diag)
     np.testing.assert_allclose(p.inertia_com, I, rtol=0, atol=1e-10 * np.abs(I).max())
     assert [x.code for x in p.findings] == list(expected)
-    moments, axes = p.principal()
+    pf = p.principal()
+    moments, axes = pf.moments, pf.R_body_principal
     assert np.all(moments > 0) and np.linalg.det(axes) == pytest.approx(1.0)
 
 

@@ -18,7 +18,7 @@ import pytest
 from inertia._ext import topology as k
 
 import inertia
-from inertia._core.errors import InputError
+from inertia.errors import InputError
 from inertia.geometry import mesh_io
 from inertia.geometry.mesh_arrays import compact_vertices, connected_components, weld_map, weld_vertices
 

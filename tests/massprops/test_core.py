@@ -16,7 +16,9 @@ from hypothesis import strategies as st
 
 import inertia
 from inertia.errors import InertiaError, InputError, InvalidInertiaError
-from inertia.massprops.principal import principal_axes, principal_frame
+from inertia.massprops import principal_axes
+from inertia.massprops.tensor import point_mass_inertia
+from inertia.massprops.validity import is_physical
 
 from ..conftest import random_point_cloud, random_rotation
 
@@ -38,14 +40,14 @@ def test_point_mass_inertia_matches_definition_and_batches():
     rng = np.random.default_rng(0)
     m = rng.uniform(0.1, 1, size=(4, 5))
     r = rng.normal(size=(4, 5, 3))
-    I = inertia.massprops.point_mass_inertia(m, r)
+    I = point_mass_inertia(m, r)
     assert I.shape == (4, 3, 3)
     for k in range(4):
         np.testing.assert_allclose(I[k], direct_inertia(m[k], r[k]), rtol=1e-14, atol=1e-14)
 
 
 def test_single_particle_off_diagonal_is_negated_product():
-    I = inertia.massprops.point_mass_inertia([2.0], [[1.0, 2.0, 3.0]])
+    I = point_mass_inertia([2.0], [[1.0, 2.0, 3.0]])
     assert I[0, 1] == -2.0 * 1 * 2 and I[0, 2] == -2.0 * 1 * 3 and I[1, 2] == -2.0 * 2 * 3
     assert I[0, 0] == 2.0 * (4 + 9)
 
@@ -159,7 +161,7 @@ def test_product_conventions_round_trip_and_sign():
     e = inertia.massprops.elements_from_inertia(J, convention="cad")
     assert (e["ixy"], e["ixz"], e["iyz"]) == (0.1, -0.2, 0.3)
     # a particle at (1, 1, 0): the CAD product +sum m x y is positive, the tensor entry negative
-    p = inertia.MassProperties.from_inertia_about(1.0, [0, 0, 0], inertia.massprops.point_mass_inertia([1.0], [[1, 1, 0]]) + np.eye(3),
+    p = inertia.MassProperties.from_inertia_about(1.0, [0, 0, 0], point_mass_inertia([1.0], [[1, 1, 0]]) + np.eye(3),
                                                   [0, 0, 0], validate=False)
     assert p.elements(convention="cad")["ixy"] == 1.0
     assert p.elements(convention="tensor")["ixy"] == -1.0
@@ -193,7 +195,7 @@ def test_flat_plate_is_on_the_triangle_boundary_and_valid():
     m = 2.0
     plate = np.diag([m * a * a / 12, m * a * a / 12, m * a * a / 6])
     assert inertia.check_inertia(plate, m) == []
-    assert not inertia.massprops.is_physical(plate * np.array([1, 1, 1 + 1e-6]), m)
+    assert not is_physical(plate * np.array([1, 1, 1 + 1e-6]), m)
 
 
 def test_strict_constructor_raises_our_error_with_all_reasons():
@@ -232,16 +234,20 @@ def test_principal_axes_reconstruct_and_follow_the_sign_rule(seed):
 
 def test_principal_axes_do_not_depend_on_eigensolver_signs():
     # Whatever signs the eigensolver gives its vectors, the canonical axes are the same.
-    from inertia.massprops.principal import _canonical_axes_single
+    from inertia.massprops.principal import _canonical_axes
 
     rng = np.random.default_rng(8)
     R0 = random_rotation(rng)
-    moments = np.array([1.0, 2.0, 3.0])
-    ref = _canonical_axes_single(moments, R0, 1e-9)
+    moments = np.array([[1.0, 2.0, 3.0]])
+    ref = _canonical_axes(moments, R0[None], 1e-9)[0]
     for signs in ([1, 1, 1], [-1, 1, 1], [1, -1, 1], [1, 1, -1], [-1, -1, -1]):
-        np.testing.assert_array_equal(_canonical_axes_single(moments, R0 * np.array(signs), 1e-9), ref)
-    _, R = principal_axes(R0 @ np.diag(moments) @ R0.T)
+        np.testing.assert_array_equal(_canonical_axes(moments, (R0 * np.array(signs))[None], 1e-9)[0], ref)
+    _, R = principal_axes(R0 @ np.diag(moments[0]) @ R0.T)
     np.testing.assert_allclose(R, ref, atol=1e-12)
+
+
+def _principal(I):
+    return inertia.MassProperties(1.0, np.zeros(3), I, validate=False).principal()
 
 
 def test_repeated_moments_are_reported_and_fixed_deterministically():
@@ -249,42 +255,54 @@ def test_repeated_moments_are_reported_and_fixed_deterministically():
     R0 = random_rotation(rng)
     # symmetric top: I1 = I2 < I3
     I = R0 @ np.diag([1.0, 1.0, 3.0]) @ R0.T
-    pf = principal_frame(I)
+    pf = _principal(I)
     assert pf.degenerate == ((0, 1),)
     assert np.linalg.det(pf.R_body_principal) == pytest.approx(1.0)
     assert abs(pf.R_body_principal[:, 2] @ R0[:, 2]) == pytest.approx(1.0, abs=1e-12)
     np.testing.assert_allclose(pf.R_body_principal @ np.diag(pf.moments) @ pf.R_body_principal.T, I, atol=1e-13)
     # a perturbation below the tolerance does not change the chosen axes (beyond its own size)
-    pf2 = principal_frame(I + 1e-13 * np.diag([1, 0, 0]))
+    pf2 = _principal(I + 1e-13 * np.diag([1, 0, 0]))
     np.testing.assert_allclose(pf2.R_body_principal, pf.R_body_principal, atol=1e-8)
     # prolate: I1 < I2 = I3
-    pf = principal_frame(np.diag([1.0, 4.0, 4.0]))
+    pf = _principal(np.diag([1.0, 4.0, 4.0]))
     assert pf.degenerate == ((1, 2),)
     np.testing.assert_allclose(pf.R_body_principal, np.eye(3), atol=0)
     # sphere: identity
-    pf = principal_frame(R0 @ np.diag([2.0, 2.0, 2.0]) @ R0.T)
+    pf = _principal(R0 @ np.diag([2.0, 2.0, 2.0]) @ R0.T)
     assert pf.degenerate == ((0, 1, 2),)
     np.testing.assert_array_equal(pf.R_body_principal, np.eye(3))
 
 
-def test_canonical_form_round_trip():
+def test_the_principal_frame_diagonalises_the_inertia_about_the_com():
     rng = np.random.default_rng(10)
     p = inertia.point_masses(*random_point_cloud(rng))
-    c = p.canonical()
-    assert np.all(c.props.com == 0)
-    assert np.count_nonzero(c.props.inertia_com - np.diag(np.diag(c.props.inertia_com))) == 0
-    assert np.all(np.diff(c.moments) >= 0)
-    back = c.to_frame()
-    assert back.isclose(p, rtol=1e-12)
+    pf = p.principal()
+    assert np.all(np.diff(pf.moments) >= 0)
+    np.testing.assert_array_equal(pf.p_body_com, p.com)
+    R = pf.R_body_principal
+    np.testing.assert_allclose(R.T @ p.inertia_com @ R, np.diag(pf.moments), atol=1e-12 * pf.moments.sum())
+    assert p.principal() is pf                                  # computed once per value
 
 
-def test_principal_axes_batched():
+def test_principal_axes_batched_equal_looped_for_every_clause():
     rng = np.random.default_rng(11)
-    Is = np.stack([inertia.point_masses(*random_point_cloud(rng)).inertia_com for _ in range(6)]).reshape(2, 3, 3, 3)
+    R0 = random_rotation(rng)
+    Is = [inertia.point_masses(*random_point_cloud(rng)).inertia_com for _ in range(3)]
+    Is += [R0 @ np.diag(m) @ R0.T for m in ([1.0, 1.0, 3.0], [1.0, 4.0, 4.0], [2.0, 2.0, 2.0])]
+    Is = np.stack(Is).reshape(2, 3, 3, 3)
     moments, R = principal_axes(Is)
     assert moments.shape == (2, 3, 3) and R.shape == (2, 3, 3, 3)
-    m01, R01 = principal_axes(Is[0, 1])
-    np.testing.assert_array_equal(R[0, 1], R01)
+    for i in range(2):
+        for j in range(3):
+            m1, R1 = principal_axes(Is[i, j])
+            np.testing.assert_allclose(moments[i, j], m1, rtol=1e-14)
+            np.testing.assert_allclose(R[i, j], R1, atol=1e-13)
+            np.testing.assert_allclose(R1, _principal(Is[i, j]).R_body_principal, atol=1e-13)
+    # a rigid body's principal frame is the canonical one
+    from inertia.dynamics import RigidBody
+
+    body = RigidBody(np.ones((2, 3)), Is, validate=False)
+    np.testing.assert_allclose(body.R_body_principal, R, atol=1e-13)
 
 
 # ---------------------------------------------------------------- assemblies
@@ -337,6 +355,6 @@ def test_with_mass_scales_inertia_and_to_dict_is_json_ready():
     q = p.with_mass(2 * p.mass)
     np.testing.assert_allclose(q.inertia_com, 2 * p.inertia_com)
     d = json.loads(json.dumps(q.to_dict()))
-    assert d["mass"] == q.mass and len(d["principal_axes"]) == 3
-    assert np.linalg.det(np.array(d["principal_axes"])) == pytest.approx(1.0)
+    assert d["mass"] == q.mass and len(d["R_body_principal"]) == 3
+    assert np.linalg.det(np.array(d["R_body_principal"])) == pytest.approx(1.0)
     assert math.isnan(q.volume) and d["volume"] is None

@@ -167,7 +167,7 @@ def test_principal_second_moments_are_sums_of_squares():
     r = rng.normal(size=(9, 3)) * [2.0, 1.0, 0.3] + [1.0, 2.0, 3.0]
     props = MassProperties.from_point_masses(m, r)
     sm = principal_second_moments(props)
-    rel_P = (r - props.com) @ sm.canonical.R_body_principal  # rows: R_body_principal^T (r - com)
+    rel_P = (r - props.com) @ sm.principal.R_body_principal  # rows: R_body_principal^T (r - com)
     s_true = np.einsum("k,ki->i", m, rel_P ** 2)  # s_i = sum m x_i^2 along principal axis i
     assert np.allclose(sm.second_moments, s_true, rtol=1e-12, atol=0)
     assert sm.flat_axes == ()

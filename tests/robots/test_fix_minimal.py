@@ -10,7 +10,7 @@ import pytest
 
 from inertia._core.tolerances import SIMULATOR_MIN_VALUE
 from inertia.cli.main import main
-from inertia.massprops import is_physical
+from inertia.massprops.validity import is_physical
 from inertia.robots import nearest_physical_inertia, read_robot
 from inertia.robots.fix import fix_file
 

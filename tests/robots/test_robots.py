@@ -13,6 +13,7 @@ import pytest
 
 import inertia
 from inertia.cli.main import main
+from inertia.massprops.validity import is_physical
 from inertia.robots import check_model, inertial_block, nearest_physical_inertia, read_robot
 from inertia.robots.geometry import SUMMED_OVERLAP, link_geometry_properties
 from inertia.robots.mjcf import quat_matrix
@@ -76,7 +77,7 @@ def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys, ro
                            for i in changed)
     fixed = read_robot(out).link("arm_base").inertial.inertia_com_inertial
     np.testing.assert_allclose(fixed, nearest_physical_inertia(np.diag([1.11, 100.11, 1.01])), rtol=1e-15)
-    assert inertia.massprops.is_physical(fixed)
+    assert is_physical(fixed)
     # refusing to overwrite the input without --in-place
     assert _run(capsys, "fix", src, "-o", src)[0] == 1
 
@@ -92,7 +93,7 @@ def test_nearest_physical_inertia_is_the_projection():
     expected_w = w - (w @ n) / 3 * n
     np.testing.assert_allclose(np.sort(np.linalg.eigvalsh(fixed)), np.sort(expected_w), rtol=1e-9)
     np.testing.assert_allclose(R.T @ fixed @ R, np.diag(expected_w), atol=1e-8)  # same axes
-    assert inertia.massprops.is_physical(fixed)
+    assert is_physical(fixed)
     ok = np.diag([1.0, 2.0, 2.5])
     assert np.array_equal(nearest_physical_inertia(ok), ok)
 
@@ -325,9 +326,9 @@ def test_cad_sign_products_are_diagnosed_and_flipped(tmp_path, capsys):
     """A tensor whose products were entered with the CAD (positive-product) sign: invalid as
     tensor elements, valid once negated; check says so and fix --flip-products repairs it."""
     J = np.array([[1.15, -0.52, -0.25], [-0.52, 1.53, -0.34], [-0.25, -0.34, 1.9]]) * 1e-4  # physical
-    assert inertia.massprops.is_physical(J)
+    assert is_physical(J)
     cad = 2 * np.diag(np.diag(J)) - J  # products with the wrong sign
-    assert not inertia.massprops.is_physical(cad)
+    assert not is_physical(cad)
     urdf = tmp_path / "cad.urdf"
     e = {k: repr(float(cad[i, j])) for k, (i, j) in
          {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2), "izz": (2, 2)}.items()}

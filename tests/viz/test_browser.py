@@ -36,7 +36,7 @@ def page3d(browser, report):
 def test_page_loads_offline_and_shows_the_librarys_models(page3d):
     page, state = page3d.page, "window.inertiaState"
     nut = t_handle().props
-    R = nut.canonical().R_body_principal
+    R = nut.principal().R_body_principal
     six = inertia.six_point_model(nut)
     np.testing.assert_allclose(page.evaluate(f"{state}.points"), (six.positions_body - nut.com) @ R, atol=1e-15)
     # the table shows body-frame coordinates, as the CLI does, in mm with units in the header
@@ -156,7 +156,7 @@ def test_a_large_mesh_is_decimated_and_the_page_says_so(browser, tmp_path):
     V, F = _icosphere(5, radius=0.05)
     V = V * [1.0, 0.7, 0.4]                    # an ellipsoid: three distinct moments
     props = inertia.mesh_properties(V, F, density=1000.0)
-    data = page_data(props, flip_study(props.principal()[0]), name="ellipsoid", display=display_mesh(props, (V, F)))
+    data = page_data(props, flip_study(props.principal().moments), name="ellipsoid", display=display_mesh(props, (V, F)))
     assert len(data["mesh"]["faces"]) <= 20_000 < len(F)
     write_page(tmp_path / "big.html", data)
     w = Watched(browser, viewport={"width": 1000, "height": 800})

@@ -47,7 +47,7 @@ def test_display_mesh_is_in_the_principal_frame_and_says_when_decimated():
     props = body.props
     V, F = body.display_mesh()
     d = display_mesh(props, (V, F))
-    R = props.canonical().R_body_principal
+    R = props.principal().R_body_principal
     np.testing.assert_allclose(d.vertices, (V - props.com) @ R, atol=1e-15)
     assert not d.decimated and d.note() == "" and sorted(set(d.part.tolist())) == [0, 1]   # bar and stem
     small = display_mesh(props, (V, F), max_faces=200)

@@ -38,9 +38,9 @@ from tests.viz._helpers import t_handle  # noqa: E402
 def scene():
     body = t_handle()
     props = body.props
-    R = props.canonical().R_body_principal
+    R = props.principal().R_body_principal
     six = (six_point_model(props).positions_body - props.com) @ R
-    return FlipScene(flip_study(props.principal()[0]), display_mesh(props, body.display_mesh()), six,
+    return FlipScene(flip_study(props.principal().moments), display_mesh(props, body.display_mesh()), six,
                      np.asarray(equivalent_box(props).size) / 2, "steel T-handle")
 
 

@@ -16,7 +16,7 @@ from .._core.errors import InputError
 from .record import COLUMNS
 
 FORMATS = ("parquet", "csv", "jsonl")
-_LIST_COLUMNS = ("findings", "com", "inertia_com", "principal_moments", "principal_axes")
+_LIST_COLUMNS = ("findings", "com", "inertia_com", "principal_moments", "R_body_principal")
 #: the fields of a finding in the table (all text; ``values`` is JSON)
 FINDING_FIELDS = ("code", "severity", "message", "where", "values")
 

@@ -17,7 +17,7 @@ from .sources import Job
 
 #: the columns of the table, in order
 COLUMNS = ("path", "size_bytes", "mtime_ns", "status", "reason", "message", "findings", "units", "density",
-           "mass", "volume", "com", "inertia_com", "principal_moments", "principal_axes", "n_vertices",
+           "mass", "volume", "com", "inertia_com", "principal_moments", "R_body_principal", "n_vertices",
            "n_faces", "watertight", "winding_consistent", "elapsed_s", "options")
 
 #: what each column holds (docs and --help)
@@ -41,7 +41,7 @@ COLUMN_DOCS = {
     "com": "center of mass [x, y, z], m, file axes",
     "inertia_com": "inertia about the COM, 9 values row-major, kg m^2, negated products (L = I w)",
     "principal_moments": "ascending, kg m^2",
-    "principal_axes": "R_body_principal, 9 values row-major (columns are the axes, det +1)",
+    "R_body_principal": "the principal axes, 9 values row-major (columns are the axes, det +1)",
     "n_vertices": "after merging duplicate vertices",
     "n_faces": "triangles",
     "watertight": "every edge used by exactly two faces",
@@ -150,7 +150,7 @@ def process_file(job: Job, **options) -> dict:
             warnings.simplefilter("ignore")  # accepted defects are recorded in props.findings
             props = mesh_properties(vertices, faces, density=density, mass=mass, name=job.path,
                                     **{**DEFAULT_OPTIONS, **options})
-        moments, axes = props.principal()
+        pf = props.principal()
         codes = {f.code for f in props.findings}
         row.update(
             status="warning" if props.findings else "ok",
@@ -158,7 +158,7 @@ def process_file(job: Job, **options) -> dict:
             density=float(density) if density is not None else float(props.mass / props.volume),
             mass=float(props.mass), volume=float(props.volume),
             com=props.com.tolist(), inertia_com=props.inertia_com.ravel().tolist(),
-            principal_moments=moments.tolist(), principal_axes=axes.ravel().tolist(),
+            principal_moments=pf.moments.tolist(), R_body_principal=pf.R_body_principal.ravel().tolist(),
             watertight=watertight(codes), winding_consistent=winding_consistent(codes),
         )
     except InertiaError as exc:
@@ -195,8 +195,7 @@ def process_packed(payload: bytes) -> bytes:
     """:func:`process_chunk` with its arguments and its rows pickled into one bytes object each.
 
     This is the Dask task.  Dask moves a bytes object as one opaque frame, while it inspects
-    a list of dicts element by element (measured: twice the worker CPU per task, which on
-    two cores costs as much as a third worker's share).
+    a list of dicts element by element, at a cost in worker CPU per task.
     """
     import pickle
 

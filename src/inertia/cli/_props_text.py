@@ -9,7 +9,7 @@ XYZ = ("x", "y", "z")
 
 
 def degenerate_text(groups) -> str:
-    """Readable report of repeated principal moments (``groups`` as from principal_frame)."""
+    """Readable report of repeated principal moments (``groups`` as from MassProperties.principal)."""
     groups = [tuple(g) for g in groups]
     if not groups:
         return "none: three distinct moments, principal axes unique up to sign"
@@ -27,7 +27,7 @@ def degenerate_text(groups) -> str:
 
 def canonical_lines(props, *, title: str = "Principal moments and axes (canonical form)") -> list[str]:
     """Principal moments (ascending), radii of gyration, repeated-moment report, axes (det +1)."""
-    pf = props.principal_frame()
+    pf = props.principal()
     lines = fmt.heading(title)
     lines += fmt.key_values([
         ("moments I1 <= I2 <= I3", fmt.vector(pf.moments) + " kg m^2"),

@@ -342,8 +342,8 @@ def _effective_density(props, density, mass, shell) -> float:
 
 
 #: library keyword -> command-line option, to turn the library's advice into CLI advice
-_API_TO_CLI = (("fix_orientation=True", "--fix-orientation"), ("on_defect='warn'", "--accept-defects"),
-               ('on_defect="warn"', "--accept-defects"), ("shell=True", "--shell"), ("robust=True", "--robust"))
+_API_TO_CLI = (("repair='orient'", "--fix-orientation"), ("on_defect='warn'", "--accept-defects"),
+               ("kind='shell'", "--shell"), ("on_defect='robust'", "--robust"))
 
 
 def cli_text(message: str) -> str:
@@ -360,23 +360,24 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
 
     from .._core.errors import InertiaError
     from ..geometry.mesh_io import load_mesh
-    from ..massprops.mesh import compute_mesh_properties
+    from ..massprops.mesh import mesh_properties
 
     try:
         vertices, faces = load_mesh(path, units=units)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            props = compute_mesh_properties(vertices, faces, density=density, mass=mass, shell=shell,
-                                            fix_orientation=fix_orientation,
-                                            on_defect="warn" if accept_defects else "raise",
-                                            frame="body", name=str(path), stacklevel=2, welded=True,
-                                            robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
+            props = mesh_properties(vertices, faces, density=density, mass=mass,
+                                    kind="shell" if shell else "solid",
+                                    repair="orient" if fix_orientation else None,
+                                    on_defect="robust" if robust else "warn" if accept_defects else "raise",
+                                    frame="body", name=str(path), robust_tol=robust_tol,
+                                    self_crossing=self_crossing)
     except InertiaError as exc:
         msg = cli_text(str(exc).rstrip())
         if os.path.basename(path) not in msg:
             msg = f"{path}: {msg}"
         raise _with_message(exc, msg) from None
-    # accepted defects are in props.warnings (and so in the output); repeat them on stderr,
+    # accepted defects are in props.findings (and so in the output); repeat them on stderr,
     # where a reader of piped JSON still sees them, as one line each and without source lines
     for w in caught:
         print(f"{command}: warning: {cli_text(str(w.message))}", file=sys.stderr)
@@ -393,14 +394,14 @@ def _build_primitive(text, spec: PrimitiveSpec, dims, *, density, mass, shell):
     fn = getattr(primitives, spec.name)
     kw = {"density": density} if density is not None else {"mass": mass}
     if shell:
-        kw["shell"] = True
+        kw["kind"] = "shell"
     pos = (tuple(dims),) if spec.call == "tuple" else tuple(dims)
     try:
         return fn(*pos, **kw)
     except InertiaError as exc:
         raise _prefixed(exc, f"{text!r}: ") from None
     except TypeError as exc:
-        if shell and "shell" in str(exc):
+        if shell and "kind" in str(exc):
             raise _input_error(f"{text!r}: --shell is not available for {spec.name}") from None
         raise
 

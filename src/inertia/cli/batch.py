@@ -18,9 +18,9 @@ examples:
   inertia batch meshes/ -o results.parquet --resume        (after Ctrl-C: finish the rest)
   inertia batch meshes/ -o results.parquet --scheduler cluster --workers 2   (a local Dask cluster)
 
-columns: path, size_bytes, mtime_ns, status (ok|warning|error), reason, message, warnings,
+columns: path, size_bytes, mtime_ns, status (ok|warning|error), reason, message, findings,
 units, density, mass, volume, com, inertia_com (9, row-major, negated products), principal_moments
-(ascending), principal_axes (9, row-major, columns are the axes), n_vertices, n_faces,
+(ascending), R_body_principal (9, row-major, columns are the axes), n_vertices, n_faces,
 watertight, winding_consistent, elapsed_s, options (the resume key's options).  SI units.
 Without --density/--mass (and no manifest value) the density of water, 1000 kg/m^3, is used
 and recorded in the density column.
@@ -98,8 +98,9 @@ def run(args) -> int:
     if args.dask_config:
         scheduler = scheduler or _scheduler_from_config(args.dask_config)
     summary = run_batch(args.sources, args.output, fmt=args.format, density=args.density, mass=args.mass,
-                        units=args.units, shell=args.shell, fix_orientation=args.fix_orientation,
-                        on_defect="warn" if args.accept_defects else "raise", robust=args.robust,
+                        units=args.units, kind="shell" if args.shell else "solid",
+                        repair="orient" if args.fix_orientation else None,
+                        on_defect="robust" if args.robust else "warn" if args.accept_defects else "raise",
                         robust_tol=args.robust_tol, self_crossing=args.self_crossing, scheduler=scheduler,
                         n_workers=args.workers, chunk_files=args.chunk_files, resume=args.resume,
                         overwrite=args.force, progress=not args.no_progress)

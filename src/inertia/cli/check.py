@@ -75,7 +75,7 @@ def scale_masses(model, scale: float) -> None:
     for link in model.links:
         if link.inertial is not None:
             link.inertial.mass *= scale
-            link.inertial.inertia_declared = link.inertial.inertia_declared * scale
+            link.inertial.inertia_com_inertial = link.inertial.inertia_com_inertial * scale
 
 
 def run(args) -> int:

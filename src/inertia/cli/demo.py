@@ -127,7 +127,7 @@ def run(args) -> int:
 
     title = body.name if bundled else os.path.basename(str(info.source))
     files = study = None
-    repeated = props.principal_frame().degenerate
+    repeated = props.principal().degenerate
     if repeated:      # no unique intermediate axis (within the input's precision): no flip to show
         import sys
 
@@ -141,7 +141,7 @@ def run(args) -> int:
     elif not repeated:  # --no-report, or the plotting libraries are missing: the tables still come
         from ..dynamics.flip_study import flip_study
 
-        study = flip_study(props.principal()[0])
+        study = flip_study(props.principal().moments)
     if args.format == "json":
         d = report_dict(props, info, report, bundled=bundled)
         d["flip"] = None if study is None else _flip_dict(study)
@@ -221,7 +221,7 @@ def flip_lines(study, props) -> list[str]:
     """Section 7: the intermediate-axis flip, predicted and simulated (None: repeated moments)."""
     lines = fmt.heading("7. Spin about the intermediate axis: the Dzhanibekov flip")
     if study is None:
-        groups = " and ".join("I" + " = I".join(str(k + 1) for k in g) for g in props.principal_frame().degenerate)
+        groups = " and ".join("I" + " = I".join(str(k + 1) for k in g) for g in props.principal().degenerate)
         return lines + [f"  none: {groups} within {props.moments_rtol:.2g} of the largest moment (the input's "
                         "precision), so there is no unique intermediate axis to flip about"]
     w = study.omega0_body
@@ -248,7 +248,7 @@ def build_report(props) -> dict:
     from ..particles.models import four_point_model, six_point_model
 
     return {
-        "canonical": props.canonical(),
+        "canonical": props.principal(),
         "six_point": six_point_model(props),
         "four_point": four_point_model(props),
         "equivalent_box": equivalent_box(props),
@@ -300,7 +300,7 @@ def report_lines(props, info, report, *, bundled: bool) -> list[str]:
     lines += canonical_lines(props, title="2. Canonical form: principal moments and axes")
     lines += fmt.heading("3. Validity")
     lines += validity_lines(props.check())
-    lines += ["  warnings:"] + ["  " + w for w in warnings_lines(props.warnings)]
+    lines += ["  warnings:"] + ["  " + w for w in warnings_lines([f.message for f in props.findings])]
     lines += model_lines("4. Six-point model", report["six_point"], props)
     lines += model_lines("5. Four-point model", report["four_point"], props)
     lines += _equivalent_lines(props, report["equivalent_box"], report["equivalent_ellipsoid"])
@@ -319,6 +319,6 @@ def _equivalent_lines(props, box, ellipsoid) -> list[str]:
                         "density [kg/m^3]"], rows)
     volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
     lines.append(f"  axes: the principal axes of section 2, centred on the COM; body volume {volume}")
-    for w in tuple(box.warnings) + tuple(ellipsoid.warnings):
-        lines.append(f"  warning: {w}")
+    for w in tuple(box.findings) + tuple(ellipsoid.findings):
+        lines.append(f"  warning: {w.message}")
     return lines

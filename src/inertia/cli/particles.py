@@ -108,6 +108,6 @@ def model_lines(title: str, model, props) -> list[str]:
     # below 1e-14 the exact figure is rounding noise that differs between machines and kernels
     how = "to rounding (relative error < 1e-14)" if err < 1e-14 else f"to a relative error of {err:.1e}"
     lines.append(f"  sum of masses {fmt.num(float(m.sum()))} kg; reproduces mass, COM and inertia tensor {how}")
-    for w in model.warnings:
-        lines.append(f"  warning: {w}")
+    for w in model.findings:
+        lines.append(f"  warning: {w.message}")
     return lines

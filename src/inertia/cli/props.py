@@ -92,7 +92,7 @@ def run(args) -> int:
 
 def props_dict(props, info) -> dict:
     """JSON-ready dict of the mass properties and how they were obtained."""
-    pf = props.principal_frame()
+    pf = props.principal()
     violations = props.check()
     out = dict(info.to_dict())
     out.update({
@@ -107,7 +107,7 @@ def props_dict(props, info) -> dict:
         "radii_of_gyration": props.radii_of_gyration,
         "validity": [{"code": v.code, "message": v.message} for v in violations],
         "physical": not violations,
-        "warnings": list(getattr(info, "notes", [])) + list(props.warnings),
+        "warnings": list(getattr(info, "notes", [])) + [f.message for f in props.findings],
         "conventions": CONVENTIONS,
     })
     return out
@@ -121,7 +121,7 @@ def props_lines(props, info, *, title: str | None = None) -> list[str]:
     lines += fmt.heading("Validity")
     lines += validity_lines(props.check())
     lines += fmt.heading("Warnings")
-    lines += warnings_lines(list(getattr(info, "notes", [])) + list(props.warnings))
+    lines += warnings_lines(list(getattr(info, "notes", [])) + [f.message for f in props.findings])
     return lines
 
 

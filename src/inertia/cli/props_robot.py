@@ -114,7 +114,7 @@ def run(args) -> int:
 
 
 def robot_dict(result, props, links, subtree=None) -> dict:
-    pf = props.principal_frame()
+    pf = props.principal()
     return {
         "source": str(result.path), "format": result.format, "frame": result.frame, "subtree": subtree,
         "configuration": result.configuration,

@@ -159,7 +159,7 @@ def resolve_body(args) -> Body:
     from ._source import load_source
 
     props, info = load_source(args, source=args.source)
-    pf = props.principal_frame()
+    pf = props.principal()
     I = as_principal_moments(pf.moments, f"principal moments of {args.source}", allow_batch=False)
     label = f"{args.source} (principal moments {fmt.vector(I)} kg m^2)"
     return Body(I, np.asarray(pf.R_body_principal, float), label, info)

@@ -89,7 +89,7 @@ def run_props(args) -> int | None:
         return 0
     links = result.subtree_links(args.subtree) if sub is not None else result.links
     if args.format == "json":
-        pf = props.principal_frame()
+        pf = props.principal()
         fmt.emit(fmt.to_json({
             "source": str(result.path), "format": result.format, "frame": result.frame, "subtree": args.subtree,
             "configuration": {}, "mass": props.mass, "com": props.com, "inertia_com": props.inertia_com,
@@ -178,7 +178,7 @@ def check_lines(report, *, detail: str = "default") -> list:
         found = [(kind[:-1], f) for kind in kinds for f in getattr(lk, kind)]
         if found:
             lines.append(f"  body {lk.name!r}:")
-            lines += [f"    {kind} {f.code}: {f.message.split(': ', 1)[-1]}" for kind, f in found]
+            lines += [f"    {kind} {f.code}: {f.message}" for kind, f in found]
     return lines
 
 

@@ -31,6 +31,7 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.validation import as_count, as_float_array
 from ..dynamics.gyrostat import Gyrostat, WheelFeedback, gyrostat_jacobians
+from ..dynamics.integrators import DEFAULT_METHOD
 
 __all__ = ["dlqr", "SpinHold", "design_spin_hold", "DARE_RTOL", "DOUBLING_MAX_ITER"]
 
@@ -152,7 +153,7 @@ class SpinHold:
 
 
 def design_spin_hold(model: Gyrostat, spin_axis, spin_rate: float, period: float, *, h_bias: float = 0.0,
-                     max_tilt: float = np.radians(1.0), substeps: int = 1, method: str = "splitting") -> SpinHold:
+                     max_tilt: float = np.radians(1.0), substeps: int = 1, method: str = DEFAULT_METHOD) -> SpinHold:
     """Design the LQR that holds a spin of ``model`` about the body axis ``spin_axis`` with its wheels.
 
     Parameters
@@ -202,7 +203,7 @@ def design_spin_hold(model: Gyrostat, spin_axis, spin_rate: float, period: float
         raise InputError(f"max_tilt must be a positive angle in rad, got {max_tilt!r}")
     batch = model.batch_shape
     Gt = np.broadcast_to(_t(model.wheel_axes), batch + (3, n))          # the wheel axes as columns
-    I = np.broadcast_to(model.body.inertia_body, batch + (3, 3))
+    I = np.broadcast_to(model.body.inertia_com, batch + (3, 3))
     # set point: the wheels' momentum h_bias along s (least squares over the wheels)
     h_ref = np.einsum("...ij,j->...i", np.linalg.pinv(Gt), h_bias * s)
     if np.abs(np.einsum("...ij,...j->...i", Gt, h_ref) - h_bias * s).max() > 1e-9 * max(abs(h_bias), 1e-300):

@@ -109,7 +109,7 @@ def initial_state(setup: SpinSetup, direction=0.0, *, tilt=None, body=None) -> n
     e1, e2 = setup.gyrostat.body.R_body_principal[:, (k + 1) % 3], setup.gyrostat.body.R_body_principal[:, (k + 2) % 3]
     tilt = setup.initial_tilt if tilt is None else tilt
     phi = np.asarray(direction, dtype=float)[..., None]
-    I = b.inertia_body
+    I = b.inertia_com
     L = np.linalg.norm(np.einsum("...ij,j->...i", I, setup.spin_rate * s), axis=-1)[..., None]
     L0 = L * (np.sin(tilt) * (np.cos(phi) * e1 + np.sin(phi) * e2) + np.cos(tilt) * s)
     w0 = np.linalg.solve(I, L0[..., None])[..., 0]

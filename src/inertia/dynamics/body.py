@@ -10,7 +10,7 @@ from .._core.errors import InputError, InvalidInertiaError
 from .._core.rotations import matrix_to_quat
 from .._core.tolerances import PHYSICAL_RTOL, SYMMETRY_RTOL
 from .._core.validation import as_float_array
-from ..massprops.principal import principal_axes_batch
+from ..massprops.principal import principal_axes
 from ..massprops.validity import check_inertia
 
 __all__ = ["RigidBody", "BodyView", "check_body"]
@@ -35,7 +35,7 @@ def _validate_bodies(mass: np.ndarray, inertia: np.ndarray) -> None:
         if violations:
             index = tuple(int(i) for i in np.unravel_index(k, inertia.shape[:-2]))
             where = "" if inertia.ndim == 2 else f" (body {index})"
-            raise InvalidInertiaError(f"inertia_body is not physical{where}: "
+            raise InvalidInertiaError(f"inertia_com is not physical{where}: "
                                       + "; ".join(v.message for v in violations), findings=violations)
 
 
@@ -46,7 +46,7 @@ class RigidBody:
     Parameters
     ----------
     mass : float or (...,) float, kg, positive.
-    inertia_body : (3, 3) or (..., 3, 3) float, kg m^2, about the center of mass, in the body
+    inertia_com : (3, 3) or (..., 3, 3) float, kg m^2, about the center of mass, in the body
         frame B (negated products, ``L_B = I @ omega_body``).  A general symmetric positive
         definite matrix; it need not be diagonal.
     validate : bool, keyword-only
@@ -78,7 +78,7 @@ class RigidBody:
     """
 
     mass: np.ndarray
-    inertia_body: np.ndarray
+    inertia_com: np.ndarray
     validate: bool = field(default=True, repr=False, kw_only=True)
     moments: np.ndarray = field(init=False, repr=False)
     R_body_principal: np.ndarray = field(init=False, repr=False)
@@ -87,23 +87,27 @@ class RigidBody:
 
     def __post_init__(self):
         mass = as_float_array(self.mass, "mass", ())
-        inertia = as_float_array(self.inertia_body, "inertia_body", (3, 3))
+        inertia = as_float_array(self.inertia_com, "inertia_com", (3, 3))
         if np.any(mass <= 0):
             bad = mass[mass <= 0].ravel()[0] if mass.ndim else float(mass)
             raise InputError(f"mass must be positive, got {bad!r} kg")
         try:
             np.broadcast_shapes(mass.shape, inertia.shape[:-2])
         except ValueError:
-            raise InputError(f"mass {mass.shape} and inertia_body {inertia.shape} batch shapes do not "
+            raise InputError(f"mass {mass.shape} and inertia_com {inertia.shape} batch shapes do not "
                              f"broadcast") from None
         if self.validate:
             _validate_bodies(mass, inertia)
-        moments, R_BP, identity = principal_axes_batch(inertia)
+        # P = B when every tensor is diagonal and ascending: no frame change rounds anything
+        off = inertia[..., [0, 0, 1], [1, 2, 2]]
+        diag = np.diagonal(inertia, axis1=-2, axis2=-1)
+        identity = not np.any(off) and bool(np.all(np.diff(diag, axis=-1) >= 0))
+        moments, R_BP = principal_axes(inertia)
         if identity:
             q_BP = np.broadcast_to(np.array([1.0, 0.0, 0.0, 0.0]), moments.shape[:-1] + (4,)).copy()
         else:
             q_BP = matrix_to_quat(R_BP)
-        for name, val in (("mass", mass), ("inertia_body", inertia), ("moments", moments),
+        for name, val in (("mass", mass), ("inertia_com", inertia), ("moments", moments),
                           ("R_body_principal", R_BP), ("q_body_principal", q_BP)):
             val = np.array(val, dtype=np.float64, copy=True)
             val.setflags(write=False)
@@ -122,19 +126,19 @@ class RigidBody:
 
     @classmethod
     def from_principal_moments(cls, mass, moments, *, validate: bool = True) -> "RigidBody":
-        """A body whose frame is principal: ``inertia_body = diag(moments)`` (..., 3) kg m^2."""
+        """A body whose frame is principal: ``inertia_com = diag(moments)`` (..., 3) kg m^2."""
         moments = as_float_array(moments, "moments", (3,))
         return cls(mass, moments[..., :, None] * np.eye(3), validate=validate)
 
     @property
     def batch_shape(self) -> tuple:
         """Leading (batch) shape of the body: ``()`` for one body."""
-        return np.broadcast_shapes(self.mass.shape, self.inertia_body.shape[:-2])
+        return np.broadcast_shapes(self.mass.shape, self.inertia_com.shape[:-2])
 
 
 def check_body(body) -> RigidBody:
     if not isinstance(body, RigidBody):
-        raise InputError(f"body must be a RigidBody (mass, inertia_body), got {type(body).__name__}")
+        raise InputError(f"body must be a RigidBody (mass, inertia_com), got {type(body).__name__}")
     return body
 
 

@@ -8,7 +8,7 @@ measure how well an integrator keeps them.  All accept leading batch dimensions
 
 The inertia is given either as principal moments ``moments`` (..., 3) (body frame =
 principal frame, the convention of :mod:`inertia.dynamics.integrators`) or as a full body
-inertia matrix ``inertia_body=`` (..., 3, 3); exactly one of the two.
+inertia matrix ``inertia_com=`` (..., 3, 3); exactly one of the two.
 """
 
 from __future__ import annotations
@@ -34,25 +34,25 @@ __all__ = [
 ]
 
 
-def angular_momentum_body(omega_body, moments=None, *, inertia_body=None) -> np.ndarray:
+def angular_momentum_body(omega_body, moments=None, *, inertia_com=None) -> np.ndarray:
     """Body-frame angular momentum ``m = I w`` (..., 3) [kg m^2/s].
 
     Parameters
     ----------
     omega_body : (..., 3) float, rad/s, body frame.
     moments : (..., 3) float, kg m^2, principal moments (body frame = principal frame).
-    inertia_body : (..., 3, 3) float, kg m^2, keyword-only alternative to ``moments``.
+    inertia_com : (..., 3, 3) float, kg m^2, keyword-only alternative to ``moments``.
     """
     w = as_float_array(omega_body, "omega_body", (3,), finite=False)
-    if (moments is None) == (inertia_body is None):
-        raise InputError("give exactly one of moments= (principal, (..., 3)) or inertia_body= ((..., 3, 3)), got "
+    if (moments is None) == (inertia_com is None):
+        raise InputError("give exactly one of moments= (principal, (..., 3)) or inertia_com= ((..., 3, 3)), got "
                          + ("both" if moments is not None else "neither"))
     if moments is not None:
         return as_principal_moments(moments, validate=False) * w
-    return np.einsum("...ij,...j->...i", as_symmetric_matrix3(inertia_body, "inertia_body"), w)
+    return np.einsum("...ij,...j->...i", as_symmetric_matrix3(inertia_com, "inertia_com"), w)
 
 
-def kinetic_energy(omega_body, moments=None, *, inertia_body=None) -> np.ndarray:
+def kinetic_energy(omega_body, moments=None, *, inertia_com=None) -> np.ndarray:
     """Rotational kinetic energy ``T = 1/2 w . I w`` (...) [J].
 
     Examples
@@ -63,23 +63,23 @@ def kinetic_energy(omega_body, moments=None, *, inertia_body=None) -> np.ndarray
     (4,)
     """
     w = as_float_array(omega_body, "omega_body", (3,), finite=False)
-    m = angular_momentum_body(w, moments, inertia_body=inertia_body)
+    m = angular_momentum_body(w, moments, inertia_com=inertia_com)
     return 0.5 * np.sum(m * w, axis=-1)
 
 
-def angular_momentum_norm(omega_body, moments=None, *, inertia_body=None) -> np.ndarray:
+def angular_momentum_norm(omega_body, moments=None, *, inertia_com=None) -> np.ndarray:
     """``|L| = |I w|`` (...) [kg m^2/s], frame independent (the Casimir of Euler's equations)."""
-    return np.linalg.norm(angular_momentum_body(omega_body, moments, inertia_body=inertia_body), axis=-1)
+    return np.linalg.norm(angular_momentum_body(omega_body, moments, inertia_com=inertia_com), axis=-1)
 
 
-def angular_momentum_world(q_world_body, omega_body, moments=None, *, inertia_body=None) -> np.ndarray:
+def angular_momentum_world(q_world_body, omega_body, moments=None, *, inertia_com=None) -> np.ndarray:
     """Spatial (world-frame) angular momentum ``L_W = R_WB (I w)`` (..., 3) [kg m^2/s].
 
     ``q_world_body`` (..., 4) is normalised before use, so this measures the drift of the
     momentum and the attitude, not of ``|q|`` (see :func:`quat_norm` for that).
     """
     q = as_float_array(q_world_body, "q_world_body", (4,), finite=False)
-    m = angular_momentum_body(omega_body, moments, inertia_body=inertia_body)
+    m = angular_momentum_body(omega_body, moments, inertia_com=inertia_com)
     R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
     return np.einsum("...ij,...j->...i", R, m)
 
@@ -147,7 +147,7 @@ class InvariantHistory:
         }
 
 
-def trajectory_invariants(trajectory, moments=None, *, inertia_body=None) -> InvariantHistory:
+def trajectory_invariants(trajectory, moments=None, *, inertia_com=None) -> InvariantHistory:
     """Energy, |L|, spatial L and |q| at every record of a trajectory.
 
     Parameters
@@ -155,7 +155,7 @@ def trajectory_invariants(trajectory, moments=None, *, inertia_body=None) -> Inv
     trajectory : Trajectory (or any object with ``q_world_body`` (N, ..., 4) and
         ``omega_body`` (N, ..., 3))
     moments : (..., 3) float, kg m^2, principal moments (broadcast against the batch).
-    inertia_body : (..., 3, 3) float, keyword-only alternative to ``moments``.
+    inertia_com : (..., 3, 3) float, keyword-only alternative to ``moments``.
 
     Examples
     --------
@@ -170,8 +170,8 @@ def trajectory_invariants(trajectory, moments=None, *, inertia_body=None) -> Inv
     q = trajectory.q_world_body
     w = trajectory.omega_body
     return InvariantHistory(
-        energy=kinetic_energy(w, moments, inertia_body=inertia_body),
-        momentum_norm=angular_momentum_norm(w, moments, inertia_body=inertia_body),
-        L_world=angular_momentum_world(q, w, moments, inertia_body=inertia_body),
+        energy=kinetic_energy(w, moments, inertia_com=inertia_com),
+        momentum_norm=angular_momentum_norm(w, moments, inertia_com=inertia_com),
+        L_world=angular_momentum_world(q, w, moments, inertia_com=inertia_com),
         quat_norm=quat_norm(q),
     )

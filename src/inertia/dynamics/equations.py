@@ -20,7 +20,7 @@ Attitude kinematics (``q_world_body`` maps body to world coordinates)::
 Conventions: SI units (rad/s, rad/s^2, kg m^2, N m); quaternions scalar first
 ``(w, x, y, z)``; every function accepts leading batch dimensions, which broadcast.
 ``moments`` are the principal moments (..., 3) of a body whose body frame *is* its
-principal frame (the fast diagonal path); ``inertia_body`` is any symmetric positive
+principal frame (the fast diagonal path); ``inertia_com`` is any symmetric positive
 definite (..., 3, 3) matrix about the center of mass in the body frame.
 
 See ``docs/dynamics.md`` for which formulation is cheaper (measured in
@@ -131,7 +131,7 @@ def angular_acceleration_principal(omega_body, moments, torque_body=None) -> np.
     return _accel_principal(w, I, tau)
 
 
-def angular_acceleration_body(omega_body, inertia_body, torque_body=None) -> np.ndarray:
+def angular_acceleration_body(omega_body, inertia_com, torque_body=None) -> np.ndarray:
     """Angular acceleration from Euler's law in the body frame, any symmetric inertia.
 
     Solves ``I_B dw/dt = tau_B - w x (I_B w)`` for dw/dt by a 3x3 solve (cofactors).  For a
@@ -141,7 +141,7 @@ def angular_acceleration_body(omega_body, inertia_body, torque_body=None) -> np.
     Parameters
     ----------
     omega_body : (..., 3) float, rad/s, in the body frame.
-    inertia_body : (..., 3, 3) float, kg m^2
+    inertia_com : (..., 3, 3) float, kg m^2
         Symmetric positive definite inertia about the center of mass, in the body frame.
     torque_body : (..., 3) float, N m, in the body frame, or None (zero).
 
@@ -155,22 +155,22 @@ def angular_acceleration_body(omega_body, inertia_body, torque_body=None) -> np.
     [-1.0, 0.0, 0.0]
     """
     w = as_float_array(omega_body, "omega_body", (3,))
-    J = as_symmetric_matrix3(inertia_body, "inertia_body")
+    J = as_symmetric_matrix3(inertia_com, "inertia_com")
     rhs = cross3(_matvec(J, w), w)
     if torque_body is not None:
         rhs = rhs + as_float_array(torque_body, "torque_body", (3,))
     return _solve3(J, rhs)
 
 
-def euler_residual(omega_body, omega_dot_body, inertia_body, torque_body=None) -> np.ndarray:
+def euler_residual(omega_body, omega_dot_body, inertia_com, torque_body=None) -> np.ndarray:
     """Residual of Euler's law in the body frame, ``I w' + w x (I w) - tau`` [N m], (..., 3).
 
-    ``inertia_body`` is a (..., 3, 3) matrix.  Zero (to rounding) for a consistent triple;
+    ``inertia_com`` is a (..., 3, 3) matrix.  Zero (to rounding) for a consistent triple;
     meant for checks and tests.
     """
     w = as_float_array(omega_body, "omega_body", (3,))
     wd = as_float_array(omega_dot_body, "omega_dot_body", (3,))
-    J = as_symmetric_matrix3(inertia_body, "inertia_body")
+    J = as_symmetric_matrix3(inertia_com, "inertia_com")
     r = _matvec(J, wd) + cross3(w, _matvec(J, w))
     if torque_body is not None:
         r = r - as_float_array(torque_body, "torque_body", (3,))
@@ -215,20 +215,20 @@ def quat_rate_world(q_world_body, omega_world) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------- world frame
-def inertia_world(R_world_body, inertia_body) -> np.ndarray:
+def inertia_world(R_world_body, inertia_com) -> np.ndarray:
     """Inertia re-expressed in the world frame: ``I_W = R_WB I_B R_WB^T`` (..., 3, 3) [kg m^2].
 
     Parameters
     ----------
     R_world_body : (..., 3, 3) float, rotation matrix, body -> world.
-    inertia_body : (..., 3, 3) float, kg m^2, about the center of mass, in the body frame.
+    inertia_com : (..., 3, 3) float, kg m^2, about the center of mass, in the body frame.
     """
     R = as_float_array(R_world_body, "R_world_body", (3, 3))
-    J = as_symmetric_matrix3(inertia_body, "inertia_body")
+    J = as_symmetric_matrix3(inertia_com, "inertia_com")
     return R @ J @ np.swapaxes(R, -1, -2)
 
 
-def omega_world_from_momentum(L_world, R_world_body, inertia_body) -> np.ndarray:
+def omega_world_from_momentum(L_world, R_world_body, inertia_com) -> np.ndarray:
     """World angular velocity from world angular momentum, ``w_W = I_W^-1 L_W`` (..., 3) [rad/s].
 
     The literal world-frame evaluation: forms ``I_W = R I_B R^T`` and solves with it
@@ -239,17 +239,17 @@ def omega_world_from_momentum(L_world, R_world_body, inertia_body) -> np.ndarray
     ----------
     L_world : (..., 3) float, kg m^2/s, about the center of mass, in the world frame.
     R_world_body : (..., 3, 3) float, body -> world.
-    inertia_body : (..., 3, 3) float, kg m^2, in the body frame.
+    inertia_com : (..., 3, 3) float, kg m^2, in the body frame.
     """
     L = as_float_array(L_world, "L_world", (3,))
-    I_W = inertia_world(R_world_body, inertia_body)
+    I_W = inertia_world(R_world_body, inertia_com)
     return _solve3(I_W, L)
 
 
 def omega_world_principal(L_world, R_world_body, moments) -> np.ndarray:
     """``w_W = R diag(1/I) R^T L_W`` (..., 3) [rad/s] for a principal body frame.
 
-    Equivalent to :func:`omega_world_from_momentum` with ``inertia_body = diag(moments)``,
+    Equivalent to :func:`omega_world_from_momentum` with ``inertia_com = diag(moments)``,
     without forming or inverting ``I_W``.
     """
     L = as_float_array(L_world, "L_world", (3,))
@@ -287,7 +287,7 @@ def state_rate_body(q_world_body, omega_body, inertia, torque_body=None):
     return quat_rate(q_world_body, omega_body), dw
 
 
-def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
+def state_rate_world(q_world_body, L_world, inertia_com, torque_world=None):
     """Time derivative of the world-frame state ``(q_world_body, L_world)``.
 
     ``dL_W/dt = tau_W``, ``w_W = (R I_B R^T)^-1 L_W``, ``dq/dt = 1/2 (0, w_W) (x) q``.
@@ -299,7 +299,7 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     ----------
     q_world_body : (..., 4) float.
     L_world : (..., 3) float, kg m^2/s, angular momentum about the center of mass, world frame.
-    inertia_body : (..., 3) principal moments or (..., 3, 3) body inertia, kg m^2 (as in
+    inertia_com : (..., 3) principal moments or (..., 3, 3) body inertia, kg m^2 (as in
         :func:`state_rate_body`).  The matrix path forms and solves with ``I_W``.
     torque_world : (..., 3) float, N m, world frame, or None.
 
@@ -310,7 +310,7 @@ def state_rate_world(q_world_body, L_world, inertia_body, torque_world=None):
     q = as_float_array(q_world_body, "q_world_body", (4,))
     L = as_float_array(L_world, "L_world", (3,))
     R = quat_to_matrix(q / np.linalg.norm(q, axis=-1, keepdims=True))
-    a = np.asarray(inertia_body, dtype=float)
+    a = np.asarray(inertia_com, dtype=float)
     if a.ndim >= 2 and a.shape[-2:] == (3, 3):
         w_W = omega_world_from_momentum(L, R, a)
     else:

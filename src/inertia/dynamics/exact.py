@@ -70,7 +70,7 @@ from .._core.errors import InputError
 from .._core.rotations import matrix_to_quat, quat_conjugate, quat_multiply, quat_to_matrix
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.validation import as_float_array, as_unit_quat
-from ..massprops.principal import principal_axes_batch
+from ..massprops.principal import principal_axes
 from ..massprops.validity import as_principal_moments
 from .exact_motions import (
     ConstantMotion,
@@ -178,7 +178,7 @@ class ExactSolution:
         self.q0_world_body = q0
 
         # internal principal frame P: moments ascending, R_BP the signed permutation that sorts them
-        I, R_BP, _ = principal_axes_batch(np.diag(I_B))
+        I, R_BP = principal_axes(np.diag(I_B))
         self._R_BP = R_BP
         self._q_BP = matrix_to_quat(R_BP)
         w0 = R_BP.T @ w0_B

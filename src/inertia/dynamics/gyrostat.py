@@ -12,7 +12,7 @@ Model (Hughes, *Spacecraft Attitude Dynamics*, 1986, ch. 9; Wie, *Space Vehicle 
 Control*, 2nd ed., 2008, section 7.7): wheel k spins about the unit body axis ``a_k``;
 ``h_k = J_k (a_k . omega + Omega_k)`` is its **absolute** axial angular momentum (Omega_k its
 rate relative to the body, J_k its axial moment), and the motor torque on it is ``h_k' = u_k``.
-``body.inertia_body`` is the inertia of the whole gyrostat about its center of mass with the
+``body.inertia_com`` is the inertia of the whole gyrostat about its center of mass with the
 wheels' axial moments ``J_k a_k a_k^T`` taken out (their transverse moments and masses stay in).
 With ``h = sum_k h_k a_k`` (body frame)::
 
@@ -41,6 +41,7 @@ from .._core.rotations import quat_conjugate, quat_multiply
 from .._core.validation import as_count, as_float_array, as_unit_quat
 from .._ext import dynamics as _k
 from .body import RigidBody, check_body
+from .integrators import DEFAULT_METHOD
 from .segments import METHOD_NAMES
 
 __all__ = ["Gyrostat", "WheelFeedback", "GyrostatRun", "gyrostat_step", "gyrostat_jacobians", "gyrostat_rollout",
@@ -296,7 +297,7 @@ def saturate_wheel_torque(u, h_wheels, hold, *, max_torque, max_momentum) -> np.
 
 
 def gyrostat_rollout(x0, h, n_steps, *, gyrostat: Gyrostat, u=None, feedback: WheelFeedback | None = None,
-                     method: str = "splitting", gravity=None, substeps: int = 1, save_every=1, monitor_axis=None,
+                     method: str = DEFAULT_METHOD, gravity=None, substeps: int = 1, save_every=1, monitor_axis=None,
                      threads: int | None = None) -> GyrostatRun:
     """Roll gyrostats forward, the wheel torques held over each control period of ``substeps * h``.
 
@@ -352,7 +353,7 @@ def gyrostat_rollout(x0, h, n_steps, *, gyrostat: Gyrostat, u=None, feedback: Wh
     return GyrostatRun(t, states, None if monitor_axis is None else tilt.reshape((S,) + batch))
 
 
-def gyrostat_step(x, u, h, *, gyrostat: Gyrostat, method: str = "splitting", gravity=None,
+def gyrostat_step(x, u, h, *, gyrostat: Gyrostat, method: str = DEFAULT_METHOD, gravity=None,
                   substeps: int = 1) -> np.ndarray:
     """One control period of ``substeps`` steps of h with the input ``u`` held: ``x_next = f(x, u)``.
 
@@ -371,7 +372,7 @@ def gyrostat_step(x, u, h, *, gyrostat: Gyrostat, method: str = "splitting", gra
     return run.states[0]
 
 
-def gyrostat_jacobians(x, u, h, *, gyrostat: Gyrostat, method: str = "splitting", gravity=None,
+def gyrostat_jacobians(x, u, h, *, gyrostat: Gyrostat, method: str = DEFAULT_METHOD, gravity=None,
                        substeps: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Error-state Jacobians of :func:`gyrostat_step`: ``dx_next ~ A dx + B du``.
 

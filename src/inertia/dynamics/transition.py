@@ -8,7 +8,7 @@ State, a 13-vector (last axis; any leading batch dimensions)::
 * ``v_world`` [m/s]: velocity of the center of mass, expressed in W.
 * ``q_world_body``: unit quaternion, scalar first ``(w, x, y, z)``, maps body coordinates to
   world coordinates (``v_W = R(q_WB) @ v_B``).  The body frame B has its origin at the center
-  of mass and the axes in which ``RigidBody.inertia_body`` is expressed.
+  of mass and the axes in which ``RigidBody.inertia_com`` is expressed.
 * ``omega_body`` [rad/s]: angular velocity of B in W, expressed in B (``w_WB_B``).
 
 Input, a 6-vector: ``u = [ force (0:3) | torque_body (3:6) ]``.
@@ -28,7 +28,7 @@ with the attitude perturbed on the right, in the body frame:
 
 The rotational part is delegated to the free-body integrators of
 :mod:`inertia.dynamics.integrators` (registry ``METHODS``), which work in the principal frame
-P of the body; a general, non-diagonal ``inertia_body`` is rotated into P internally.  The
+P of the body; a general, non-diagonal ``inertia_com`` is rotated into P internally.  The
 translational part is exact for a constant world-frame force (``v += a h``,
 ``p += v h + a h^2/2``) whatever the rotational method.  See ``docs/transition.md`` for which
 schemes are exact for what.

@@ -8,8 +8,8 @@ diagonal,
     S_P = sum m r r^T = diag(s1, s2, s3),    s_i = (I_j + I_k - I_i) / 2   [kg m^2],
 
 because ``I = tr(S) 1 - S``.  Each ``s_i = sum m x_i^2`` is a sum of squares, so every real
-body has ``s_i >= 0``.  This is the triangle inequality of the principal moments (the
-founding write-up's existence proof).  A model with mass M reproduces the tensor when its
+body has ``s_i >= 0``.  This is the triangle inequality of the principal moments, and
+why an equivalent model exists for every real body.  A model with mass M reproduces the tensor when its
 own second moments equal ``s_i``:
 
 * uniform box with full edge lengths ``b_i``: ``s_i = M b_i^2 / 12``, so
@@ -51,7 +51,8 @@ from .._core.errors import InputError, NoEquivalentModelError
 from .._core.findings import Finding
 from .._core.tolerances import PHYSICAL_RTOL
 from .._core.validation import as_rotation_matrix, as_vector3, frozen_array
-from .properties import CanonicalForm, MassProperties
+from .principal import PrincipalFrame
+from .properties import MassProperties
 from .validity import check_inertia
 
 __all__ = [
@@ -87,8 +88,8 @@ class PrincipalSecondMoments:
 
     Attributes
     ----------
-    canonical : inertia.massprops.properties.CanonicalForm
-        The body in its principal frame P and the pose of P in the original frame F.
+    principal : PrincipalFrame
+        The principal frame P of the body: moments, axes and origin in the original frame F.
     second_moments : (3,) float, kg m^2
         ``s_i = (I_j + I_k - I_i) / 2 = sum m x_i^2`` along principal axis i (P frame), in the
         order of the ascending moments.  Negative values within the tolerance are clipped to 0.
@@ -101,7 +102,7 @@ class PrincipalSecondMoments:
         ``rtol * |trace(I)|``; a margin below ``-tolerance`` is a violation.
     """
 
-    canonical: CanonicalForm
+    principal: PrincipalFrame
     second_moments: np.ndarray
     margins: np.ndarray
     flat_axes: tuple
@@ -145,8 +146,8 @@ def principal_second_moments(props: MassProperties, *, model: str = "equivalent 
     if any(v.code in _FATAL_CODES for v in others):
         raise NoEquivalentModelError(f"no {model}: " + "; ".join(v.message for v in others), findings=others)
 
-    cf = props.canonical()
-    I_P = cf.moments  # ascending principal moments, kg m^2
+    pf = props.principal()
+    I_P = pf.moments  # ascending principal moments, kg m^2
     tol = rtol * max(abs(float(I_P.sum())), np.finfo(float).tiny)
     margins = np.empty(3)
     triangle: list[Finding] = []
@@ -171,7 +172,7 @@ def principal_second_moments(props: MassProperties, *, model: str = "equivalent 
     s.setflags(write=False)
     margins.setflags(write=False)
     flat = tuple(int(i) for i in range(3) if margins[i] <= tol)
-    return PrincipalSecondMoments(cf, s, margins, flat, tol)
+    return PrincipalSecondMoments(pf, s, margins, flat, tol)
 
 
 def flat_findings(sm: PrincipalSecondMoments, detail) -> tuple:
@@ -360,8 +361,8 @@ def equivalent_box(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Equ
     """
     sm = principal_second_moments(props, model="equivalent box", symbol="b", factor=12.0, rtol=rtol)
     size = np.sqrt(12.0 * sm.second_moments / props.mass)  # b_i^2 = 12 s_i / M
-    cf = sm.canonical
-    return EquivalentBox(props.mass, size, cf.R_body_principal, cf.p_body_com, frame=props.frame,
+    pf = sm.principal
+    return EquivalentBox(props.mass, size, pf.R_body_principal, pf.p_body_com, frame=props.frame,
                          findings=flat_findings(sm, lambda i: f"the equivalent box is flat along principal "
                                                 f"axis {i + 1} (b{i + 1} = {size[i]:.3g} m)"))
 
@@ -399,7 +400,7 @@ def equivalent_ellipsoid(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) 
     """
     sm = principal_second_moments(props, model="equivalent ellipsoid", symbol="a", factor=5.0, rtol=rtol)
     semi = np.sqrt(5.0 * sm.second_moments / props.mass)  # a_i^2 = 5 s_i / M
-    cf = sm.canonical
-    return EquivalentEllipsoid(props.mass, semi, cf.R_body_principal, cf.p_body_com, frame=props.frame,
+    pf = sm.principal
+    return EquivalentEllipsoid(props.mass, semi, pf.R_body_principal, pf.p_body_com, frame=props.frame,
                                findings=flat_findings(sm, lambda i: f"the equivalent ellipsoid is flat along "
                                                       f"principal axis {i + 1} (a{i + 1} = {semi[i]:.3g} m)"))

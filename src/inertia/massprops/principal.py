@@ -1,21 +1,17 @@
-"""Principal moments and axes with a fully deterministic canonical form.
+"""Principal moments and axes in one canonical form, for one body or a batch.
 
-The rule (the *canonical form* of the founding write-up):
+The rule, every clause tested:
 
 1. Moments ascending: ``I1 <= I2 <= I3``.
-2. Axes are the columns of ``R_body_principal`` (maps principal coordinates to body
-   coordinates: the axes expressed in the body frame), a proper rotation (det +1).
+2. Axes are the columns of ``R_body_principal`` (principal coordinates to body coordinates),
+   a proper rotation (det +1).
 3. Sign rule: axes 1 and 2 each have their largest-magnitude component positive (the first
    such component on exact ties); axis 3 is ``e1 x e2``.
-4. Repeated moments (within ``REPEATED_MOMENTS_RTOL * I3``):
-
-   * all three equal: ``R_body_principal`` is the identity;
-   * two equal: the distinct axis is taken from the eigensolver (with the sign rule),
-     and the first axis of the repeated pair is the projection onto the repeated plane of the
-     coordinate axis of F least aligned with the distinct axis (the first on ties); the
-     remaining axis completes a right-handed frame.
-
-   The groups of repeated moments are reported so that callers know which axes are a choice.
+4. Repeated moments (within ``rtol * I3``, default ``REPEATED_MOMENTS_RTOL``): all three equal
+   gives the identity; two equal take the distinct axis from the eigensolver (sign rule), then
+   the coordinate axis least aligned with it (the first on ties), projected into the repeated
+   plane, and the cross product completes a right-handed frame.  The groups are reported
+   (``PrincipalFrame.degenerate``) so that callers know which axes are a choice.
 """
 
 from __future__ import annotations
@@ -24,178 +20,120 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core.rotations import cross3
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.validation import as_float_array
 
-
-def _unit(v):
-    return v / np.linalg.norm(v)
-
-
-def _plane_axis(n: np.ndarray) -> np.ndarray:
-    """Deterministic unit vector perpendicular to n: the coordinate axis least aligned with n, projected."""
-    k = int(np.argmin(np.abs(n)))
-    e = np.zeros(3)
-    e[k] = 1.0
-    return _unit(e - np.dot(e, n) * n)
-
-
-def degenerate_groups(moments, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[tuple[int, ...], ...]:
-    """Groups (tuples of indices, length >= 2) of ascending moments equal within ``rtol * max(moments)``."""
-    I = np.asarray(moments, float)
-    scale = max(abs(I[-1]), abs(I[0]), np.finfo(float).tiny)
-    close01 = abs(I[1] - I[0]) <= rtol * scale
-    close12 = abs(I[2] - I[1]) <= rtol * scale
-    if close01 and close12:
-        return ((0, 1, 2),)
-    if close01:
-        return ((0, 1),)
-    if close12:
-        return ((1, 2),)
-    return ()
-
-
-def _sign_fixed(v: list) -> list:
-    """v flipped so that its largest-magnitude component is positive (the first one on ties)."""
-    k = 0
-    for i in (1, 2):
-        if abs(v[i]) > abs(v[k]):
-            k = i
-    return [-x for x in v] if v[k] < 0 else list(v)
-
-
-def _cross(a: list, b: list) -> list:
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def _canonical_axes_single(moments: np.ndarray, vecs: np.ndarray, rtol: float, groups=None) -> np.ndarray:
-    # one 3x3 at a time, in Python floats: the same arithmetic as the vectorised helpers,
-    # without NumPy's per-call overhead on 3-vectors (this runs once per mesh in batch runs);
-    # ``groups``: degenerate_groups(moments, rtol), when known
-    if groups is None:
-        groups = degenerate_groups(moments, rtol)
-    if groups == ((0, 1, 2),):
-        return np.eye(3)  # sphere-like: every frame is principal; choose F itself
-    cols = vecs.T.tolist()
-    if groups == ((0, 1),):
-        e3 = _sign_fixed(cols[2])
-        e1 = _plane_axis(np.array(e3)).tolist()
-        e2 = _cross(e3, e1)
-    elif groups == ((1, 2),):
-        e1 = _sign_fixed(cols[0])
-        e2 = _plane_axis(np.array(e1)).tolist()
-        e3 = _cross(e1, e2)
-    else:
-        e1 = _sign_fixed(cols[0])
-        e2 = _sign_fixed(cols[1])
-        e3 = _cross(e1, e2)
-    return np.array([e1, e2, e3]).T
-
-
-def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
-    """Principal moments and axes of a symmetric inertia matrix, in canonical form.
-
-    Parameters
-    ----------
-    inertia : (..., 3, 3) float, kg m^2, about the COM, in frame F.
-    rtol : float
-        Relative tolerance under which moments count as repeated (see module docstring).
-
-    Returns
-    -------
-    moments : (..., 3) float, kg m^2, ascending.
-    R_body_principal : (..., 3, 3) float, principal axes as columns (det +1), so that
-        ``inertia = R_body_principal @ diag(moments) @ R_body_principal.T``.
-    """
-    I = as_float_array(inertia, "inertia", (3, 3))
-    if I.ndim == 2:
-        moments, R, _ = _principal_single(I, rtol)
-        return moments, R
-    I = 0.5 * (I + np.swapaxes(I, -1, -2))
-    moments, vecs = np.linalg.eigh(I)
-    flat_m = moments.reshape(-1, 3)
-    flat_v = vecs.reshape(-1, 3, 3)
-    out = np.empty_like(flat_v)
-    for k in range(flat_m.shape[0]):
-        out[k] = _canonical_axes_single(flat_m[k], flat_v[k], rtol)
-    return moments, out.reshape(vecs.shape)
-
-
-def _principal_single(I: np.ndarray, rtol: float):
-    """``(moments, R_body_principal, degenerate groups)`` of one checked (3, 3) float64 matrix."""
-    moments, vecs = np.linalg.eigh(0.5 * (I + I.T))
-    groups = degenerate_groups(moments, rtol)
-    return moments, _canonical_axes_single(moments, vecs, rtol, groups), groups
+__all__ = ["PrincipalFrame", "principal_axes"]
 
 
 @dataclass(frozen=True)
 class PrincipalFrame:
-    """Principal moments and axes, with the repeated-moment report.
+    """The principal frame P of a body, in canonical form (see the module docstring).
 
     Attributes
     ----------
     moments : (3,) float, kg m^2, ascending.
-    R_body_principal : (3, 3) float, axes as columns in the original frame F, det +1.
-    degenerate : tuple of tuples of int
-        Indices of moments equal within ``rtol`` (e.g. ``((0, 1),)`` for a cylinder
-        about its axis); empty when all three are distinct.
-    rtol : float
-        The tolerance that decided ``degenerate``.
+    R_body_principal : (3, 3) float, the principal axes as columns in the body frame, det +1.
+    p_body_com : (3,) float, m, the origin of P (the COM) in the body frame.
+    degenerate : tuple of tuples of int, the groups of repeated moments (``((0, 1),)`` for a
+        symmetric top); empty when all three are distinct.
+    rtol : float, the tolerance that decided ``degenerate``.
     """
 
     moments: np.ndarray
     R_body_principal: np.ndarray
+    p_body_com: np.ndarray
     degenerate: tuple
     rtol: float
 
 
-def principal_frame(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> PrincipalFrame:
-    """Single-body version of :func:`principal_axes` that also reports degeneracy."""
-    moments, R, groups = _principal_single(as_float_array(inertia, "inertia", (3, 3), allow_batch=False), rtol)
-    moments.setflags(write=False)
-    R.setflags(write=False)
-    return PrincipalFrame(moments, R, groups, rtol)
+def _repeated(moments: np.ndarray, rtol: float):
+    """``(I1 == I2, I2 == I3)`` within ``rtol`` times the largest moment, (N,) each."""
+    scale = np.maximum(np.maximum(np.abs(moments[:, 2]), np.abs(moments[:, 0])), np.finfo(float).tiny)
+    gap = np.diff(moments, axis=-1)
+    return np.abs(gap[:, 0]) <= rtol * scale, np.abs(gap[:, 1]) <= rtol * scale
 
 
-def principal_axes_batch(inertia) -> tuple[np.ndarray, np.ndarray, bool]:
-    """``(moments, R_body_principal, principal_is_body)`` of many inertia matrices at once.
+def _sign_fixed(v: np.ndarray) -> np.ndarray:
+    """Rows of ``v`` (N, 3) flipped so that their largest-magnitude entry is positive (the first on ties)."""
+    k = np.argmax(np.abs(v), axis=-1)
+    return np.where(v[np.arange(len(v)), k][:, None] < 0, -v, v)
 
-    A vectorised route for integrators, which need *a* principal frame but not the
-    canonical one: any proper principal frame gives the same motion (the integrators are
-    equivariant under the sign changes), so the choice only moves rounding.  Use
-    :func:`principal_axes` where the axes are reported.
+
+def _plane_axis(n: np.ndarray) -> np.ndarray:
+    """The coordinate axis least aligned with each unit row of ``n`` (the first on ties), made
+    perpendicular to it and unit."""
+    k = np.argmin(np.abs(n), axis=-1)
+    e = np.zeros_like(n)
+    e[np.arange(len(n)), k] = 1.0
+    p = e - n[np.arange(len(n)), k][:, None] * n
+    return p / np.linalg.norm(p, axis=-1, keepdims=True)
+
+
+def _canonical_axes(moments: np.ndarray, vecs: np.ndarray, rtol: float) -> np.ndarray:
+    """The canonical ``R_body_principal`` (N, 3, 3) from ascending ``moments`` (N, 3) and any
+    eigenvectors ``vecs`` (N, 3, 3, as columns) of them."""
+    c01, c12 = _repeated(moments, rtol)
+    cols = np.swapaxes(vecs, -1, -2)            # cols[:, i] = axis i
+    e1, e2 = _sign_fixed(cols[:, 0]), _sign_fixed(cols[:, 1])
+    e3 = cross3(e1, e2)
+    # two equal, (1, 2): the distinct axis 3, then its plane
+    pair = c01 & ~c12
+    if pair.any():
+        d = _sign_fixed(cols[pair, 2])
+        a = _plane_axis(d)
+        e1[pair], e2[pair], e3[pair] = a, cross3(d, a), d
+    # two equal, (2, 3): the distinct axis 1, then its plane
+    pair = c12 & ~c01
+    if pair.any():
+        d = e1[pair]
+        a = _plane_axis(d)
+        e2[pair], e3[pair] = a, cross3(d, a)
+    out = np.stack([e1, e2, e3], axis=-1)
+    out[c01 & c12] = np.eye(3)                  # every frame is principal: keep the body's
+    return out
+
+
+def _eigen(I: np.ndarray):
+    """Ascending eigenvalues and eigenvectors of symmetric (N, 3, 3) matrices; a diagonal matrix
+    is sorted exactly (its vectors a permutation), never passed through the eigensolver."""
+    off = I[:, [0, 0, 1], [1, 2, 2]]
+    if not np.any(off):
+        diag = np.diagonal(I, axis1=-2, axis2=-1)
+        order = np.argsort(diag, axis=-1, kind="stable")
+        vecs = (np.arange(3)[None, :, None] == order[:, None, :]).astype(float)   # vecs[:, i, k] = [i == order[k]]
+        return np.take_along_axis(diag, order, axis=-1), vecs
+    return np.linalg.eigh(0.5 * (I + np.swapaxes(I, -1, -2)))
+
+
+def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments and axes of symmetric inertia matrices, in canonical form.
 
     Parameters
     ----------
-    inertia : (..., 3, 3) float, kg m^2, symmetric (not checked here).
+    inertia : (..., 3, 3) float, kg m^2, about the COM, in the body frame.
+    rtol : float, the relative tolerance under which moments count as repeated.
 
     Returns
     -------
-    moments : (..., 3) float, ascending (a body and any rotated copy of it get the same
-        axis order, which the splitting methods depend on).
-    R_body_principal : (..., 3, 3) float, proper rotations (det +1), principal axes as columns.
-    principal_is_body : bool
-        True when every matrix is diagonal with an ascending diagonal: then P = B, the
-        rotations are the identity and nothing is rounded by a frame change.
-
-    Notes
-    -----
-    Diagonal input (every product exactly zero): ``R`` is the signed permutation that sorts
-    the diagonal (exact; its quaternion has entries 0, 1/2, sqrt(1/2) or 1).  General input:
-    the eigenvectors of ``numpy.linalg.eigh`` as columns, the third negated where needed to
-    make ``det R = +1``.
+    moments : (..., 3) float, kg m^2, ascending.
+    R_body_principal : (..., 3, 3) float, the axes as columns (det +1), so that
+        ``inertia = R_body_principal @ diag(moments) @ R_body_principal.T``.
     """
-    I_B = np.asarray(inertia, dtype=np.float64)
-    off = I_B[..., [0, 0, 1], [1, 2, 2]]
-    if not np.any(off):
-        diag = np.diagonal(I_B, axis1=-2, axis2=-1)
-        if np.all(np.diff(diag, axis=-1) >= 0):
-            return diag.copy(), np.broadcast_to(np.eye(3), I_B.shape).copy(), True
-        order = np.argsort(diag, axis=-1, kind="stable")
-        moments = np.take_along_axis(diag, order, axis=-1)
-        R = (np.arange(3)[..., :, None] == order[..., None, :]).astype(float)  # R[i, k] = [i == order[k]]
-    else:
-        moments, R = np.linalg.eigh(I_B)
-    det = np.linalg.det(R)
-    R[..., :, 2] *= np.where(det < 0, -1.0, 1.0)[..., None]
-    return moments, R, False
+    I = as_float_array(inertia, "inertia", (3, 3))
+    flat = I.reshape(-1, 3, 3)
+    moments, vecs = _eigen(flat)
+    return moments.reshape(I.shape[:-1]), _canonical_axes(moments, vecs, rtol).reshape(I.shape)
+
+
+def principal_frame(inertia: np.ndarray, p_body_com: np.ndarray, rtol: float) -> PrincipalFrame:
+    """:class:`PrincipalFrame` of one checked (3, 3) matrix (what ``MassProperties.principal`` returns)."""
+    moments, vecs = _eigen(inertia[None])
+    c01, c12 = (bool(x[0]) for x in _repeated(moments, rtol))
+    groups = ((0, 1, 2),) if c01 and c12 else ((0, 1),) if c01 else ((1, 2),) if c12 else ()
+    R = _canonical_axes(moments, vecs, rtol)[0]
+    m, p = moments[0], np.array(p_body_com, dtype=float)
+    for a in (m, R, p):
+        a.setflags(write=False)
+    return PrincipalFrame(m, R, p, groups, rtol)

@@ -166,38 +166,25 @@ class MassProperties:
         I = self.inertia_com if about is None else self.about(about)
         return {k: float(v) for k, v in _t.elements_from_inertia(I, convention=convention).items()}
 
-    def principal(self, *, rtol: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """``(moments, axes)``: moments ascending (3,) kg m^2 and axes as columns of a proper rotation (3, 3).
+    def principal(self, *, rtol: float | None = None) -> PrincipalFrame:
+        """The principal frame in canonical form: moments ascending, ``R_body_principal``,
+        ``p_body_com`` and the repeated moments (see :mod:`inertia.massprops.principal`).
 
-        See :mod:`inertia.massprops.principal` for the sign and repeated-moment rules; ``rtol``
-        (default: :attr:`moments_rtol`) decides which moments are repeated.
+        ``rtol`` (default :attr:`moments_rtol`) decides which moments are repeated.
         """
-        pf = self.principal_frame(rtol=rtol)
-        return pf.moments, pf.R_body_principal
+        rtol = self.moments_rtol if rtol is None else rtol
+        # the value is immutable (read-only arrays), so the decomposition is computed once
+        cache = self.__dict__.setdefault("_principal_cache", {})
+        pf = cache.get(rtol)
+        if pf is None:
+            pf = cache[rtol] = principal_frame(self.inertia_com, self.com, rtol)
+        return pf
 
     @property
     def moments_rtol(self) -> float:
         """The relative tolerance under which principal moments count as repeated:
         ``REPEATED_MOMENTS_RTOL``, or the input's :attr:`precision` when coarser."""
         return max(REPEATED_MOMENTS_RTOL, self.precision)
-
-    def principal_frame(self, *, rtol: float | None = None) -> PrincipalFrame:
-        """Principal moments, axes and the report of repeated moments (``rtol``: see :meth:`principal`)."""
-        rtol = self.moments_rtol if rtol is None else rtol
-        # the value is immutable (read-only arrays), so the decomposition is computed once
-        cache = self.__dict__.setdefault("_principal_cache", {})
-        pf = cache.get(rtol)
-        if pf is None:
-            pf = cache[rtol] = principal_frame(self.inertia_com, rtol=rtol)
-        return pf
-
-    def canonical(self, *, rtol: float | None = None) -> "CanonicalForm":
-        """The canonical form: COM at the origin, principal axes as a proper rotation, moments ascending."""
-        pf = self.principal_frame(rtol=rtol)
-        props = MassProperties(self.mass, np.zeros(3), np.diag(pf.moments), frame="principal",
-                               volume=self.volume, findings=self.findings, validate=False, precision=self.precision)
-        return CanonicalForm(props=props, R_body_principal=pf.R_body_principal, p_body_com=self.com,
-                             degenerate=pf.degenerate, rtol=pf.rtol, frame=self.frame)
 
     def check(self) -> list:
         """Every physical-validity violation (empty when valid); see :mod:`inertia.massprops.validity`."""
@@ -214,7 +201,7 @@ class MassProperties:
     @property
     def radii_of_gyration(self) -> np.ndarray:
         """Principal radii of gyration sqrt(I_k / m) [m], ascending with the moments."""
-        return np.sqrt(np.clip(self.principal()[0], 0, None) / self.mass)
+        return np.sqrt(np.clip(self.principal().moments, 0, None) / self.mass)
 
     # ------------------------------------------------------------------ transforms
     def _replace(self, **kw) -> "MassProperties":
@@ -266,14 +253,14 @@ class MassProperties:
     # ------------------------------------------------------------------ export
     def to_dict(self) -> dict:
         """Plain-Python dict (JSON-ready): mass, volume, com, inertia_com, principal moments/axes, frame, findings."""
-        moments, axes = self.principal()
+        pf = self.principal()
         return {
             "mass": self.mass,
             "volume": None if math.isnan(self.volume) else self.volume,
             "com": self.com.tolist(),
             "inertia_com": self.inertia_com.tolist(),
-            "principal_moments": moments.tolist(),
-            "principal_axes": axes.tolist(),
+            "principal_moments": pf.moments.tolist(),
+            "R_body_principal": pf.R_body_principal.tolist(),
             "frame": self.frame,
             "findings": [f.to_dict() for f in self.findings],
         }
@@ -296,37 +283,6 @@ class MassProperties:
         with np.printoptions(precision=6, suppress=False):
             return (f"MassProperties(mass={self.mass:.6g}, com={self.com}, inertia_com={self.inertia_com.tolist()}, "
                     f"frame={self.frame!r})")
-
-
-@dataclass(frozen=True)
-class CanonicalForm:
-    """Canonical form of a body: ``props`` in its principal frame P (COM at the origin,
-    diagonal inertia, moments ascending), and the pose of P in the original frame F.
-
-    Attributes
-    ----------
-    props : MassProperties in frame ``"principal"``.
-    R_body_principal : (3, 3) proper rotation, columns are the principal axes expressed in F.
-    p_body_com : (3,) m, COM in F (the origin of P).
-    degenerate : tuple of tuples of int, repeated moments (see :func:`inertia.massprops.principal_axes`).
-    rtol : float, tolerance used to decide repeated moments.
-    frame : str, name of F.
-    """
-
-    props: MassProperties
-    R_body_principal: np.ndarray
-    p_body_com: np.ndarray
-    degenerate: tuple
-    rtol: float
-    frame: str
-
-    @property
-    def moments(self) -> np.ndarray:
-        return np.diag(self.props.inertia_com).copy()
-
-    def to_frame(self) -> MassProperties:
-        """Back to the original frame F (inverse of the canonicalisation)."""
-        return self.props.expressed_in(self.frame, self.R_body_principal, self.p_body_com)
 
 
 def combine(bodies, signs=None, *, frame=None, allow_negative: bool = False, validate: bool = True):

@@ -10,8 +10,8 @@ Both use the principal central second moments (see :mod:`inertia.massprops.equiv
 
     s_i = (I_j + I_k - I_i) / 2 = sum m x_i^2 >= 0    [kg m^2],
 
-which are non-negative for every real body (the triangle inequality of the founding
-write-up).  A point set reproduces the tensor exactly when its mass is M, its COM is at the
+which are non-negative for every real body (the triangle inequality of the principal
+moments).  A point set reproduces the tensor exactly when its mass is M, its COM is at the
 origin of P and ``sum m r r^T = diag(s_i)``, because ``I = tr(S) 1 - S``.
 
 * :func:`six_point_model`: mass M/6 at ``+-d_i`` on each principal axis, with
@@ -229,7 +229,7 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
 
     Notes
     -----
-    The construction of the founding write-up.  Pairs of mass ``m = M/6`` at ``+-d_i`` on each
+    Pairs of mass ``m = M/6`` at ``+-d_i`` on each
     principal axis have their COM at the origin and no products of inertia.  Their moments are
     ``I_i = 2m (d_j^2 + d_k^2) = M/3 (d_j^2 + d_k^2)``.  Inverting the linear system gives
 
@@ -265,8 +265,8 @@ def six_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> Pa
         p_P[2 * i + 1, i] = 0.0 - d[i]  # 0.0 - 0.0 is +0.0: no "-0.0" for a flat axis
     notes = flat_findings(sm, lambda i: f"d{i + 1} = {d[i]:.3g} m, so points {2 * i} and {2 * i + 1} "
                                       f"(+-d{i + 1} on principal axis {i + 1}) coincide at the COM")
-    cf = sm.canonical
-    return ParticleModel("six_point", np.full(6, M / 6.0), p_P, cf.R_body_principal, cf.p_body_com,
+    pf = sm.principal
+    return ParticleModel("six_point", np.full(6, M / 6.0), p_P, pf.R_body_principal, pf.p_body_com,
                          frame=props.frame, findings=notes)
 
 
@@ -332,6 +332,6 @@ def four_point_model(props: MassProperties, *, rtol: float = PHYSICAL_RTOL) -> P
     p_P = TETRAHEDRON_SIGNS * c + 0.0  # r_k = diag(c) sigma_k; "+ 0.0" turns -0.0 (flat axis) into +0.0
     notes = flat_findings(sm, lambda i: f"c{i + 1} = {c[i]:.3g} m, so the four points lie in the plane normal to "
                                       f"principal axis {i + 1}")
-    cf = sm.canonical
-    return ParticleModel("four_point", np.full(4, M / 4.0), p_P, cf.R_body_principal, cf.p_body_com,
+    pf = sm.principal
+    return ParticleModel("four_point", np.full(4, M / 4.0), p_P, pf.R_body_principal, pf.p_body_com,
                          frame=props.frame, findings=notes)

@@ -126,12 +126,6 @@ def flip_products(inertia) -> np.ndarray:
         return 2 * np.diag(np.diag(I)) - I
 
 
-def _principal(inertia):
-    from ..massprops.principal import principal_axes
-
-    return principal_axes(inertia)
-
-
 def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str | None = None,
                warnings: bool = True, compiler: dict | None = None) -> LinkReport:
     """The findings for one link (``where`` is ``file:line`` for messages); ``warnings=False``
@@ -207,8 +201,10 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
             continue
         rep.add(code, f"{msg}{suffix}", where=at, severity="note")
     if computed is not None:
-        declared_m, declared_R = _principal(inertial.inertia_com)
-        comp_m, comp_R = _principal(computed.inertia_com)
+        from ..massprops.principal import principal_axes
+
+        declared_m, declared_R = principal_axes(inertial.inertia_com)
+        comp_m, comp_R = principal_axes(computed.inertia_com)
         ratios = declared_m / comp_m
         worst = float(np.max(np.maximum(ratios, 1 / ratios)))
         angle = _axes_angle(declared_m, declared_R, comp_m, comp_R)
@@ -295,7 +291,7 @@ def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
     if not legacy:
         return
     dm = abs(simulated.mass - solid.mass) / solid.mass
-    moments_sim, moments_solid = simulated.principal()[0], solid.principal()[0]
+    moments_sim, moments_solid = simulated.principal().moments, solid.principal().moments
     dI = float(np.max(np.abs(moments_sim - moments_solid) / moments_solid))
     if max(dm, dI) > LEGACY_RTOL:
         names = ", ".join(sorted({str(g.params.get("uri") or g.params.get("where")) for g in legacy}))

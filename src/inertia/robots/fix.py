@@ -257,7 +257,7 @@ def _fix_geometry(ed, setter, link, mass, report, *, role, density, mesh_units, 
         return None
     report.changed[link.name] = (f"from its {used} geometry: mass {props.mass:.6g} kg, COM "
                                  f"{np.round(props.com, 6).tolist()} m, moments "
-                                 f"{np.array2string(props.principal()[0], precision=6)} kg m^2"
+                                 f"{np.array2string(props.principal().moments, precision=6)} kg m^2"
                                  + "".join(f"; note: {m}" for _, m in problems))
     setter(ed, link.inertial.element, props, mass_scale)
     return props.mass, props.inertia_com

@@ -60,7 +60,8 @@ def inertial_block(props, fmt: str, *, indent: str = "") -> str:
         lines += [f"    <{k}>{format_number(e[k])}</{k}>" for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
         lines += ["  </inertia>", "</inertial>"]
     elif fmt == "mjcf":
-        moments, R = props.principal()
+        pf = props.principal()
+        moments, R = pf.moments, pf.R_body_principal
         full = " ".join(format_number(e[k]) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"))
         lines = [f'<inertial pos="{format_vector(c)}" mass="{format_number(props.mass)}" fullinertia="{full}"/>',
                  f'<!-- equivalently: <inertial pos="{format_vector(c)}" mass="{format_number(props.mass)}" '

@@ -37,7 +37,7 @@ class HoldRenderer:
         self.tilt = {"free": np.degrees(run.tilt_free[idx]), "held": np.degrees(run.tilt_held[idx])}
         g = run.setup.gyrostat
         x0 = run.held[0]
-        L = quat_to_matrix(x0[6:10]) @ (g.body.inertia_body @ x0[10:13] + x0[13:] @ g.wheel_axes)
+        L = quat_to_matrix(x0[6:10]) @ (g.body.inertia_com @ x0[10:13] + x0[13:] @ g.wheel_axes)
         self.L = L / np.linalg.norm(L)
         V, F = cluster_decimate(mesh.vertices, mesh.faces, MAX_FACES)
         self.V, self.F = V, F

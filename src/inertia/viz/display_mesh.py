@@ -142,6 +142,6 @@ def display_mesh(props, mesh, *, max_faces: int = MAX_DISPLAY_FACES) -> DisplayM
     if mesh is None:
         return None
     V, F = np.asarray(mesh[0], float), np.asarray(mesh[1], np.int64)
-    V_principal = (V - props.com) @ props.canonical().R_body_principal
+    V_principal = (V - props.com) @ props.principal().R_body_principal
     Vd, Fd = cluster_decimate(V_principal, F, max_faces)
     return DisplayMesh(Vd, Fd, face_parts(len(Vd), Fd), len(F))

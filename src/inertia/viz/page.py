@@ -46,8 +46,8 @@ def page_data(props, study, *, name: str, description: str = "", display=None, n
     from . import polhodes
     from .raster import Camera
 
-    cf = props.canonical()
-    R = cf.R_body_principal
+    pf = props.principal()
+    R = pf.R_body_principal
     six_principal = (six_point_model(props).positions_body - props.com) @ R
     four_principal = (four_point_model(props).positions_body - props.com) @ R
     box = equivalent_box(props)
@@ -61,7 +61,7 @@ def page_data(props, study, *, name: str, description: str = "", display=None, n
     data = {
         "name": name, "description": description,
         "mass": float(props.mass), "com_body": props.com.tolist(), "R_body_principal": R.tolist(),
-        "moments": [float(x) for x in cf.moments],
+        "moments": [float(x) for x in pf.moments],
         "six_points": six_principal.tolist(), "four_points": four_principal.tolist(),
         "box_size": [float(x) for x in box.size],
         "ellipsoid_semi_axes": [float(x) for x in equivalent_ellipsoid(props).dims],

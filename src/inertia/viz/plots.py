@@ -147,8 +147,8 @@ def body_plot(props, six, out_dir, stem: str = "body", display=None) -> dict:
     from .display_mesh import cluster_decimate
     from .page import length_unit
 
-    cf = props.canonical()
-    moments, R, c = cf.moments, cf.R_body_principal, props.com
+    pf = props.principal()
+    moments, R, c = pf.moments, pf.R_body_principal, props.com
     pts = six.positions_body
     span = float(np.max(np.abs(pts - c))) * 1.3
     if display is not None:

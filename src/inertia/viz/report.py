@@ -67,7 +67,7 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, descr
     step = progress or (lambda name: None)
     out = prepare_folder(out_dir, force=force)
     step("simulating the flip")
-    study = flip_study(props.principal()[0])
+    study = flip_study(props.principal().moments)
     six = six_point_model(props)
     display = display_mesh(props, mesh)
     files: dict = {}
@@ -88,7 +88,7 @@ def build_report(out_dir, props, *, title: str, credit: str | None = None, descr
     write_page(out / "body3d.html", pdata)
     files["page"] = ["body3d.html"]
     data = {"title": title, "mass": props.mass, "com": props.com, "inertia_com": props.inertia_com,
-            "principal_moments": props.principal()[0], "R_body_principal": props.principal()[1],
+            "principal_moments": props.principal().moments, "R_body_principal": props.principal().R_body_principal,
             "omega0_body_principal": study.omega0_body, "flip_interval": study.flip_interval,
             "flip_times_marked": info["omega"]["flip_times"], "flips_detected": study.detected_flips,
             "integrators": info["invariants"]["max_errors"], "six_points_principal": pdata["six_points"],
@@ -120,7 +120,7 @@ def _animate(out: Path, props, study, display, title: str, animation_format: str
     fmt = video_format() if animation_format == "auto" else animation_format
     if fmt not in ("mp4", "gif"):
         raise InputError(f"animation format must be mp4, gif or auto, got {animation_format!r}")
-    R = props.canonical().R_body_principal
+    R = props.principal().R_body_principal
     six = (six_point_model(props).positions_body - props.com) @ R
     scene = FlipScene(study, display, six, np.asarray(equivalent_box(props).size) / 2, title)
     return render_flip(scene, out / f"flip.{fmt}", view=view, poster=out / "flip-poster.png")

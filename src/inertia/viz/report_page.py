@@ -79,7 +79,7 @@ def cards(props, study, box, unit_factor) -> str:
     unit, f = unit_factor
     m = props.mass
     mass = (f"{m * 1e3:.4g}", "g") if m < 1 else (f"{m:.4g}", "kg")
-    moments = props.canonical().moments
+    moments = props.principal().moments
     e = math.floor(math.log10(float(moments.max())))
     items = [("mass", *mass),
              ("principal moments I\u2081, I\u2082, I\u2083",
@@ -99,7 +99,7 @@ def _row(key: str, value: str) -> str:
 def properties_table(props, unit_factor) -> str:
     """Mass properties with units, body frame."""
     unit, f = unit_factor
-    cf = props.canonical()
+    pf = props.principal()
     issues = props.check()
     validity = '<span class="ok">physical (triangle inequality holds)</span>' if not issues else \
         '<span class="bad">' + "; ".join(html.escape(v.message) for v in issues) + "</span>"
@@ -107,14 +107,14 @@ def properties_table(props, unit_factor) -> str:
     matrix = "".join("<tr>" + "".join(f"<td>{_clean(x / 10 ** e, 4)}</td>" for x in row) + "</tr>"
                      for row in props.inertia_com)
     axes = "".join(f"<tr><td>e<sub>{k + 1}</sub></td>" + "".join(f"<td>{_clean(x, 4)}</td>" for x in col)
-                   + "</tr>" for k, col in enumerate(cf.R_body_principal.T))
+                   + "</tr>" for k, col in enumerate(pf.R_body_principal.T))
     volume = f"{sci(props.volume)} m&sup3;" if props.volume == props.volume else "n/a (thin shell)"
     rows = [_row("mass", f"{sci(props.mass, 6)} kg"), _row("volume", volume),
             _row("center of mass", f"({', '.join(_clean(x * f, 4) for x in props.com)}) {unit}, body frame"),
             _row(f"inertia tensor about the center of mass [{_power(e)}kg m&sup2;], body axes, products negated "
                  "(L = I&omega;)", f'<table class="matrix">{matrix}</table>'),
             _row("principal moments I<sub>1</sub> &le; I<sub>2</sub> &le; I<sub>3</sub>",
-                 ", ".join(_clean(x / 10 ** e, 4) for x in cf.moments) + f" &times; {_power(e)}kg m&sup2;"),
+                 ", ".join(_clean(x / 10 ** e, 4) for x in pf.moments) + f" &times; {_power(e)}kg m&sup2;"),
             _row("principal axes (unit vectors, body frame)", f'<table class="matrix">{axes}</table>'),
             _row("validity", validity)]
     return '<div class="card"><h3>Mass properties</h3><table>' + "".join(rows) + "</table></div>"

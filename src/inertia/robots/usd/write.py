@@ -129,7 +129,8 @@ def plan_from_source(stage, source, *, rename=None, tol: float = 1e-6, unset_tol
         plan[k] = values = mass_api_values(stage, body, row.props)
         small = unset_tolerance > 0 and not is_set(values["physics:diagonalInertia"], unset_tolerance)
         report.changed[target] = (f"from {name!r}: mass {row.mass:.6g} kg, COM {np.round(row.com, 6).tolist()} m "
-                                  f"(world), moments {np.array2string(row.props.principal()[0], precision=6)} kg m^2"
+                                  f"(world), moments "
+                                  f"{np.array2string(row.props.principal().moments, precision=6)} kg m^2"
                                   + (f" (an inertia below usd-core's {unset_tolerance:g}: it reads it as not set)"
                                      if small else ""))
     unmatched = sorted(set(rows) - set(pairs))
