@@ -22,7 +22,7 @@ def test_top_level_is_small_and_every_name_resolves():
     assert set(dir(inertia)) >= set(names) | set(SUBPACKAGES)
 
 
-@pytest.mark.parametrize("package", [p for p in SUBPACKAGES if p not in ("viz",)])
+@pytest.mark.parametrize("package", SUBPACKAGES)
 def test_every_subpackage_name_resolves(package):
     if package in ("symbolic",):
         pytest.importorskip("sympy")
@@ -54,3 +54,64 @@ def test_import_and_help_load_no_numpy():
              "print(sorted(m for m in ('numpy', 'scipy') if m in sys.modules))\n")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, check=True)
     assert out.stdout.strip() == "[]"
+
+
+#: the public names of each package: a change here is a change of the public surface (CHANGELOG.md)
+PUBLIC = {
+    "massprops": ["MassProperties", "Part", "PrincipalFrame", "assemble", "check_inertia", "elements_from_inertia",
+                  "equivalent_box", "equivalent_ellipsoid", "inertia_about_point", "inertia_from_elements",
+                  "mesh_file_properties", "mesh_properties", "point_masses", "principal_axes", "rotate_inertia"],
+    "dynamics": ["DEFAULT_METHOD", "METHODS", "RigidBody", "angular_momentum_world", "axis_stability",
+                 "exact_solution", "flip_interval", "integrate", "jacobians", "kinetic_energy", "pack_input",
+                 "pack_state", "rollout", "step", "unpack_state"],
+    "geometry": ["MeshReport", "SUPPORTED_EXTENSIONS", "UNITS", "box_edges", "central_inertia", "check_mesh",
+                 "compact_vertices", "cylinder_mesh", "load_mesh", "merge_meshes", "orient_faces", "shell_integrals",
+                 "solid_integrals", "validate_inputs", "weld_vertices"],
+    "particles": ["ParticleModel", "four_point_model", "six_point_model"],
+    "viz": ["DisplayMesh", "FlipScene", "active_plot", "body_plot", "build_report", "display_mesh", "invariants_plot",
+            "monte_carlo_plot", "omega_plot", "page_data", "passive_plot", "polhode_plot", "render_flip",
+            "render_hold", "video_format", "write_control", "write_page"],
+    "batch": ["BatchSummary", "COLUMNS", "Job", "collect_jobs", "mass_properties_dask", "mass_properties_table",
+              "process_file", "read_frame", "run_batch"],
+    "control": ["ActiveRun", "DualSpinThreshold", "MonteCarlo", "PassiveSweep", "Showcase", "SpinHold", "SpinSetup",
+                "active_run", "basilisk_setup", "design_spin_hold", "dlqr", "dual_spin_exponent",
+                "dual_spin_threshold", "initial_state", "monte_carlo", "passive_sweep", "perturbed_models",
+                "saturate_wheel_torque", "showcase", "t_handle_setup"],
+    "robots": ["CheckReport", "Geometry", "Inertial", "Joint", "Link", "LinkMass", "RobotFileError",
+               "RobotMassProperties", "RobotModel", "check_model", "detect_format", "expand_xacro", "fix_file",
+               "inertial_block", "link_geometry_properties", "link_poses", "nearest_physical_inertia", "read_mjcf",
+               "read_robot", "read_sdf", "read_urdf", "robot_mass_properties"],
+    "symbolic": ["EquationsOfMotion", "EulerAngleSystem", "GIMBAL_LOCK_TOL", "GIMBAL_WARN_TOL", "GimbalLockError",
+                 "GimbalLockWarning", "ParticleRoute", "SEQUENCES", "accelerations", "derive", "det_kinematic",
+                 "euler_residual", "kinematic_matrix", "kinematic_matrix_inverse", "lagrangian", "mass_matrix",
+                 "rotation_matrix"],
+}
+
+
+def test_every_public_package_has_all():
+    assert set(PUBLIC) | {"errors"} == set(SUBPACKAGES)
+    for package in SUBPACKAGES:
+        assert isinstance(importlib.import_module(f"inertia.{package}").__all__, (list, tuple)), package
+
+
+@pytest.mark.parametrize("package", sorted(PUBLIC))
+def test_the_public_names_of_each_package_are_pinned(package):
+    names = importlib.import_module(f"inertia.{package}").__all__
+    assert sorted(names) == PUBLIC[package]
+    assert not [n for n in names if n.startswith("_")]
+
+
+def test_massprops_and_dynamics_stay_small():
+    assert len(PUBLIC["massprops"]) <= 15 and len(PUBLIC["dynamics"]) <= 15
+
+
+def test_no_test_skips_when_our_own_code_fails_to_import():
+    # an ImportError of inertia itself is a failure; only optional third-party packages may skip
+    import re
+    from pathlib import Path
+
+    pattern = re.compile(r"importorskip\(\s*[\"']inertia|except ImportError:\s*\n\s*return \[\]")
+    tests = Path(__file__).parent
+    bad = [str(p.relative_to(tests)) for p in tests.rglob("*.py")
+           if p.name != "test_api.py" and pattern.search(p.read_text())]
+    assert not bad, bad

@@ -11,10 +11,10 @@ from __future__ import annotations
 from .._core.lazy import lazy_namespace
 
 _EXPORTS = {
-    "run_batch": "run", "BatchSummary": "run", "make_chunks": "run",
+    "run_batch": "run", "BatchSummary": "run",
     "mass_properties_table": "api", "mass_properties_dask": "api",
     "collect_jobs": "sources", "Job": "sources",
-    "process_file": "record", "COLUMNS": "record", "COLUMN_DOCS": "record", "DEFAULT_DENSITY": "record",
+    "process_file": "record", "COLUMNS": "record",
     "read_frame": "output",
 }
 

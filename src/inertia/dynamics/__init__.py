@@ -16,29 +16,18 @@ from .._core.lazy import lazy_namespace
 _MODULES = ("equations", "integrators", "exact", "elliptic", "flip", "flip_study", "diagnostics", "state", "body",
             "transition", "rollouts", "gyrostat")
 
-# public name -> submodule that defines it
+# public name -> submodule that defines it.  The rest is in the submodules: the equations in
+# :mod:`.equations`, the state layout in :mod:`.state`, bodies with rotors in :mod:`.gyrostat`,
+# the invariants in :mod:`.diagnostics`, the flip in :mod:`.flip` and :mod:`.flip_study`.
 _EXPORTS = {
-    # equations
-    "angular_acceleration_body": "equations", "angular_acceleration_principal": "equations",
-    "state_rate_body": "equations", "state_rate_world": "equations", "inertia_world": "equations",
-    # integrators
-    "integrate": "integrators", "integrate_segments": "integrators", "Trajectory": "integrators",
-    "METHODS": "integrators",
-    "IntegrationError": "integrators",
-    # exact solution and flip
-    "exact_solution": "exact", "ExactSolution": "exact",
-    "flip_interval": "flip", "flip_times": "flip", "detect_flips": "flip", "axis_stability": "flip",
-    "unstable_axis": "flip", "intermediate_axis": "flip",
-    # diagnostics
-    "kinetic_energy": "diagnostics", "angular_momentum_norm": "diagnostics",
-    "angular_momentum_world": "diagnostics", "trajectory_invariants": "diagnostics",
-    # 6-DOF transition function
-    "RigidBody": "body", "step": "transition", "jacobians": "transition",
-    "pack_state": "state", "unpack_state": "state", "pack_input": "state", "RigidState": "state",
-    "perturb_state": "state", "state_error": "state", "rollout": "rollouts", "DEFAULT_METHOD": "integrators",
-    # bodies with rotors
-    "Gyrostat": "gyrostat", "WheelFeedback": "gyrostat", "GyrostatRun": "gyrostat", "gyrostat_step": "gyrostat",
-    "gyrostat_jacobians": "gyrostat", "gyrostat_rollout": "gyrostat", "saturate_wheel_torque": "gyrostat",
+    # the 6-DOF transition function (for control) and its state
+    "RigidBody": "body", "pack_state": "state", "unpack_state": "state", "pack_input": "state",
+    "step": "transition", "jacobians": "transition", "rollout": "rollouts",
+    # free rotation: integrators, the exact solution, the flip
+    "integrate": "integrators", "METHODS": "integrators", "DEFAULT_METHOD": "integrators",
+    "exact_solution": "exact", "flip_interval": "flip", "axis_stability": "flip",
+    # invariants
+    "kinetic_energy": "diagnostics", "angular_momentum_world": "diagnostics",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

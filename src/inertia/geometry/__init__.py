@@ -19,7 +19,7 @@ _EXPORTS = {
     "check_mesh": "checks", "MeshReport": "report",
     "orient_faces": "orient",
     "solid_integrals": "integrals", "shell_integrals": "integrals", "central_inertia": "integrals",
-    "BOX_CORNER_SIGNS": "shapes", "box_edges": "shapes", "cylinder_mesh": "shapes", "merge_meshes": "shapes",
+    "box_edges": "shapes", "cylinder_mesh": "shapes", "merge_meshes": "shapes",
 }
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, _MODULES)

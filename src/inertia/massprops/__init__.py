@@ -12,22 +12,14 @@ from .._core.lazy import lazy_namespace
 _MODULES = ("properties", "tensor", "principal", "validity", "primitives", "ellipsoid_surface",
             "assembly", "equivalent", "bodies", "mesh")
 
-# public name -> submodule that defines it
+# public name -> submodule that defines it.  The primitives are at the top level
+# (``inertia.box``) and in :mod:`.primitives`; the other tensor operations in :mod:`.tensor`,
+# the validity helpers in :mod:`.validity`, the ready-made bodies in :mod:`.bodies`.
 _EXPORTS = {
-    "MassProperties": "properties", "CanonicalForm": "properties", "combine": "properties",
-    "point_mass_inertia": "tensor", "inertia_about_point": "tensor", "inertia_about_com": "tensor",
-    "rotate_inertia": "tensor", "moment_about_line": "tensor", "inertia_from_elements": "tensor",
-    "elements_from_inertia": "tensor",
-    "principal_axes": "principal", "principal_frame": "principal", "PrincipalFrame": "principal",
-    "principal_axes_batch": "principal", "degenerate_groups": "principal",
-    "check_inertia": "validity", "is_physical": "validity",
-    "raise_if_invalid": "validity", "as_principal_moments": "validity",
-    "box": "primitives", "sphere": "primitives", "ellipsoid": "primitives", "cylinder": "primitives",
-    "cone": "primitives", "capsule": "primitives", "torus": "primitives", "tube": "primitives",
-    "spherical_shell": "primitives",
-    "point_masses": "properties", "Part": "assembly", "assemble": "assembly",
-    "equivalent_box": "equivalent", "equivalent_ellipsoid": "equivalent",
-    "t_handle": "bodies", "BuiltBody": "bodies",
+    "MassProperties": "properties", "point_masses": "properties", "Part": "assembly", "assemble": "assembly",
+    "PrincipalFrame": "principal", "principal_axes": "principal", "check_inertia": "validity",
+    "rotate_inertia": "tensor", "inertia_about_point": "tensor", "inertia_from_elements": "tensor",
+    "elements_from_inertia": "tensor", "equivalent_box": "equivalent", "equivalent_ellipsoid": "equivalent",
     "mesh_properties": "mesh", "mesh_file_properties": "mesh",
 }
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from .._core.lazy import lazy_namespace
 
-_EXPORTS = {"ParticleModel": "models", "TETRAHEDRON_SIGNS": "models", "four_point_model": "models",
+_EXPORTS = {"ParticleModel": "models", "four_point_model": "models",
             "six_point_model": "models"}
 
 __getattr__, __dir__, __all__ = lazy_namespace(__name__, _EXPORTS, ("models",))
