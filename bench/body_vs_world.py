@@ -1,6 +1,6 @@
 """Body frame or world frame: which form of Euler's law costs less for the same accuracy?
 
-The founding question (shared/seeds/001): integrate
+The question: integrate
 
 * **body**  ``I w' + w x (I w) = tau_B`` (constant inertia, extra gyroscopic term), or
 * **world** ``dL/dt = tau_W`` with ``I_W = R I R^T`` and ``w_W = I_W^-1 L`` at every

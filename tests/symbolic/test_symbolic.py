@@ -1,7 +1,6 @@
 """Symbolic Lagrangian mechanics in Euler angles, against independent truth:
 scipy's Euler-angle rotations, finite differences of R(q), the exact torque-free solution,
-Euler's equations as implemented in inertia.dynamics, the particle route (the founding
-write-up's), conservation of energy, and Newton's law for the center of mass."""
+Euler's equations as implemented in inertia.dynamics, the particle route, conservation of energy, and Newton's law for the center of mass."""
 
 from __future__ import annotations
 
@@ -150,7 +149,7 @@ def test_det_M_is_det_J_cos2_theta_symbolically_for_ZYX():
 
 
 def test_six_point_lagrangian_equals_rigid_lagrangian_symbolically():
-    """The founding write-up's construction: M/6 at +-d_i on each axis gives L = 1/2 w^T J w."""
+    """The six-point construction: M/6 at +-d_i on each axis gives L = 1/2 w^T J w."""
     system = EulerAngleSystem("ZYX", inertia="diagonal")
     route = ParticleRoute(system, 6)
     M, d = sp.symbols("M d_x d_y d_z", positive=True)[0], sp.symbols("d_x d_y d_z", positive=True)

@@ -1,8 +1,8 @@
 """Arrow columns from Python values, built from NumPy buffers: without pandas.
 
 ``pyarrow.array`` imports pandas on its first call (to ask whether its argument is a pandas
-object): 0.15-0.2 s of the parent's CPU in every ``inertia batch`` run, on a machine whose
-cores the workers need.  These builders take the plain values of batch rows (``None`` for
+object), a cost in the parent's CPU that the workers need.
+These builders take the plain values of batch rows (``None`` for
 missing; a float NaN also counts as missing, as ``from_pandas`` did, except inside lists)
 and assemble each column with ``pyarrow.Array.from_buffers``.
 

@@ -64,15 +64,14 @@ from .sources import Job, collect_jobs
 PART_PREFIX = "part-"
 
 #: finished rows go to a part file at most this often (the first chunk's at once): the work
-#: a killed run can lose, against a part per chunk (25 ms of a 1 s run of 2,000 files)
+#: a killed run can lose, against the cost of writing a part per chunk
 PART_S = 2.0
 
 #: a chunk closes when it reaches this much work, in bytes of input (a large mesh is a chunk alone)
 CHUNK_BYTES = 128 * 2**20
 
-#: the fixed cost of one file (open, parse, checks, row), in bytes of input: measured on
-#: binary STL, a file takes about 0.3 ms + 2.3 ms per MB (64 KB: 0.45 ms, 256 KB: 0.9 ms,
-#: 4 MB: 10 ms), so 128 KiB of input cost about as much as the file itself
+#: the fixed cost of one file (open, parse, checks, row), counted as this many bytes of input
+#: when chunks are sized (bench/batch.py measures it)
 FILE_COST_BYTES = 128 * 2**10
 
 #: guided chunk sizes: each chunk takes 1/(GUIDED_SHARE * workers) of the work left, so the
@@ -682,9 +681,8 @@ def _latest_rows(tables, jobs):
 
 def _rows_at(table, index):
     """``table.take(index)``, built from slices of the runs of consecutive rows in ``index``
-    (the parts hold runs of the jobs' order, so there are about as many runs as parts):
-    ``Table.take`` imports ``pyarrow.compute``, 45 ms of the parent's CPU at the end of every
-    run, on a machine whose cores the workers need."""
+    (the parts hold runs of the jobs' order, so there are about as many runs as parts);
+    ``Table.take`` would import ``pyarrow.compute``, slow to load, in the parent."""
     import pyarrow as pa
 
     pieces, start = [], 0

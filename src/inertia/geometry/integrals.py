@@ -54,24 +54,21 @@ and ``kappa = |g|^2 / k^2`` the offset ratio of p.
    never as ``tr(C) - C_xx``, so thin bodies keep their small moments.
    The central tensor is therefore accurate to ~ u (K + kappa) relative to its trace.
 
-   For contrast, trimesh expands about the origin: for a unit cube at d = 1e7,
-   K ~ 1e21 and its central tensor comes out wrong by ~2e5 relative, with negative
-   moments (see the tests).
+   Expanding about the origin instead (as trimesh does) gives K ~ 1e21 for a unit cube
+   at d = 1e7: a central tensor with negative moments.
 
 4. *Choice of p; one pass or two.*  p is the bounding-box center (exact for the
    translated cube: its coordinates are then exact binary fractions).  For compact
-   bodies kappa is small -- 0 for centrally symmetric bodies, 0.19 for a cone, and
-   0.00 to 0.07 for the real meshes of the test data -- and one pass is enough.
+   bodies kappa is small -- 0 for centrally symmetric bodies, 0.19 for a cone -- and one
+   pass is enough.
    kappa and K are large only for lopsided bodies (a ball with a long spike: the box
    center lies far out on the spike) or a p far outside the body.  As rho_f about p is
    at most rho_f about the COM plus |g|, K about p exceeds K about the COM by roughly
    (1 + sqrt(kappa))^3 at most.  So after the first pass kappa is computed from the
    sums (free), and when it exceeds :data:`REFINE_KAPPA` a second pass is made about
    p' = p + g, the computed COM (whose error is a tiny fraction of k), which brings
-   kappa to ~0 and K to its value about the COM.  Measured on a unit cube with a
-   1e-6 thick needle 1e3 long: one pass 7e-8 relative error, two passes 2e-16.
-   (What no single expansion point can fix: a small part far from both p and the COM
-   keeps its own (d / L)^3; a 1e-3 cube 1e3 away from a unit cube still gives 5e-13.)
+   kappa to ~0 and K to its value about the COM.  What no single expansion point can
+   fix: a small part far from both p and the COM keeps its own (d / L)^3.
 
    A caller's ``reference`` is never used as the expansion point: the integrals are
    computed about p (and p') and then moved to ``reference`` with the exact identities
@@ -94,8 +91,8 @@ from .._ext import integrals as _k
 
 #: Second pass about the computed COM when ``kappa = |COM - p|^2 / k^2`` exceeds this
 #: (see "Error analysis", item 4).  Below it, expanding about the box center costs at
-#: most a factor ~(1 + 2)^3 = 27 in rounding error over expanding about the COM;
-#: compact bodies (kappa < 0.2 measured) never pay for the second pass.
+#: most a factor ~(1 + 2)^3 = 27 in rounding error over expanding about the COM, and
+#: compact bodies (kappa well below 1) never pay for the second pass.
 REFINE_KAPPA = 4.0
 
 #: At most this many refinement passes (one is enough unless the first pass was

@@ -2,7 +2,7 @@
 
 Two routes to the same equations:
 
-* (a) the founding write-up's: the body as six (or four) constrained point masses,
+* (a) particles: the body as six (or four) constrained point masses,
   ``L = sum 1/2 m_k |v_k|^2 - V``, Euler-Lagrange term by term (:class:`ParticleRoute`);
 * (b) the rigid-body form ``E^T [J (E q'' + E' q') + omega x J omega] = E^T tau``, solved for
   ``q''`` with the closed-form ``E^-1`` (:func:`derive`, :class:`EquationsOfMotion`).

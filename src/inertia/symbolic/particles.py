@@ -1,4 +1,4 @@
-"""Route (a), the founding write-up's: the body as constrained point masses.
+"""Route (a): the body as constrained point masses.
 
 Each particle k has a mass ``m_k`` and a fixed position ``r_k`` in body axes; its world
 position is ``p + R(q) r_k`` (``R(q) r_k`` without translation).  The Lagrangian is the

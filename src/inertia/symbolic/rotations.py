@@ -7,8 +7,7 @@ a, then about the new b, then about the newest c.  This is scipy's upper-case co
 different axes) and the six proper Euler sequences (first axis = last axis) make twelve.
 
 The generalized coordinates are the angles in sequence order.  For the default ``"ZYX"``
-they are ``(psi, theta, phi) = (yaw, pitch, roll)``: ``R = Rz(psi) Ry(theta) Rx(phi)``,
-the founding write-up's matrix.
+they are ``(psi, theta, phi) = (yaw, pitch, roll)``: ``R = Rz(psi) Ry(theta) Rx(phi)``.
 
 The body angular velocity is linear in the angle rates, ``omega_body = E(q) q'``, with
 columns ``E = [R_c^T R_b^T e_a, R_c^T e_b, e_c]``.  ``E`` is singular (gimbal lock) where
