@@ -5,12 +5,14 @@
     viz
     control                               (controllers over dynamics)
     robots
-    particles | dynamics | symbolic      (siblings: no imports between them)
+    particles | dynamics | symbolic      (siblings: no imports between them; massprops and _core only)
     massprops
     geometry
     _core                                 (numpy, scipy and the standard library only)
 
-A package may import the packages listed for it in ``ALLOWED`` and itself.  The public
+A package may import the packages listed for it in ``ALLOWED`` and itself (the import table of
+the target layout: a row imports the rows below it, with the exceptions listed there; the
+compiled core ``inertia._ext`` only from the layers that own its kernels, geometry and dynamics).  The public
 facade (``inertia/__init__.py``, ``inertia/errors.py``) may import anything; nothing inside
 imports the facade.  Every import is checked, including those inside functions (lazy
 imports are still dependencies).  Also: no private name (``_x``, not a dunder) imported from
@@ -29,9 +31,9 @@ ALLOWED = {
     "_core": set(),
     "geometry": {"_core", "_ext"},   # _ext: the compiled core (its geometry families)
     "massprops": {"geometry", "_core"},
-    "particles": {"massprops", "geometry", "_core"},
-    "dynamics": {"massprops", "geometry", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
-    "symbolic": {"massprops", "geometry", "_core"},
+    "particles": {"massprops", "_core"},
+    "dynamics": {"massprops", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
+    "symbolic": {"massprops", "_core"},
     "robots": {"massprops", "geometry", "_core"},
     "control": {"dynamics", "massprops", "_core"},
     "viz": {"control", "particles", "dynamics", "massprops", "geometry", "_core"},
