@@ -228,7 +228,7 @@ def _shape_params(prim, kind: str) -> dict:
         top, bottom = prim.GetAttribute("radiusTop"), prim.GetAttribute("radiusBottom")
         if top and bottom and top.Get() is not None and bottom.Get() is not None:   # Capsule_1, Cylinder_1
             if float(top.Get()) != float(bottom.Get()):
-                raise ValueError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} is not supported")
+                raise RobotFileError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} is not supported")
             radius = float(top.Get())
         return {"radius": radius, "height": _float(prim, "height", defaults[1]), "axis": _axis(prim)}
     if kind == "mesh":
@@ -242,14 +242,14 @@ def _mesh_params(prim) -> dict:
     counts = prim.GetAttribute("faceVertexCounts").Get()
     indices = prim.GetAttribute("faceVertexIndices").Get()
     if points is None or counts is None or indices is None or len(points) == 0:
-        raise ValueError("the mesh has no points or faces")
+        raise RobotFileError("the mesh has no points or faces")
     v = np.array(points, float).reshape(-1, 3)
     n = np.array(counts, np.int64)
     idx = np.array(indices, np.int64)
     if n.sum() != idx.size or np.any(n < 0):
-        raise ValueError(f"faceVertexCounts sum to {int(n.sum())} but there are {idx.size} faceVertexIndices")
+        raise RobotFileError(f"faceVertexCounts sum to {int(n.sum())} but there are {idx.size} faceVertexIndices")
     if idx.size and (idx.min() < 0 or idx.max() >= len(v)):
-        raise ValueError(f"a face vertex index is outside the {len(v)} points")
+        raise RobotFileError(f"a face vertex index is outside the {len(v)} points")
     start = np.concatenate([[0], np.cumsum(n)[:-1]])
     tri_per_face = np.maximum(n - 2, 0)
     face_of = np.repeat(np.arange(n.size), tri_per_face)
