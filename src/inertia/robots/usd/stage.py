@@ -228,7 +228,8 @@ def _shape_params(prim, kind: str) -> dict:
         top, bottom = prim.GetAttribute("radiusTop"), prim.GetAttribute("radiusBottom")
         if top and bottom and top.Get() is not None and bottom.Get() is not None:   # Capsule_1, Cylinder_1
             if float(top.Get()) != float(bottom.Get()):
-                raise RobotFileError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} is not supported")
+                raise RobotFileError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} "
+                                     "is not supported")
             radius = float(top.Get())
         return {"radius": radius, "height": _float(prim, "height", defaults[1]), "axis": _axis(prim)}
     if kind == "mesh":
