@@ -2,8 +2,8 @@
 
 Truths: Python's ``float()`` (correctly rounded, as strtod) for every number; trimesh's own
 parsers for the triangles of made and real files; closed-form volumes for polygons, solids
-and relative indices; MuJoCo for quadrilaterals split along their shorter diagonal and its triangulation of polygons; and a
-line-by-line reading of the grammar in plain Python (``tests/geometry/_text_oracle.py``:
+and relative indices; MuJoCo for quadrilaterals split along their shorter diagonal and for its
+triangulation of polygons; and a line-by-line reading of the grammar in plain Python (``tests/geometry/_text_oracle.py``:
 ``bytes.split`` and ``float()``), which the compiled readers must match array for array, and
 error for error, on valid and mutated files.
 """

@@ -248,9 +248,9 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
 
     ``role=None`` uses the collision shapes, or the visual ones when there are none.
     ``problems`` lists ``(code, message)`` for shapes that could not be used (``mesh_not_found``,
-    ``mujoco_refuses_mesh``, ``geometry_unusable``); any such shape makes the result None (a partial sum would be silently wrong).  With a result,
-    the list holds the notes on it (:data:`SUMMED_OVERLAP`: a mesh whose closed parts
-    overlap, summed as the simulator sums it).
+    ``mujoco_refuses_mesh``, ``geometry_unusable``); any such shape makes the result None (a
+    partial sum would be silently wrong).  With a result, the list holds the notes on it
+    (:data:`SUMMED_OVERLAP`: a mesh whose closed parts overlap, summed as the simulator sums it).
     """
     roles = [role] if role else list(ROLES)
     for r in roles:
