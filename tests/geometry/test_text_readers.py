@@ -441,3 +441,23 @@ def test_mujoco_reads_the_first_obj_group_with_triangles(tmp_path, separator):
     assert _rotated(f) == _mujoco_faces(tmp_path, text)
     assert len(f) == 12 and f.max() < 8 and len(v) == 24 + 120
     assert len(_read(read_obj, text.encode())[1]) == 3 * 12 + 118
+
+
+def test_mujoco_triangulation_reads_mutated_files_as_the_fan_does():
+    """Mutated OBJ files with polygons, groups and coordinates beyond float's range: polygons="mujoco"
+    refuses what the fan reading refuses, with the same message, and otherwise reads the same
+    vertices and no more triangles, all indexing them."""
+    ring = [f"v {np.cos(a)!r} {np.sin(a)!r} {z}" for z in (0, 1) for a in np.linspace(0, 6.28, 12, endpoint=False).tolist()]
+    seed = "\n".join(ring + ["o a", "f " + " ".join(map(str, range(1, 13))), "g b", "f " + " ".join(map(str, range(13, 25))),
+                             "f 1 2 14 13", "f -1 -2 -3 -4 -5", "v 1e39 -1e39 nan", "f 1 2 25"]).encode() + b"\n"
+    rng = random.Random(5)
+    for _ in range(2000):
+        text = mutate_any(seed, rng)
+        fan, mujoco = _outcome(read_obj, text), None
+        try:
+            mujoco = _read(read_obj, text, polygons="mujoco")
+        except MeshFileError as exc:
+            assert (exc.code, str(exc)) == fan
+            continue
+        (v, f), (v0, f0) = mujoco, fan
+        assert np.array_equal(v, v0, equal_nan=True) and len(f) <= len(f0) and (len(f) == 0 or 0 <= f.min() <= f.max() < len(v))
