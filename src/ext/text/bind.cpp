@@ -50,10 +50,14 @@ void bind_text(nb::module_ &m) {
         "vertices[faces] are the file's corners (a repeated corner stored once).");
     m.def(
         "read_obj",
-        [](inertia::In1<uint8_t> data, bool shorter) {
-            return read(data, [shorter](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, shorter); });
+        [](inertia::In1<uint8_t> data, int polygons) {
+            if (polygons < inertia::text::FAN || polygons > inertia::text::MUJOCO)
+                throw nb::value_error("read_obj: polygons must be 0 (fan), 1 (shorter) or 2 (mujoco)");
+            const auto how = inertia::text::Polygons(polygons);
+            return read(data, [how](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, how); });
         },
-        "data"_a, "shorter"_a = false,
+        "data"_a, "polygons"_a = 0,
         "(vertices (V, 3) float64, triangles (F, 3) int64, None) of OBJ bytes, or (None, None, error); polygons "
-        "fanned from their first vertex, quadrilaterals split along their shorter diagonal with shorter=True.");
+        "fanned from their first vertex (0), quadrilaterals split along their shorter diagonal (1), or as MuJoCo "
+        "reads them (2: see src/ext/text/obj.hpp).");
 }

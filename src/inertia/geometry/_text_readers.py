@@ -30,12 +30,12 @@ BAD_REF, ZERO_INDEX, FEW_REFS, INDEX_RANGE = 7, 8, 9, 10
 STL_PLACES = ("outside a solid", "inside a solid, outside a facet", "inside a facet")
 
 
-def read_text_mesh(data: np.ndarray, path, ext: str, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+def read_text_mesh(data: np.ndarray, path, ext: str, polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
     """Vertices (V, 3) float64 and faces (F, 3) int64 of the bytes ``data`` (uint8) of an ASCII STL
     (``ext`` ".stl") or OBJ file, in any of the encodings of :func:`text_encoding`."""
     fmt = "OBJ" if ext == ".obj" else "ASCII STL"
     text = utf8_text(data, path, fmt)
-    return read_obj(text, path, quads) if ext == ".obj" else read_ascii_stl(text, path)
+    return read_obj(text, path, polygons) if ext == ".obj" else read_ascii_stl(text, path)
 
 
 def read_ascii_stl(data: np.ndarray, path) -> tuple[np.ndarray, np.ndarray]:
@@ -45,13 +45,10 @@ def read_ascii_stl(data: np.ndarray, path) -> tuple[np.ndarray, np.ndarray]:
     return _checked(_k.read_ascii_stl(data), data, path, "ASCII STL")
 
 
-def read_obj(data: np.ndarray, path, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of OBJ bytes (uint8).
-
-    Polygons are fanned from their first vertex (as trimesh does); with ``quads="shorter"`` a
-    quadrilateral is split along its shorter diagonal instead (as MuJoCo's OBJ reader does: the
-    two differ on a quad that is not planar)."""
-    return _checked(_k.read_obj(data, quads == "shorter"), data, path, "OBJ")
+def read_obj(data: np.ndarray, path, polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of OBJ bytes (uint8), polygons
+    made triangles as ``polygons`` says (:func:`~inertia.geometry.mesh_io.load_mesh`)."""
+    return _checked(_k.read_obj(data, ("fan", "shorter", "mujoco").index(polygons)), data, path, "OBJ")
 
 
 def _checked(result, data: np.ndarray, path, fmt: str):

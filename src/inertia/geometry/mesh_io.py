@@ -48,6 +48,9 @@ SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "of
 #: the diagonal and split copies <= 1e-16.
 MERGE_RTOL = 1e-10
 
+#: how :func:`load_mesh` makes triangles of OBJ polygons
+POLYGONS = ("fan", "shorter", "mujoco")
+
 
 def _import_trimesh():
     """Import trimesh, or raise MissingDependencyError saying how to install it."""
@@ -200,7 +203,7 @@ def _collada_unit(p: Path) -> float:
 
 
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
-              quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+              polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
     Parameters
@@ -212,9 +215,12 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
         ("m", "cm", "mm", "um", "in", "ft").
     merge_rtol : float, vertices closer than ``merge_rtol`` x the mesh size are merged
         (0: merge exactly equal vertices only).
-    quads : {"fan", "shorter"}, how an OBJ quadrilateral becomes two triangles: fanned from its
-        first vertex (as trimesh does, the default) or split along its shorter diagonal (as
-        MuJoCo does); the two differ only on a quad that is not planar.
+    polygons : {"fan", "shorter", "mujoco"}, how an OBJ polygon becomes triangles: fanned from
+        its first vertex (as trimesh does, the default; exact for a planar polygon), the same
+        with quads split along their shorter diagonal, or as MuJoCo reads the file (its
+        tinyobjloader: quads along the shorter diagonal, 5 to 100 vertices by its ear clipping,
+        larger faces dropped, the first ``o``/``g`` group with triangles only, and the file's
+        vertices as they are: none merged or dropped).
 
     Returns
     -------
@@ -231,11 +237,11 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
         a PLY, OFF or glTF file and trimesh is not installed (``pip install "inertia[mesh]"``).
     """
     factor = _unit_factor(units)
-    if quads not in ("fan", "shorter"):
-        raise InputError(f"quads must be 'fan' or 'shorter', got {quads!r}")
+    if polygons not in POLYGONS:
+        raise InputError(f"polygons must be one of {', '.join(map(repr, POLYGONS))}, got {polygons!r}")
     p = Path(path)
     try:
-        return _load_mesh(p, factor, merge_rtol, quads)
+        return _load_mesh(p, factor, merge_rtol, polygons)
     except MemoryError:
         size = _file_size(p)
         raise MeshFileError(f"{p}: too large to read in the memory available ({size / 2**30:.2g} GiB file; "
@@ -264,7 +270,7 @@ def _file_bytes(p: Path, size: int) -> np.ndarray:
         return np.frombuffer(fh.read(), dtype=np.uint8)
 
 
-def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
+def _load_mesh(p: Path, factor: float, merge_rtol: float, polygons: str = "fan"):
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
@@ -294,7 +300,7 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: compiled text readers
         from ._text_readers import read_text_mesh
 
-        vertices, faces = read_text_mesh(data, p, ext, quads)
+        vertices, faces = read_text_mesh(data, p, ext, polygons)
     else:
         trimesh = _import_trimesh()
         if ext == ".dae":  # trimesh reads COLLADA through pycollada
@@ -332,5 +338,6 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     if not faces_in_range(faces, len(vertices)):
         raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1} "
                             f"(min {int(faces.min())}, max {int(faces.max())})", code="malformed")
-    vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
+    if ext != ".obj" or polygons != "mujoco":
+        vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
     return vertices * factor, faces

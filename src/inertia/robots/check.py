@@ -5,7 +5,10 @@ Errors (codes are stable; other tools rely on them):
 * ``non_positive_mass``: mass <= 0 (or not finite);
 * ``not_symmetric``: the tensor is not symmetric (only possible where a format stores all nine);
 * ``not_positive_definite``: a principal moment <= 0;
-* ``triangle_inequality``: I1 + I2 < I3 (the message gives the margin).
+* ``triangle_inequality``: I1 + I2 < I3 (the message gives the margin);
+* ``mujoco_refuses_mesh``: an MJCF mesh MuJoCo's compiler refuses (faces inconsistently wound in
+  ``inertia="exact"``; for a body whose inertia comes from its geoms, also a mesh of no area or
+  volume, or a negative volume): the model does not load.
 
 Warnings:
 
@@ -37,7 +40,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._core.tolerances import SIMULATOR_MIN_VALUE
-from .geometry import geometry_bounds, link_geometry_properties
+from .geometry import geometry_bounds, link_geometry_properties, mujoco_refusal
+from .mujoco_inertia import MUJOCO_REFUSES_MESH
 
 #: the validity checks' tolerance, relative to the trace: the rounding of the principal moments
 #: of a tensor written in float64 (a few ulps), so that a moment of 1e-12 beside 1 (which MuJoCo
@@ -245,7 +249,10 @@ def _check_from_geoms(link, rep, where, mesh_units, warnings: bool = True):
     at = f"{where}: body {link.name!r}"
     props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units, simulator=True)
     for code, msg in problems:
-        rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
+        if code == MUJOCO_REFUSES_MESH:  # the model does not load
+            rep.errors.append(Finding(code, f"{at}: {msg}"))
+        else:
+            rep.warnings.append(Finding(code, f"{at}: inertia comes from the geoms (inertiafromgeom), but {msg}"))
     if props is not None:
         from ..massprops.validity import check_inertia
 
@@ -296,6 +303,19 @@ def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
             "\"convex\" on the <mesh> asset, or declare an <inertial>")))
 
 
+def _refused_meshes(link, rep, where: str, mesh_units: str = "m") -> None:
+    """``mujoco_refuses_mesh`` for each mesh of the MJCF body that MuJoCo's compiler refuses
+    whatever the body's inertial (:func:`.geometry.mujoco_refusal`), unless already found."""
+    for g in link.geometries:
+        said = [e.message for e in rep.errors if e.code == MUJOCO_REFUSES_MESH]
+        if any(f"line {g.line}: " in m for m in said):
+            continue
+        why = mujoco_refusal(g, mesh_units)
+        if why is not None:
+            rep.errors.append(Finding(MUJOCO_REFUSES_MESH, f"{where}: body {link.name!r}: line {g.line}: {g.role} "
+                                      f"mesh {g.params.get('uri')!r}: {why}"))
+
+
 def _well_defined(moments, i: int) -> bool:
     """Principal axis i is well defined: its moment is 10 % away from the other two."""
     return all(abs(moments[i] - moments[j]) >= 0.1 * moments[i] for j in range(3) if j != i)
@@ -338,6 +358,8 @@ def check_model(model, *, mesh_units: str = "m", warnings: bool = True) -> Check
             compiler = compiler_mass_attrs(link.mjcf_compilers)
         links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where,
                                 warnings=warnings, compiler=compiler))
+        if model.format == "mjcf":
+            _refused_meshes(link, links[-1], where, mesh_units)
     report = CheckReport(str(model.path), links)
     for code, message in getattr(doc, "notes", ()):
         report.warnings.append(Finding(code, message))
@@ -426,7 +448,7 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
     for i, (link, rep) in enumerate(zip(model.links, report.links)):
         props = props_of(link)
         if props is None or (props.mass == 0 and not np.any(props.inertia_com)):
-            if not any(e.code == "massless_moving_link" for e in rep.errors):
+            if not any(e.code in ("massless_moving_link", MUJOCO_REFUSES_MESH) for e in rep.errors):
                 report.massless_frames.append(link.name)
             continue
         if model.format == "sdf" and link.inertial is None:
