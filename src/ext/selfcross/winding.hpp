@@ -9,74 +9,28 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
+#include "common/solid_angle.hpp"
+#include "common/star.hpp"
 #include "selfcross/crossing.hpp"
-#include "selfcross/star.hpp"
+#include "topology/weld.hpp"
 
 namespace inertia::selfcross {
 
 // a point nearer than this times the shell's box diagonal to a face takes the solid-angle sum
 constexpr double NEAR_RTOL = 1e-9;
 
-// Solid angle of triangle (a, b, c) seen from p, in (-2 pi, 2 pi).
-inline double solid_angle(const double *a_, const double *b_, const double *c_, const double *p) {
-    const double ax = a_[0] - p[0], ay = a_[1] - p[1], az = a_[2] - p[2];
-    const double bx = b_[0] - p[0], by = b_[1] - p[1], bz = b_[2] - p[2];
-    const double cx = c_[0] - p[0], cy = c_[1] - p[1], cz = c_[2] - p[2];
-    const double la = std::sqrt(ax * ax + ay * ay + az * az), lb = std::sqrt(bx * bx + by * by + bz * bz),
-                 lc = std::sqrt(cx * cx + cy * cy + cz * cz);
-    const double num = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-    const double den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (ax * cx + ay * cy + az * cz) * lb +
-                       (bx * cx + by * cy + bz * cz) * la;
-    return 2.0 * std::atan2(num, den);
-}
-
-// Every directed edge a -> b met as often as b -> a (a hash table of signed counts): the shell
-// is closed as a chain.  Vertex numbers of 32 bits and more: not told (false).
+// Every directed edge a -> b met as often as b -> a: the shell is closed as a chain.  The edges
+// are grouped by their ends in the weld's hash table, and each group's two directions counted.
 inline bool edges_pair_up(const int64_t *F, size_t nf) {
-    size_t cap = 16;
-    while (cap < 6 * nf) cap *= 2;
-    std::vector<uint64_t> key(cap, 0);
-    std::vector<int32_t> count(cap, 0);
-    for (size_t i = 0; i < 3 * nf; ++i) {
-        const int64_t a = F[i], b = F[i % 3 == 2 ? i - 2 : i + 1];
-        if (std::max(a, b) >= (int64_t(1) << 32) - 1) return false;
-        const uint64_t k = (uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b))) + 1;
-        size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
-        while (key[h] != 0 && key[h] != k) h = (h + 1) & (cap - 1);
-        key[h] = k;
-        count[h] += a < b ? 1 : -1;
-    }
-    return std::all_of(count.begin(), count.end(), [](int32_t c) { return c == 0; });
-}
-
-// The corners of a triangle soup (T, 3, 3) as vertices and faces, corners with equal coordinates
-// (bit for bit) one vertex.
-inline std::vector<double> weld_corners(const double *tri, size_t nt, std::vector<int64_t> &F) {
-    size_t cap = 16;
-    while (cap < 6 * nt) cap *= 2;
-    std::vector<int64_t> slot(cap, -1);
-    std::vector<double> V;
-    F.resize(3 * nt);
-    for (size_t i = 0; i < 3 * nt; ++i) {
-        const double *x = tri + 3 * i;
-        uint64_t h = 0;
-        for (int k = 0; k < 3; ++k) {
-            uint64_t b;
-            std::memcpy(&b, x + k, 8);
-            h = (h ^ b) * 0x9E3779B97F4A7C15ull;
-        }
-        size_t j = size_t(h >> 20) & (cap - 1);
-        while (slot[j] >= 0 && std::memcmp(&V[3 * slot[j]], x, 24) != 0) j = (j + 1) & (cap - 1);
-        if (slot[j] < 0) {
-            slot[j] = int64_t(V.size() / 3);
-            V.insert(V.end(), x, x + 3);
-        }
-        F[i] = slot[j];
-    }
-    return V;
+    auto next = [F](size_t i) { return F[i % 3 == 2 ? i - 2 : i + 1]; };
+    const topology::Groups<int64_t> g = topology::weld_groups<int64_t, uint64_t>(3 * nf, [&](size_t i, uint64_t *k) {
+        k[0] = uint64_t(std::min(F[i], next(i))), k[1] = uint64_t(std::max(F[i], next(i))), k[2] = 0;
+    });
+    std::vector<int64_t> count(size_t(g.count), 0);
+    for (size_t i = 0; i < 3 * nf; ++i) count[size_t(g.group[i])] += F[i] < next(i) ? 1 : -1;
+    return std::all_of(count.begin(), count.end(), [](int64_t c) { return c == 0; });
 }
 
 class ShellWinding {
@@ -160,7 +114,7 @@ class ShellWinding {
             if (n != NO_COUNT) return double(n);
         }
         double sum = 0.0;
-        for (size_t t = 0; t < nf_; ++t) sum += solid_angle(corner(t, 0), corner(t, 1), corner(t, 2), p);
+        for (size_t t = 0; t < nf_; ++t) sum += solid_angle(corner(t, 0), corner(t, 1), corner(t, 2), row(p));
         return sum / (4.0 * M_PI);
     }
 
