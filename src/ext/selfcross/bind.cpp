@@ -172,8 +172,9 @@ void bind_selfcross(nb::module_ &m) {
         const size_t n = points.shape(0);
         auto out = new_vector<double>(n);
         nb::gil_scoped_release release;
-        const Vec<int64_t> F = topology::weld_map<true>(tri.data(), 3 * tri.shape(0));  // equal corners joined
-        const ShellWinding shell(tri.data(), F.data(), tri.shape(0));
+        Vec<int64_t> F;
+        const Vec<double> V = weld_corners(tri.data(), tri.shape(0), F);
+        const ShellWinding shell(V.data(), F.data(), tri.shape(0));
         for (size_t i = 0; i < n; ++i) out.data()[i] = shell.at(points.data() + 3 * i);
         return out;
     }, "points"_a, "tri"_a,

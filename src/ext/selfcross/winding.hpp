@@ -21,16 +21,33 @@ namespace inertia::selfcross {
 // a point nearer than this times the shell's box diagonal to a face takes the solid-angle sum
 constexpr double NEAR_RTOL = 1e-9;
 
-// Every directed edge a -> b met as often as b -> a: the shell is closed as a chain.  The edges
-// are grouped by their ends in the weld's hash table, and each group's two directions counted.
+// Every directed edge a -> b met as often as b -> a (a hash table of signed counts): the shell
+// is closed as a chain.  Vertex numbers of 32 bits and more: not told (false).
 inline bool edges_pair_up(const int64_t *F, size_t nf) {
-    auto next = [F](size_t i) { return F[i % 3 == 2 ? i - 2 : i + 1]; };
-    const topology::Groups<int64_t> g = topology::weld_groups<int64_t, uint64_t>(3 * nf, [&](size_t i, uint64_t *k) {
-        k[0] = uint64_t(std::min(F[i], next(i))), k[1] = uint64_t(std::max(F[i], next(i))), k[2] = 0;
-    });
-    std::vector<int64_t> count(size_t(g.count), 0);
-    for (size_t i = 0; i < 3 * nf; ++i) count[size_t(g.group[i])] += F[i] < next(i) ? 1 : -1;
-    return std::all_of(count.begin(), count.end(), [](int64_t c) { return c == 0; });
+    size_t cap = 16;
+    while (cap < 6 * nf) cap *= 2;
+    std::vector<uint64_t> key(cap, 0);
+    std::vector<int32_t> count(cap, 0);
+    for (size_t i = 0; i < 3 * nf; ++i) {
+        const int64_t a = F[i], b = F[i % 3 == 2 ? i - 2 : i + 1];
+        if (std::max(a, b) >= (int64_t(1) << 32) - 1) return false;
+        const uint64_t k = (uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b))) + 1;
+        size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+        while (key[h] != 0 && key[h] != k) h = (h + 1) & (cap - 1);
+        key[h] = k;
+        count[h] += a < b ? 1 : -1;
+    }
+    return std::all_of(count.begin(), count.end(), [](int32_t c) { return c == 0; });
+}
+
+// The corners of a triangle soup (T, 3, 3) as vertices (returned) and faces F (T, 3), corners
+// with equal coordinates (bit for bit) one vertex (topology's weld).
+inline Vec<double> weld_corners(const double *tri, size_t nt, Vec<int64_t> &F) {
+    topology::Groups<int64_t> g = topology::weld_rows<true>(tri, 3 * nt);
+    Vec<double> V(3 * size_t(g.count));
+    for (size_t j = 0; j < size_t(g.count); ++j) std::copy(tri + 3 * g.first[j], tri + 3 * g.first[j] + 3, &V[3 * j]);
+    F = std::move(g.group);
+    return V;
 }
 
 class ShellWinding {
