@@ -10,14 +10,6 @@ using inertia::text::Mesh;
 
 namespace {
 
-// A (rows, 3) NumPy array owning `rows` (no copy).
-template <class T>
-nb::ndarray<nb::numpy, T, nb::shape<-1, 3>> rows3(std::vector<T> &&rows) {
-    auto *owned = new std::vector<T>(std::move(rows));
-    nb::capsule owner(owned, [](void *p) noexcept { delete static_cast<std::vector<T> *>(p); });
-    return nb::ndarray<nb::numpy, T, nb::shape<-1, 3>>(owned->data(), {owned->size() / 3, 3}, owner);
-}
-
 // (vertices, faces, None), or (None, None, error) with error (kind, line number, line start, line end, token start,
 // token end, count) with offsets into the text.
 nb::tuple result(Mesh &&m, const uint8_t *d, size_t n) {
@@ -27,7 +19,9 @@ nb::tuple result(Mesh &&m, const uint8_t *d, size_t n) {
         return nb::make_tuple(nb::none(), nb::none(), nb::make_tuple(e.kind, line, e.line, end, e.token, e.token_end,
                                                                      e.count));
     }
-    return nb::make_tuple(rows3(std::move(m.vertices)), rows3(std::move(m.faces)), nb::none());
+    const size_t nv = m.vertices.size() / 3, nf = m.faces.size() / 3;
+    return nb::make_tuple(inertia::to_numpy(std::move(m.vertices), {nv, 3}), inertia::to_numpy(std::move(m.faces), {nf, 3}),
+                          nb::none());
 }
 
 template <class Read>
