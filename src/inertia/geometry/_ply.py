@@ -283,8 +283,9 @@ def _binary_rows(data: bytes, at: int, el: _Element, order: str, path):
             out[name][0].append(np.frombuffer(data, order + t, k, at))
             out[name][1].append(k)
             at += k * int(t[1])
-    return {name: (np.concatenate(v) if v else np.zeros(0, t), np.array(c, np.int64)) if ct
-            else (np.concatenate(v) if v else np.zeros(0, t)) for (name, t, ct), (v, c) in zip(el.props, out.values())}, at
+    values = {name: np.concatenate(v) if v else np.zeros(0, t) for (name, t, _), (v, _) in zip(el.props, out.values())}
+    return {name: (values[name], np.array(out[name][1], np.int64)) if ct else values[name]
+            for name, _, ct in el.props}, at
 
 
 # --------------------------------------------------------------------------------- faces

@@ -14,7 +14,6 @@ glTF, read by trimesh, are given to it in UTF-8 (:func:`utf8_for_trimesh`).
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from .._core.errors import MeshFileError

@@ -9,10 +9,10 @@ the same result as the general route).  ASCII STL and OBJ are read by the compil
 readers of :mod:`._text_readers` and PLY by :mod:`._ply` (no dependency), which name the file,
 line and text of anything malformed.  OFF, glTF and COLLADA go through the optional dependency
 trimesh, with ``process=False`` (trimesh changes nothing).  Every file, and every file a file
-names, is read by the rule of :mod:`inertia._core.files` (a regular file, a size cap).  Text (STL, OBJ, PLY, OFF, glTF) in UTF-8 with
-or without a byte-order mark, UTF-16 or UTF-32 is read alike.  Then
-vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
-files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
+names, is read by the rule of :mod:`inertia._core.files` (a regular file, a size cap).  Text
+(STL, OBJ, PLY, OFF, glTF) in UTF-8 with or without a byte-order mark, UTF-16 or UTF-32 is read
+alike.  Then vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so
+that files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
 are then scaled to metres.
 """
