@@ -27,6 +27,7 @@ Supported, following MuJoCo's compiler:
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -420,9 +421,13 @@ def _file_named(doc, el, base: Path):
     where = f"{doc.where(el)}: <{el.tag} file={file!r}>"
     if not file:
         raise RobotFileError(f"{doc.where(el)}: <{el.tag}> needs a file attribute")
-    try:
-        target = (base / file).resolve()
-        return where, target, target.is_file()
+    try:   # exists: anything at the path (a FIFO or a dangling link too: the reader names what it is)
+        named = base / file
+        exists = os.path.lexists(named)
+        try:
+            return where, named.resolve(), exists
+        except RuntimeError:   # a symlink loop: its own path stands for it
+            return where, Path(os.path.abspath(named)), exists
     except (OSError, ValueError) as exc:
         raise RobotFileError(f"{where}: the file name cannot be looked up "
                              f"({getattr(exc, 'strerror', None) or exc})") from None

@@ -19,6 +19,7 @@ Both write products as tensor elements (``ixy = -sum m x y``): our convention.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,7 @@ from .model import Geometry, Inertial, Link, RobotModel
 from .numbers import floats, rpy_matrix  # noqa: F401  (read from here by the other readers)
 from .resolve import not_found_hint, resolve_mesh
 from .sdf_frames import sdf_models, sdf_pose, sdf_version
-from .xmlsafe import RobotFileError, parse_robot_xml
+from .xmlsafe import RobotFileError, parse_robot_xml, read_robot_bytes
 
 
 def _link_elements(doc, root):
@@ -275,21 +276,21 @@ def _included_sdf(uri: str, base: Path, search, where: str) -> Path:
         raise RobotFileError(f"{where}: only model:// and file paths are followed (nothing is fetched)")
     else:
         folders = [Path(uri) if Path(uri).is_absolute() else base / uri]
-    found = next((f for f in folders if f.exists()), None)
+    found = next((f for f in folders if os.path.lexists(f)), None)
     if found is None:
         raise RobotFileError(f"{where}: not found (model:// is searched in each --package-path folder and the "
                              "file's parent folders)")
-    if found.is_file():
-        return found
+    if not found.is_dir():
+        return found   # a file, or something the reader names (a FIFO, a dangling link)
     config = found / "model.config"
-    if config.is_file():
+    if os.path.lexists(config):
         listed = re.findall(rb"""<sdf[^>]*version\s*=\s*["']([\d.]+)["'][^>]*>\s*([^<\s]+)\s*</sdf>""",
-                            config.read_bytes())
+                            read_robot_bytes(config, "model.config"))
         if listed:
             _, file = max(listed, key=lambda v: tuple(int(x) for x in v[0].split(b".") if x.isdigit()))
-            if (found / file.decode()).is_file():
+            if os.path.lexists(found / file.decode()):
                 return found / file.decode()
-    if (found / "model.sdf").is_file():
+    if os.path.lexists(found / "model.sdf"):
         return found / "model.sdf"
     raise RobotFileError(f"{where}: the model folder {found} names no SDF file (model.config, model.sdf)")
 
