@@ -157,7 +157,7 @@ class SourceInfo:
         if self.density_source == "default":
             return d + " (default: neither --mass nor --density given)"
         if self.density_source == "from --mass":
-            return d + " (mean, from --mass)"
+            return d + " (mean, from --mass)" if self.density < float("inf") else "beyond a double (mean, from --mass)"
         return d + f" ({self.density_source})"
 
     def to_dict(self) -> dict:

@@ -47,14 +47,23 @@ def _resolve(uri: str, base_dir: Path, search_paths) -> Path | None:
             if scheme == "package":
                 candidates.append(d / tail)
         return next((c for c in candidates if c.is_file()), None) or next(
-            (c for c in candidates if os.path.lexists(c) and not c.is_dir()), None)
+            (c for c in candidates if _present(c) and not c.is_dir()), None)
     if uri.startswith("file://"):
         p = Path(unquote(urlparse(uri).path))
     elif "://" in uri:
         return None  # http(s) and friends: never fetched
     else:
         p = Path(uri) if Path(uri).is_absolute() else base_dir / uri
-    return p if os.path.lexists(p) else None
+    return p if _present(p) else None
+
+
+def _present(p: Path) -> bool:
+    """Whether something is at ``p`` (a dangling link too); OSError for a name that cannot be looked up."""
+    try:
+        os.lstat(p)
+    except (FileNotFoundError, NotADirectoryError):
+        return False
+    return True
 
 
 def not_found_hint(uri: str, base_dir: Path) -> str:
