@@ -241,7 +241,8 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             except InertiaError as exc:
                 missing = g.kind == "mesh" and g.params.get("path") is None
                 said = f" (its reader said: {'; '.join(mesh_messages(g))})" if mesh_messages(g) else ""
-                problems.append(("mesh_not_found" if missing else "geometry_unusable",
+                problems.append(("mesh_not_found" if missing else "mesh_unreadable" if g.params.get("unreadable")
+                                 else "geometry_unusable",
                                  f"line {g.line}: {r} {g.kind}: {_short(exc, g)}{said}"))
                 continue
             total = part if total is None else total + part

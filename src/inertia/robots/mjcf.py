@@ -36,7 +36,7 @@ from .._core.errors import InertiaError
 from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .mjcf_compose import MAX_ELEMENTS, Composer, Names
 from .model import Geometry, Inertial, Joint, Link, RobotModel
-from .resolve import resolve_mesh
+from .resolve import mesh_note, resolve_mesh
 from .urdf_sdf import floats
 from .xmlsafe import RobotFileError, parse_robot_xml, parse_xml
 
@@ -552,9 +552,10 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
             raise RobotFileError(f"{where}: shellinertia does not apply to mesh geoms; set inertia=\"shell\" on "
                                  f"the mesh asset {name!r} (MuJoCo refuses it too)")
         params = meshes[name]
-        if params.get("uri") is not None and params["path"] is None:
-            link.notes.append(("mesh_not_found", f"{where}: mesh {name!r} file {params['uri']!r} not found "
-                                                 "(meshdir)"))
+        note = mesh_note(params["path"], params["uri"], None, f"{where}: mesh {name!r} file", "meshdir") \
+            if params.get("uri") is not None else None
+        link.notes += [note] if note else []
+        params["unreadable"] = bool(note) and params.get("path") is not None
     else:
         link.notes.append(("unsupported_geometry", f"{where}: geom type {kind!r} is not supported"))
         return None

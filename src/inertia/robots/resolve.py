@@ -66,6 +66,22 @@ def _present(p: Path) -> bool:
     return True
 
 
+def mesh_note(found, uri: str, base_dir: Path, what: str, hint: str | None = None):
+    """The reader's ``(code, message)`` for the mesh reference ``uri`` that resolved to ``found``:
+    ``mesh_not_found`` when nothing is there, ``mesh_unreadable`` when what is there is not a file
+    the mesh reader opens (a FIFO, a device, a folder, a dangling link, no permission), else None.
+    ``what`` starts the message (``file:line: visual mesh``)."""
+    from .._core.files import MAX_MESH_FILE_BYTES, open_regular
+
+    if found is None:
+        return "mesh_not_found", f"{what} {uri!r} not found ({hint or not_found_hint(uri, base_dir)})"
+    try:
+        os.close(open_regular(found, what="mesh file", limit=MAX_MESH_FILE_BYTES, error=RobotFileError)[0])
+    except RobotFileError as exc:
+        return "mesh_unreadable", f"{what} {uri!r}: {exc}"
+    return None
+
+
 def not_found_hint(uri: str, base_dir: Path) -> str:
     """Where ``uri`` was looked for, for the 'not found' message (a package:// hint only for
     package:// URIs)."""

@@ -26,7 +26,7 @@ import numpy as np
 
 from .model import Geometry, Inertial, Link, RobotModel
 from .numbers import floats, rpy_matrix  # noqa: F401  (read from here by the other readers)
-from .resolve import not_found_hint, resolve_mesh
+from .resolve import mesh_note, resolve_mesh
 from .sdf_frames import sdf_models, sdf_pose, sdf_version
 from .xmlsafe import RobotFileError, parse_robot_xml, read_robot_bytes
 
@@ -159,10 +159,9 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
         uri = shape.get("filename") or ""
         scale = floats(shape.get("scale", "1 1 1"), 3, where, "mesh scale")
         found = resolve_mesh(uri, base, search_paths, where=f"{where}: link {link.name!r}")
-        if found is None:
-            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               f"({not_found_hint(uri, base)})"))
-        params = {"path": found, "uri": uri, "scale": scale}
+        note = mesh_note(found, uri, base, f"{where}: {role} mesh")
+        link.notes += [note] if note else []
+        params = {"path": found, "uri": uri, "scale": scale, "unreadable": bool(note) and found is not None}
     else:
         link.notes.append(("unsupported_geometry", f"{where}: {role} geometry <{shape.tag}> is not supported"))
         return None
@@ -340,10 +339,9 @@ def _sdf_geometry(doc, el, role, base, search, link, version, frames) -> Geometr
         uri = (_text(shape, "uri") or "").strip()
         scale = floats(_text(shape, "scale", "1 1 1"), 3, where, "mesh scale")
         found = resolve_mesh(uri, base, search, where=f"{where}: link {link.name!r}")
-        if found is None:
-            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               f"({not_found_hint(uri, base)})"))
-        params = {"path": found, "uri": uri, "scale": scale}
+        note = mesh_note(found, uri, base, f"{where}: {role} mesh")
+        link.notes += [note] if note else []
+        params = {"path": found, "uri": uri, "scale": scale, "unreadable": bool(note) and found is not None}
     elif shape.tag in ("plane", "heightmap", "empty"):
         return None
     else:
