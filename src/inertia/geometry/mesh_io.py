@@ -316,14 +316,14 @@ def _checked_resolver(trimesh, p: Path):
     device or unbounded read)."""
     class Checked(trimesh.resolvers.FilePathResolver):
         def get(self, name):
+            what = f"file {name!r} that {p.name} names"
             for candidate in (name.strip(), name.strip().lstrip("/"), os.path.split(name)[-1]):
-                try:
-                    path = self.absolute(candidate)
-                except ValueError:
-                    continue
-                if os.path.lexists(path):
-                    return bytes(read_regular(path, what=f"file {name!r} that {p.name} names",
-                                              limit=MAX_MESH_FILE_BYTES, error=MeshFileError))
-            return super().get(name)
+                path = os.path.join(self.parent, candidate)
+                if os.path.lexists(path):   # what is there, by name, before trimesh's rule (nothing outside)
+                    data = read_regular(path, what=what, limit=MAX_MESH_FILE_BYTES, error=MeshFileError)
+                    self.absolute(candidate)
+                    return bytes(data)
+            raise MeshFileError(f"{os.path.join(self.parent, name.strip())}: the {what} was not found",
+                                code="not_found")
 
     return Checked(str(p))

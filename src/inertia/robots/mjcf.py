@@ -267,7 +267,7 @@ class _Scope:
             return self.models[target]
         if not exists:
             raise RobotFileError(f"{where}: model file not found (relative to {self.base})")
-        sub = parse_robot_xml(target, "mujoco", "an MJCF")
+        sub = parse_robot_xml(self.base / el.get("file"), "mujoco", "an MJCF")   # by the name given
         scope = _Scope(sub, target, self.search_paths, self.models, self.main_doc)
         self.main_doc.merge(sub)
         self.main_doc.included = [*getattr(self.main_doc, "included", []), target, *getattr(sub, "included", [])]
@@ -443,7 +443,7 @@ def _included(doc, child, base: Path, first: dict):
                              "it twice too)")
     if not exists:
         raise RobotFileError(f"{where}: included file {child.get('file')!r} not found (relative to {base})")
-    sub = parse_xml(target)
+    sub = parse_xml(base / child.get("file"))   # by the name given: a refusal names it
     if sub.root.tag != "mujoco":
         raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
                              f"not <{sub.root.tag}>")
