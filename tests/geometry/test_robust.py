@@ -165,6 +165,116 @@ def test_a_time_budget_ends_the_work_and_says_so():
 def test_a_converged_result_has_no_stop_and_reports_its_bound():
     _, v, f, truth = random_case(np.random.default_rng(0), "flat holes")
     seen = []
-    res = robust_integrals(v, f, tol=1e-3, progress=lambda fraction, bound: seen.append((fraction, bound)))
+    res = robust_integrals(v, f, reference=ORIGIN, tol=1e-3,
+                           progress=lambda fraction, bound: seen.append((fraction, bound)))
     assert res.converged and res.stopped_by is None and 0 < res.bound <= 1e-3 and within_bound(res, truth)
     assert seen[-1] == (1.0, res.bound) and [x for x, _ in seen] == sorted(x for x, _ in seen)
+
+
+def test_derived_bounds_cover_com_and_inertia():
+    b1, b2 = ([0, 0, 0], [1, 1, 1]), ([0.6, 0.2, 0.1], [1.4, 0.9, 1.8])
+    v, f = concat(box(*b1), box(*b2))
+    res = robust_integrals(v, f, tol=1e-2)
+    V, F, S = union_moments([np.array(b1, float), np.array(b2, float)])
+    com = F / V
+    assert np.linalg.norm(res.com - com) <= res.bound_com + 1e-12
+    C = S - V * np.outer(com, com)
+    assert np.linalg.norm(res.central_second() - C) <= res.bound_central_second + 1e-12
+
+
+def test_bad_inputs():
+    v, f = box([0, 0, 0], [1, 1, 1])
+    with pytest.raises(InputError):
+        robust_integrals(v, f + 100)
+    with pytest.raises(InputError):
+        robust_integrals(v, np.zeros((0, 3), int))
+    with pytest.raises(InputError):
+        robust_integrals(v, f, tol=0.0)
+
+
+@pytest.mark.parametrize("kind", list(CASES))
+def test_bound_is_honest_on_generated_cases(kind):
+    """The true error stays within the bound on generated cases of each kind (the full table,
+    hundreds of cases, is bench/robust.py --table)."""
+    rng = np.random.default_rng(20261125 + list(CASES).index(kind))
+    worst = 0.0
+    for n in range(25):
+        name, v, f, truth = random_case(rng, kind)
+        res = robust_integrals(v, f, reference=ORIGIN, tol=1e-3)
+        ratio = error_ratio(res, truth)
+        assert ratio <= 1.0, (kind, n, res.volume, truth[0], res.bound_volume, res.defects)
+        worst = max(worst, ratio)
+    print(f"{kind}: 25 cases, worst error / bound = {worst:.3g}")
+
+
+def _digest(res):
+    """SHA-256 of every number of a result (values, bounds, ambiguity, the counts in stats)."""
+    h = hashlib.sha256()
+    for x in (res.volume, res.first, res.second, res.reference, res.bound_volume, res.bound_first, res.bound_second,
+              res.ambiguous_volume):
+        h.update(np.ascontiguousarray(x, dtype=np.float64).tobytes())
+    h.update(repr((res.converged, res.defects, res.codes,
+                   sorted((k, x) for k, x in res.stats.items() if not k.startswith("seconds")))).encode())
+    return h.hexdigest()
+
+
+def _crossing_shells_with_holes():
+    """Two overlapping convex shells of 2,000 faces each with holes punched, and a slab pierced by
+    36 pins (more trace lines than one piece takes: split): caps, cut faces, pieces refined,
+    enough work for every kernel to share it among threads."""
+    (va, fa), (vb, fb) = hull(1000, 11), hull(1000, 12, c=(0.6, 0.1, -0.2))
+    pins = [box([3.1 + 0.3 * i, 0.1 + 0.3 * j, 0.5], [3.2 + 0.3 * i, 0.2 + 0.3 * j, 1.5]) for i in range(6) for j in range(6)]
+    return concat((va, np.delete(fa, [0, 500], axis=0)), (vb, np.delete(fb, [7], axis=0)), box([3, 0, 0], [5, 2, 1]),
+                  *pins)
+
+
+DETERMINISM_CALL = "robust_integrals(v, f, reference=ORIGIN, tol=1e-4, max_pieces=200_000, threads={threads})"
+
+
+@pytest.mark.parametrize("threads", [2, 3])
+def test_same_bits_twice_and_on_any_number_of_threads(threads):
+    v, f = _crossing_shells_with_holes()
+    one = robust_integrals(v, f, reference=ORIGIN, tol=1e-4, max_pieces=200_000, threads=1)
+    assert one.stats["pieces"] > 256 and one.stats["depth"] >= 1 and one.stats["caps"] == 3
+    again = robust_integrals(v, f, reference=ORIGIN, tol=1e-4, max_pieces=200_000, threads=1)
+    many = robust_integrals(v, f, reference=ORIGIN, tol=1e-4, max_pieces=200_000, threads=threads)
+    assert _digest(one) == _digest(again) == _digest(many)
+
+
+def test_same_bits_in_a_fresh_process():
+    v, f = _crossing_shells_with_holes()
+    here = _digest(robust_integrals(v, f, reference=ORIGIN, tol=1e-4, max_pieces=200_000))
+    code = ("from tests.geometry.test_robust import _crossing_shells_with_holes, _digest, ORIGIN, robust_integrals\n"
+            "v, f = _crossing_shells_with_holes()\n"
+            f"print(_digest({DETERMINISM_CALL.format(threads=None)}))")
+    root = Path(__file__).resolve().parents[2]
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True)
+    assert out.stdout.strip() == here
+
+
+def test_threads_must_be_positive():
+    v, f = box([0, 0, 0], [1, 1, 1])
+    with pytest.raises(InputError, match="threads must be None or a positive integer, got 0"):
+        robust_integrals(v, f, threads=0)
+
+
+def test_kernels_check_every_index_from_outside():
+    """The compiled kernels refuse indices and lengths that do not fit, naming the array."""
+    from inertia._ext import robust as k
+
+    v, f = box([0, 0, 0], [1, 1, 1])
+    m = np.ones(len(f))
+    cert, nbr = np.zeros(len(v), bool), np.full((len(f), 3), -1)
+    with pytest.raises(InputError, match=r"faces\[2, 1\] = 8 names no vertex"):
+        k.dedupe_faces(np.where(np.arange(36).reshape(12, 3) == 7, 8, f), len(v))
+    with pytest.raises(InputError, match=r"verts\[1\] = 9 is outside \[0, 8\)"):
+        k.vertex_pass(v, f, m, np.array([0, 9]), cert, nbr, 1)
+    with pytest.raises(InputError, match="multiplicities has length 3, expected 12"):
+        k.vertex_pass(v, f, m[:3], np.arange(8), cert, nbr, 1)
+    with pytest.raises(InputError, match=r"nbr\[5\] = 12 is outside \[-1, 12\)"):
+        k.patch_reps(v, f, np.where(np.arange(36).reshape(12, 3) == 5, 12, nbr), np.zeros(len(f), bool))
+    ptr, idx = np.zeros(13, np.int64), np.zeros(0, np.int64)
+    with pytest.raises(InputError, match="cut_ptr must run from 0 to 0"):
+        k.classify_traces(v, f, m, ptr + 1, idx, 1e-9, 1)
+    with pytest.raises(InputError, match=r"owner\[0\] = 12 is outside \[0, 12\)"):
+        k.winding_excluding(v[:1], np.array([12]), v, f, m, ptr, idx, idx, 1)
