@@ -38,7 +38,7 @@ from tests.fuzzing import MESH_SEEDS, ROBOT_SEEDS, mutate_any, seed_ply_binary, 
 BUGS = ("internal", "crash", "hang", "nonfinite", "unnamed", "silent")
 
 WORKER = r'''
-import json, os, re, signal, sys, tempfile, warnings
+import json, os, re, signal, sys, tempfile, time, warnings
 from pathlib import Path
 import numpy as np
 from inertia.errors import InertiaError
@@ -76,6 +76,11 @@ def read_special(family, kind):
     return ("refused" if named else "unnamed"), message[:300]
 
 def run(line):
+    t0 = time.perf_counter()
+    out, msg, leaked = answer(line)
+    return out, msg, leaked, time.perf_counter() - t0
+
+def answer(line):
     signal.signal(signal.SIGALRM, hung)
     signal.alarm(30)
     with warnings.catch_warnings(record=True) as w:
@@ -148,10 +153,10 @@ def run_all(lines, chunk=2000):
             out, _ = proc.communicate()
             why = "the worker hung"
         done = [json.loads(x) for x in out.splitlines() if x.strip()]
-        for line, o, msg, leaked in done:
-            results[line] = (o, msg, leaked)
+        for line, o, msg, leaked, seconds in done:
+            results[line] = (o, msg, leaked, seconds)
         if len(done) < len(batch):  # the worker died (or hung) on batch[len(done)]
-            results[batch[len(done)]] = ("crash" if why.startswith("worker") else "hang", why, [])
+            results[batch[len(done)]] = ("crash" if why.startswith("worker") else "hang", why, [], None)
             todo = batch[len(done) + 1:] + todo
     return results
 
@@ -242,6 +247,24 @@ def _one_fault(argv, d, fault, fsize, file, expected):
     return ("refused" if "cannot write the output" in err else "unnamed"), err[-300:]
 
 
+def print_table(res) -> None:
+    """Special paths: reader family x path kind -> outcome (named: a refusal naming the path and the
+    kind; format: the path means something else in that format, see tests/special_paths.EXPECTED)."""
+    from tests.special_paths import FAMILIES, KINDS
+
+    kinds = [k for k in KINDS if any(f"special\t{f}\t{k}" in res for f in FAMILIES)]
+    print(f"\n{'family':22s} " + " ".join(f"{k:>10s}" for k in kinds))
+    slowest = 0.0
+    for family in FAMILIES:
+        cells = []
+        for kind in kinds:
+            o, _, _, seconds = res[f"special\t{family}\t{kind}"]
+            slowest = max(slowest, seconds or 0.0)
+            cells.append({"refused": "named", "ok": "format"}.get(o, o.upper()))
+        print(f"{family:22s} " + " ".join(f"{c:>10s}" for c in cells))
+    print(f"slowest answer {slowest:.2f} s")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100_000, help="mutated files")
@@ -258,7 +281,7 @@ def main(argv=None) -> int:
         t1 = time.perf_counter()
         outputs = {} if a.no_outputs else output_faults()
         counts, examples, leak_kinds, leaks = {}, {}, {}, 0
-        for line, (o, msg, leaked) in res.items():
+        for line, (o, msg, leaked, _) in res.items():
             counts[o] = counts.get(o, 0) + 1
             leaks += bool(leaked)
             for text in leaked:
@@ -289,6 +312,8 @@ def main(argv=None) -> int:
         print(f"--- {kind}")
         for name, head, msg in ex:
             print(f"{name}: {head!r}\n    {msg.strip().splitlines()[-1] if msg.strip() else ''}")
+    if n_special:
+        print_table(res)
     bugs = sum(counts.get(k, 0) + out_counts.get(k, 0) for k in BUGS)
     return 1 if bugs else 0
 
