@@ -157,7 +157,7 @@ class SourceInfo:
         if self.density_source == "default":
             return d + " (default: neither --mass nor --density given)"
         if self.density_source == "from --mass":
-            return d + " (mean, from --mass)"
+            return d + " (mean, from --mass)" if self.density < float("inf") else "beyond a double (mean, from --mass)"
         return d + f" ({self.density_source})"
 
     def to_dict(self) -> dict:
@@ -198,7 +198,7 @@ def classify_source(text: str):
     if not text or not text.strip():
         raise _input_error("SOURCE is empty: give a mesh file or a primitive spec such as box:0.1,0.2,0.4")
     text = text.strip()
-    if os.path.isfile(text):
+    if os.path.lexists(text) and not os.path.isdir(text):   # a FIFO, a device...: the reader says what it is
         return ("mesh", text)
     name, sep, rest = text.partition(":")
     key = name.strip().lower()

@@ -112,11 +112,12 @@ def _scheduler_from_config(path):
     import yaml
 
     from .._core.errors import InputError
+    from .._core.files import MAX_ROBOT_FILE_BYTES, read_regular
 
     try:
-        with open(path, encoding="utf-8") as fh:
-            cfg = yaml.safe_load(fh) or {}
-    except (OSError, yaml.YAMLError) as exc:
+        cfg = yaml.safe_load(read_regular(path, what="Dask configuration (--dask-config)", limit=MAX_ROBOT_FILE_BYTES,
+                                          error=InputError)) or {}
+    except yaml.YAMLError as exc:
         raise InputError(f"--dask-config {path}: cannot read ({exc})") from None
     dask.config.update(dask.config.config, cfg, priority="new")
     return dask.config.get("scheduler-address", None) or dask.config.get("scheduler_address", None)

@@ -20,7 +20,7 @@ which MuJoCo refuses), no_links, joints_unreadable.
 warnings: com_outside_geometry, geometry_mismatch (declared vs computed from the link's own shapes at
 the declared mass: principal-moment ratio outside [1/3, 3] or axes over 45 deg apart),
 implausible_inertia (radius of gyration under 1 % of the link's size), legacy_mesh_inertia,
-mesh_not_found, unsupported_geometry, unsupported_pose.  notes: geometry_unusable (comparison skipped).
+mesh_not_found, mesh_unreadable, unsupported_geometry, unsupported_pose.  notes: geometry_unusable (comparison skipped).
 Massless frames (no inertial, or mass 0 and tensor 0, on fixed joints or welded to a body with mass)
 are an idiom, listed in one line; a massless link that moves alone is an error.
 

@@ -33,8 +33,8 @@ _ROBOT_OPTIONS = (("--joint", "joint", []), ("--subtree", "subtree", None), ("--
 
 
 def is_robot_file(text: str) -> bool:
-    """A path to an existing file whose extension names a robot format."""
-    return os.path.isfile(text) and os.path.splitext(text)[1].lower() in ROBOT_EXTENSIONS
+    """A path to something (a file, or what the reader refuses by name) whose extension names a robot format."""
+    return os.path.lexists(text) and not os.path.isdir(text) and os.path.splitext(text)[1].lower() in ROBOT_EXTENSIONS
 
 
 def add_robot_arguments(p) -> None:

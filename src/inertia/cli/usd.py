@@ -17,8 +17,9 @@ ZERO_UNSET_HELP = ("OpenUSD stages: read only exact zeros as 'not set' (the sche
 
 
 def is_usd_file(text) -> bool:
-    """A path to an existing file with an OpenUSD extension."""
-    return os.path.isfile(str(text)) and os.path.splitext(str(text))[1].lower() in USD_EXTENSIONS
+    """A path to something that is not a folder (the reader names what it is) with an OpenUSD extension."""
+    text = str(text)
+    return os.path.lexists(text) and not os.path.isdir(text) and os.path.splitext(text)[1].lower() in USD_EXTENSIONS
 
 
 def unset_tolerance(args) -> float:

@@ -180,7 +180,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
             raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report,
                             code="zero_area")
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
-        com, inertia = central_inertia(area, first, second, r, rho)
+        com, inertia = central_inertia(area, first, second, r, rho, mass=m)
         props = MassProperties(m, com, inertia, frame=frame, warnings=tuple(notes))
         return (props, report) if with_report else props
     volume, first, second, r = solid_integrals(vc, fc)
@@ -192,7 +192,7 @@ def compute_mesh_properties(vertices, faces, *, density, mass, shell, fix_orient
                         f"(faces wound inward, or a flat or open surface){hint}.", report=report,
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
-    com, inertia = central_inertia(volume, first, second, r, rho)
+    com, inertia = central_inertia(volume, first, second, r, rho, mass=m)
     props = MassProperties(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
     return (props, report) if with_report else props
 
@@ -222,7 +222,7 @@ def _clean_solid_properties(sums, v, f, *, density, mass, frame, what, notes=())
         volume, first, second, r = solid_integrals(vc, fc)
         first, second, r = first.tolist(), second.tolist(), r.tolist()
     m, rho = resolve_mass(volume, density, mass, what=what)   # refuses a volume that is not positive and finite
-    com, inertia = central_from_floats(volume, first, second, r, rho)
+    com, inertia = central_from_floats(volume, first, second, r, rho, m)
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, warnings=tuple(notes))
 
 
@@ -262,7 +262,7 @@ def _robust_properties(v, f, errors, *, density, mass, frame, what, tol, notes, 
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, np.asarray(res.first, float), np.asarray(res.second, float),
-                                   np.asarray(res.reference, float), rho)
+                                   np.asarray(res.reference, float), rho, mass=m)
     rel = {k: float(x) for k, x in res.relative_bounds.items()}
     bounds = ", ".join(f"{k} {x:.2g}" for k, x in rel.items())
     codes = ", ".join(sorted({d.code for d in errors} if errors is not None else set(res.codes)))

@@ -22,8 +22,8 @@ Warnings:
 * ``legacy_mesh_inertia``: an MJCF body whose inertia MuJoCo infers from meshes in its
   default ``inertia="legacy"`` mode differs from the exact solid by more than 5 % in mass or
   a principal moment (legacy overcounts non-convex meshes);
-* ``mesh_not_found``, ``unsupported_geometry``, ``unsupported_pose``: the reader could not
-  use part of the file; the rest of the check goes on.
+* ``mesh_not_found``, ``mesh_unreadable`` (a FIFO, a device, a folder...), ``unsupported_geometry``,
+  ``unsupported_pose``: the reader could not use part of the file; the rest of the check goes on.
 
 Notes (``notes`` in the JSON): ``geometry_unusable`` when the shapes exist but cannot be
 integrated (an open or non-manifold mesh, an unsupported mesh format): the comparison with
@@ -196,8 +196,8 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
             problems = problems + collision_problems
     for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
         suffix = fallback or ("" if computed is not None else "; geometry comparison skipped")
-        if code == "mesh_not_found":  # the reader's warning says it already: one message per missing mesh
-            _mark_skipped(rep, msg, suffix)
+        if code in ("mesh_not_found", "mesh_unreadable"):  # the reader's warning says it: one message per mesh
+            _mark_skipped(rep, msg, suffix, code)
             continue
         rep.notes.append(Finding(code, f"{at}: {msg}{suffix}"))
     if computed is not None:
@@ -235,12 +235,12 @@ def _compiler_repairs(rep, compiler: dict) -> None:
     rep.errors.clear()
 
 
-def _mark_skipped(rep, problem: str, suffix: str) -> None:
-    """Add ``suffix`` to the reader's mesh_not_found warning for the shape ``problem`` names
-    (``"line N: ..."``), instead of a second message about the same mesh."""
+def _mark_skipped(rep, problem: str, suffix: str, code: str) -> None:
+    """Add ``suffix`` to the reader's ``code`` warning (mesh_not_found, mesh_unreadable) for the
+    shape ``problem`` names (``"line N: ..."``), instead of a second message about the same mesh."""
     line = problem.split(":", 1)[0].removeprefix("line ").strip()
     for w in rep.warnings:
-        if w.code == "mesh_not_found" and f":{line}: " in w.message and not w.message.endswith(suffix):
+        if w.code == code and f":{line}: " in w.message and not w.message.endswith(suffix):
             w.message += suffix
 
 

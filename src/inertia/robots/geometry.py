@@ -264,8 +264,8 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             except InertiaError as exc:
                 missing = g.kind == "mesh" and g.params.get("path") is None
                 said = f" (its reader said: {'; '.join(mesh_messages(g))})" if mesh_messages(g) else ""
-                code = "mesh_not_found" if missing else exc.code if exc.code == MUJOCO_REFUSES_MESH else \
-                    "geometry_unusable"
+                code = "mesh_not_found" if missing else "mesh_unreadable" if g.params.get("unreadable") else \
+                    exc.code if exc.code == MUJOCO_REFUSES_MESH else "geometry_unusable"
                 problems.append((code, f"line {g.line}: {r} {g.kind}: {_short(exc, g)}{said}"))
                 continue
             total = part if total is None else total + part

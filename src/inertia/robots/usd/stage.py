@@ -146,16 +146,11 @@ class Stage:
 
 def open_stage(path):
     """The composed ``Usd.Stage`` of the file ``path`` (RobotFileError when usd-core cannot open it)."""
-    import os
-
-    from ..._core.files import MAX_MESH_FILE_BYTES, open_regular
-
     Usd = pxr_modules()[0]
     from pxr import Tf
 
-    fd, _ = open_regular(path, what="USD file", limit=MAX_MESH_FILE_BYTES, error=RobotFileError)
-    os.close(fd)
     try:
+        _check_layers(path)
         stage = Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
         text = " ".join(str(exc).split())
@@ -163,6 +158,30 @@ def open_stage(path):
     if stage is None:
         raise RobotFileError(f"{path}: usd-core cannot open the stage")
     return stage
+
+
+def _check_layers(path) -> None:
+    """Every layer the stage at ``path`` composes (sublayers, references, payloads, found layer by
+    layer) checked by the input-file rule before usd-core opens it: a FIFO or a device would
+    block it or be read without end.  A missing layer is left to usd-core (it composes without it)."""
+    import os
+
+    from pxr import Sdf
+
+    from ..._core.files import MAX_MESH_FILE_BYTES, open_regular
+
+    todo, seen = [os.path.abspath(path)], set()
+    while todo:
+        layer_path = todo.pop()
+        if layer_path in seen or (seen and not os.path.lexists(layer_path)):
+            continue
+        seen.add(layer_path)
+        what = f"layer {os.path.basename(path)} composes" if len(seen) > 1 else "USD file"
+        fd, _ = open_regular(layer_path, what=what, limit=MAX_MESH_FILE_BYTES, error=RobotFileError)
+        os.close(fd)
+        layer = Sdf.Layer.FindOrOpen(layer_path)
+        if layer is not None:
+            todo += [layer.ComputeAbsolutePath(a) for a in layer.GetCompositionAssetDependencies()]
 
 
 def _matrix(m) -> tuple[np.ndarray, np.ndarray]:
