@@ -46,7 +46,7 @@ def register(sub) -> None:
     g = p.add_argument_group("the body (give at most one of --density and --mass)")
     g.add_argument("--density", type=float, metavar="RHO",
                    help="density in kg/m^3 (default: 7850, steel, for the T-handle; 1000 for --mesh)")
-    g.add_argument("--mass", type=float, metavar="KG", help="total mass in kg (the density follows)")
+    g.add_argument("--mass", type=float, metavar="KG", help="the body's mass in kg, its density following")
     add_units(g)
     add_format_argument(p)
     from ._control import HELP as CONTROL_HELP
