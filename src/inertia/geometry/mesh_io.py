@@ -250,26 +250,7 @@ def _file_size(p: Path) -> float:
         return float("nan")
 
 
-<<<<<<< HEAD
-#: files up to this size are read into memory; larger ones are mapped, their pages read as used
-#: (mapping costs 40 us more per file of 300 KB: the page faults)
-MAP_BYTES = 16 * 2**20
-
-
-def _file_bytes(p: Path, size: int) -> np.ndarray:
-    """The bytes of a file as a read-only uint8 array (read, or mapped when large)."""
-    if size == 0:
-        return np.zeros(0, dtype=np.uint8)
-    if size > MAP_BYTES:
-        return np.memmap(p, dtype=np.uint8, mode="r").view(np.ndarray)
-    with open(p, "rb") as fh:
-        return np.frombuffer(fh.read(), dtype=np.uint8)
-
-
 def _load_mesh(p: Path, factor: float, merge_rtol: float, polygons: str = "fan"):
-=======
-def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
->>>>>>> port/silent
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
@@ -285,22 +266,9 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: compiled text readers
         from ._text_readers import read_text_mesh
 
-<<<<<<< HEAD
-        vertices, faces = read_text_mesh(data, p, ext, polygons)
-    else:
-        trimesh = _import_trimesh()
-        if ext == ".dae":  # trimesh reads COLLADA through pycollada
-            require("collada", "reading COLLADA (.dae) meshes")
-            factor *= _collada_unit(p)
-        try:
-            source, resolver = str(p), None
-            if ext in (".ply", ".off", ".gltf"):  # text in UTF-16/32 or with Latin-1 bytes: made UTF-8 for trimesh
-                from ._text_readers import trimesh_source
-=======
-        vertices, faces = read_text_mesh(np.frombuffer(data, np.uint8), p, ext, quads)
+        vertices, faces = read_text_mesh(np.frombuffer(data, np.uint8), p, ext, polygons)
     elif ext == ".ply":
         from ._ply import read_ply
->>>>>>> port/silent
 
         vertices, faces = read_ply(data, p)
     else:
