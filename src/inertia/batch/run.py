@@ -34,9 +34,11 @@ done, keyed by path, size and modification time.  A file that changed since is d
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
+import signal
 import sys
 import threading
 import time
@@ -122,6 +124,19 @@ class BatchSummary:
             out.append(f"results: {self.output}")
         return out
 
+
+
+@contextlib.contextmanager
+def _interrupts_held():
+    """SIGINT ignored inside (main thread only: elsewhere signals cannot be set), restored after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
 
 def job_costs(jobs) -> list[int]:
     """The estimated work of each job, in bytes: its size plus :data:`FILE_COST_BYTES`."""
@@ -644,11 +659,12 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
             execute(todo, options=options, scheduler=scheduler, n_workers=n_workers, chunk_files=chunk_files,
                     on_rows=take_rows, progress=bar, keep_rows=False, on_start=lambda where: placement.append(where))
         except KeyboardInterrupt:
-            if pending:               # the rows finished since the last part: saved, not lost
-                write_part()
-            n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
-            sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
-                             f"run again with --resume to finish\n")
+            with _interrupts_held():      # a second Ctrl-C must not cut the saving short
+                if pending:               # the rows finished since the last part: saved, not lost
+                    write_part()
+                n_done = sum(len(read_table(p, "parquet")) for p in _part_files(parts_dir))
+                sys.stderr.write(f"\ninterrupted: {n_done} files are saved in {parts_dir}; "
+                                 f"run again with --resume to finish\n")
             raise
 
         if pending:                   # the rows since the last part go straight into the output
