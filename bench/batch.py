@@ -19,10 +19,13 @@ rounds (machine noise drifts over time); best and median of the rounds are print
 ``--whole N [N ...]`` (default 500 2000) times whole processes instead, as a user meets them:
 ``inertia batch FOLDER -o out.parquet`` from its interpreter's start to its exit (imports,
 the placement it chooses, worker start-up, the work, the output), with the default
-placement, ``--scheduler synchronous`` and ``--scheduler cluster``, against a script that
-loops trimesh over the same N meshes, also timed from its start; interleaved rounds.
+placement (threads), ``--scheduler synchronous`` and ``--scheduler cluster``, and with
+``--external`` on Dask clusters started apart as a user's (``dask scheduler`` and ``dask
+worker`` processes: 2 workers of 1 thread, 1 worker of 2 threads, started and warmed up once,
+outside the timing), against a script that loops trimesh over the same N meshes, also timed
+from its start; interleaved rounds.
 
-    python bench/batch.py --whole 500 2000 [--faces 1000 10000] [--repeat 3] [--keep DIR]
+    python bench/batch.py --whole 500 2000 [--external] [--faces 1000 10000] [--repeat 3] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -89,6 +92,13 @@ def make_dataset(folder, n_small: int, n_large: int, faces=(1000, 10000), seed: 
     return paths
 
 
+def _warm() -> None:
+    """Import what a row needs (on a worker, before the timing)."""
+    import inertia.batch.record  # noqa: F401
+    import inertia.geometry.mesh_io  # noqa: F401
+    import inertia.massprops.mesh  # noqa: F401
+
+
 def trimesh_loop(paths) -> float:
     import trimesh
 
@@ -105,14 +115,13 @@ class Cluster:
     def __init__(self, workers: int):
         import distributed
 
-        from inertia.batch.record import warm_up
         from inertia.batch.run import local_cluster
 
         t0 = time.perf_counter()
         self.workers = workers
-        self.cluster = local_cluster(workers)
+        self.cluster = local_cluster(workers, 1)
         self.client = distributed.Client(self.cluster)
-        self.client.run(warm_up)  # imports and compiled kernels loaded outside the timing
+        self.client.run(_warm)  # imports loaded outside the timing
         self.startup_s = time.perf_counter() - t0
 
     def run(self, paths, out_dir: str) -> float:
@@ -203,6 +212,40 @@ def whole_process_case(folder, n_small: int, faces, repeat: int, variants) -> No
     sys.stdout.flush()
 
 
+class ExternalCluster:
+    """A Dask cluster as a user starts one: ``dask scheduler`` and ``dask worker`` processes
+    of their own (``workers`` of ``threads`` threads each), on the loopback."""
+
+    def __init__(self, workers: int, threads: int):
+        import socket
+        import subprocess
+        import sys
+
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        self.address = f"tcp://127.0.0.1:{port}"
+        dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+        quiet = dict(stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        self.procs = [subprocess.Popen(dask + ["--host", "127.0.0.1", "--port", str(port),
+                                               "--dashboard-address", ":0"], **quiet)]
+        time.sleep(2.0)
+        for _ in range(workers):
+            self.procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", self.address,
+                                                "--nthreads", str(threads), "--no-dashboard"], **quiet))
+        import distributed
+
+        with distributed.Client(self.address, timeout="60s") as client:
+            client.wait_for_workers(workers, timeout=60)
+            client.run(_warm)
+
+    def close(self) -> None:
+        for proc in reversed(self.procs):
+            proc.terminate()
+        for proc in self.procs:
+            proc.wait(timeout=30)
+
+
 def subprocess_summary(cmd) -> str:
     """The placement line of a run's summary (what `inertia batch` chose)."""
     import subprocess
@@ -226,16 +269,26 @@ def main() -> None:
     ap.add_argument("--whole", type=int, nargs="*", metavar="N",
                     help="instead: whole-process times of `inertia batch` against a trimesh loop script on N small "
                          "meshes each (default 500 2000), the default placement and the forced ones")
+    ap.add_argument("--external", action="store_true",
+                    help="with --whole: also against Dask clusters started apart (dask scheduler + dask worker "
+                         "processes: 2 workers of 1 thread, 1 worker of 2 threads), as a user's cluster")
     args = ap.parse_args()
     if args.whole is not None:
         folder = args.keep or tempfile.mkdtemp(prefix="inertia-bench-")
-        variants = {"inertia batch (auto)": [], "--self-crossing certificate": ["--self-crossing", "certificate"],
+        variants = {"inertia batch (threads)": [], "--self-crossing certificate": ["--self-crossing", "certificate"],
                     "--scheduler synchronous": ["--scheduler", "synchronous"],
                     "--scheduler cluster": ["--scheduler", "cluster"]}
+        external = []
+        if args.external:
+            for w, t in ((2, 1), (1, 2)):
+                external.append(ExternalCluster(w, t))
+                variants[f"external cluster, {w}x{t} threads"] = ["--scheduler", external[-1].address]
         try:
             for n in args.whole or [500, 2000]:
                 whole_process_case(folder, n, tuple(args.faces), args.repeat, variants)
         finally:
+            for cluster in external:
+                cluster.close()
             if not args.keep:
                 shutil.rmtree(folder, ignore_errors=True)
         return

@@ -30,6 +30,18 @@ def seed_ply() -> bytes:
     return s.encode()
 
 
+def seed_ply_binary() -> bytes:
+    """The cube as a little-endian binary PLY, its sides as quads but the first (two triangles):
+    list lengths that vary row by row."""
+    faces = [CUBE_F[0], CUBE_F[1]] + [(a, b, c, d) for (a, b, c), (_, _, d) in zip(CUBE_F[2::2], CUBE_F[3::2])]
+    head = (f"ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+            f"property float z\nelement face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    out = bytearray(head.encode()) + b"".join(struct.pack("<3f", *p) for p in CUBE_V)
+    for face in faces:
+        out += struct.pack(f"<B{len(face)}i", len(face), *face)
+    return bytes(out)
+
+
 def _tris():
     return [[CUBE_V[i] for i in f] for f in CUBE_F]
 

@@ -100,3 +100,64 @@ def test_docs_page_examples_run(page, tmp_path, monkeypatch):
         ran += 1
     if "```python" in text:
         assert ran > 0, page.name
+
+
+# ---------------------------------------------------------------------------- the site: pages, links, the CLI page
+
+PAGES = sorted(p.relative_to(REPO / "docs").as_posix() for p in (REPO / "docs").rglob("*.md"))
+_LINK = re.compile(r"\]\(([^)#\s]+\.md)(?:#[^)]*)?\)")
+
+
+def _links(page: str) -> set:
+    """The pages a docs page links to, as paths under docs/."""
+    folder = Path(page).parent
+    return {(folder / target).as_posix().replace("api/../", "") for target in
+            _LINK.findall((REPO / "docs" / page).read_text(encoding="utf-8"))}
+
+
+def test_every_page_is_reachable_from_the_index():
+    seen, todo = {"index.md"}, ["index.md"]
+    while todo:
+        for target in _links(todo.pop()):
+            assert target in PAGES, f"a link to {target}, which does not exist"
+            if target not in seen:
+                seen.add(target)
+                todo.append(target)
+    assert set(PAGES) <= seen, sorted(set(PAGES) - seen)
+    assert {p for p in PAGES if "/" not in p} - {"index.md"} <= _links("index.md")   # each top page directly
+
+
+def test_every_page_is_in_the_site_navigation():
+    config = (REPO / "mkdocs.yml").read_text(encoding="utf-8")
+    nav = set(re.findall(r"^\s+- (?:[^:\n]+: )?(\S+\.md)$", config[config.index("\nnav:"):], re.M))
+    assert nav == set(PAGES)
+
+
+def test_the_readme_links_every_page_and_names_none_as_code():
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    linked = set(re.findall(r"\]\(docs/([^)#\s]+\.md)", readme))
+    assert {p for p in PAGES if "/" not in p} <= linked | {"hooks.md"}, sorted({p for p in PAGES if "/" not in p}
+                                                                          - linked)
+    for name, text in [("README.md", readme)] + [(p, (REPO / "docs" / p).read_text(encoding="utf-8")) for p in PAGES]:
+        assert not re.search(r"`(?:docs/)?[a-z-]+\.md`", text), f"{name} names a page as code: link it"
+
+
+def test_the_cli_page_describes_every_option_of_every_command():
+    from inertia.cli.main import build_parser, sub_parsers
+
+    page = (REPO / "docs" / "cli.md").read_text(encoding="utf-8")
+    prose = re.sub(r"^```.*?^```", "", page, flags=re.S | re.M)
+    spans = " ".join(re.findall(r"`[^`]+`", prose))      # every option is named in code somewhere
+    missing = sorted({s for sub in sub_parsers(build_parser()).values() for a in sub._actions for s in a.option_strings
+                      if s.startswith("--") and s != "--help" and not re.search(rf"{re.escape(s)}(?![\w-])", spans)})
+    assert not missing, missing
+
+
+@pytest.mark.parametrize("page", ["quickstart.md", "cli.md"])
+def test_console_examples_of_the_pages_are_current(page):
+    from tests.cli.test_readme import _normal, console_sessions, run_cli
+
+    sessions = [s for _, found in console_sessions((REPO / "docs" / page).read_text(encoding="utf-8")) for s in found]
+    assert sessions
+    for command, pasted in sessions:
+        assert _normal(run_cli(command)) == _normal(pasted), f"{page}: the output of `{command}` is stale"

@@ -4,7 +4,8 @@ Seeds are small valid files written by ``tests.fuzzing``; hypothesis draws the m
 (edge-value numbers, deleted/duplicated/swapped lines, dropped attributes, byte flips,
 truncation).  Only :class:`inertia.errors.InertiaError` may escape, and a returned result
 holds finite numbers.  ``bench/fuzz.py`` runs the same mutators over 1e5 inputs in worker
-processes (so a crash is counted, not fatal).
+processes (so a crash is counted, not fatal), with special paths (tests/test_input_paths.py)
+and failing outputs (tests/cli/test_output_faults.py).
 """
 
 from __future__ import annotations
@@ -20,9 +21,9 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from inertia.errors import InertiaError  # noqa: E402
-from tests.fuzzing import MESH_SEEDS, ROBOT_SEEDS, mutate_any, seed_stl_binary  # noqa: E402
+from tests.fuzzing import MESH_SEEDS, ROBOT_SEEDS, mutate_any, seed_ply_binary, seed_stl_binary  # noqa: E402
 
-_MESH = [(ext, f()) for ext, f in MESH_SEEDS.items()] + [(".stl", seed_stl_binary())]
+_MESH = [(ext, f()) for ext, f in MESH_SEEDS.items()] + [(".stl", seed_stl_binary()), (".ply", seed_ply_binary())]
 _ROBOT = list(ROBOT_SEEDS.items())
 _SETTINGS = settings(max_examples=150, deadline=None, derandomize=True,
                      suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])

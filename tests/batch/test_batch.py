@@ -32,7 +32,7 @@ from inertia.errors import InertiaError, InputError  # noqa: E402
 
 GOOD = ["ballA.off", "featuretype.stl", "idler_riser_binary_solid_header.stl", "wingnut.obj", "tray_bottom_ascii.stl"]
 BAD_SHARED = {"teapot_open.stl": "open_edges", "soup.stl": "open_edges", "cycloidal.ply": "non_manifold_edges"}
-BROKEN = {"empty.obj": "empty", "garbage.ply": "unreadable", "truncated.stl": "malformed",
+BROKEN = {"empty.obj": "empty", "garbage.ply": "malformed", "truncated.stl": "malformed",
           "nan_vertex.obj": "non_finite", "inward_cube.obj": "inverted"}
 
 

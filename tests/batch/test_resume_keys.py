@@ -103,7 +103,7 @@ def test_every_path_found_is_a_row_even_a_looping_or_dangling_link(folder, tmp_p
     assert summary.total == len(table) == 7
     rows = {os.path.basename(p): r for p, r in zip(table["path"], table.to_dict("records"))}
     assert rows["a.obj"]["reason"] == rows["b.obj"]["reason"] == "unreadable"
-    assert "symbolic links" in rows["a.obj"]["message"]
+    assert "symlink loop" in rows["a.obj"]["message"]
     assert rows["gone.stl"]["reason"] == "not_found"
 
 

@@ -46,7 +46,7 @@ def test_torque_free_rollout_follows_the_exact_elliptic_solution(method, tol):
     body = general_body(rng)
     x0 = random_states(rng, 1, spin=2.0)[0]
     traj = rollout(x0, None, 1e-3, 2000, body=body, method=method, save_every=500)
-    R_BP = body.R_body_principal
+    R_BP = np.array(body.R_body_principal)  # writable: scipy 1.11's from_matrix refuses read-only arrays
     q_WP0 = (from_wxyz(x0[Q_WORLD_BODY]) * Rotation.from_matrix(R_BP))
     q_ex, w_ex = exact_solution(body.moments, R_BP.T @ x0[OMEGA_BODY], np.arange(5) * 0.5, as_wxyz(q_WP0))
     w_B = w_ex @ R_BP.T

@@ -235,3 +235,16 @@ def test_text_that_does_not_decode_in_its_encoding_is_refused_naming_it(tmp_path
         inertia.mesh_file_properties(path, density=1.0)
     assert ei.value.code == "malformed" and str(ei.value).startswith(f"{path}: malformed ")
     assert f"the file starts as {codec.upper()} text but byte" in str(ei.value)
+
+
+def test_a_crossing_shell_swamped_by_a_far_vertex_is_refused_by_name(tmp_path):
+    # fuzz case (bench/fuzz.py, seed 11): a cube's faces reordered and a vertex moved to 1e20, so
+    # the solid the surface bounds once has zero volume in doubles: the crossing's effect has no
+    # scale (it was a ZeroDivisionError)
+    p = tmp_path / "far.obj"
+    p.write_bytes(b"v 0 0 0\nv 1 0 0\nf 5 6 7\nv 0 1 1e20\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf 1 3 2\n"
+                  b"f 1 4 3\nv 1 1 0\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\n"
+                  b"f 4 1 5\nf 4 5 8\n")
+    with pytest.raises(MeshError) as ei:
+        inertia.mesh_file_properties(p, density=1.0)
+    assert "self_intersecting" in str(ei.value) and "far.obj" in str(ei.value)

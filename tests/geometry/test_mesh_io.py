@@ -252,7 +252,7 @@ def test_unreadable_or_empty_files(tmp_path, name, content):
 def test_directory_is_not_a_file(tmp_path):
     d = tmp_path / "dir.stl"
     d.mkdir()
-    with pytest.raises(MeshFileError, match="not a file"):
+    with pytest.raises(MeshFileError, match="dir.stl: the mesh file is a folder, not a regular file"):
         load_mesh(d)
 
 

@@ -122,11 +122,55 @@ def test_bound_budget_reported():
     v, f = hull(200, 4)
     a = 0
     b = next(i for i in range(1, len(f)) if len(set(f[a]) & set(f[i])) == 2)
-    res = robust_integrals(v, np.delete(f, [a, b], axis=0), reference=ORIGIN, tol=1e-9)
-    assert not res.converged
-    assert res.codes[-1] == "bound_not_reached" and "did not reach" in res.findings[-1].message
+    seen = []
+    res = robust_integrals(v, np.delete(f, [a, b], axis=0), reference=ORIGIN, tol=1e-9,
+                           progress=lambda fraction, bound: seen.append((fraction, bound)))
+    assert not res.converged and res.stopped_by in ("octree limit", "depth limit", "piece budget")
+    assert res.codes[-1] == "bound_not_reached"
+    assert f"did not reach tol=1e-09 (stopped by the {res.stopped_by})" in res.findings[-1].message
     exact = solid_integrals(v, f, reference=ORIGIN)[0]
     assert abs(res.volume - exact) < 0.01 * exact
+    # the bound reached is the largest relative bound, and the last progress report says it
+    assert res.bound == max(res.bounds.values()) > 1e-9 and seen[-1] == (1.0, res.bound)
+    fractions = [x for x, _ in seen]
+    assert fractions == sorted(fractions) and 0 < fractions[0] and len(seen) >= 3
+
+
+def _loose_triangles(n, seed=0):
+    rng = np.random.default_rng(seed)
+    tri = rng.uniform(-1, 1, (n, 1, 3)) + rng.normal(scale=0.1, size=(n, 3, 3))
+    return tri.reshape(-1, 3), np.arange(3 * n).reshape(-1, 3)
+
+
+def test_a_soup_of_loose_triangles_is_bounded_in_work_and_honest():
+    """2,000 loose triangles (as many caps) once took minutes in the cap region's octree (every
+    cell against every cap); its work is now capped.  Truth: a triangle bounds no volume, and
+    w reaches 1/2 only on the triangles, so the solid is empty."""
+    import time
+
+    v, f = _loose_triangles(2000)
+    t0 = time.process_time()
+    res = robust_integrals(v, f, tol=1e-3)
+    assert time.process_time() - t0 < 60
+    assert abs(res.volume) <= res.bound_volume and not res.converged and res.stopped_by == "octree limit"
+
+
+def test_a_time_budget_ends_the_work_and_says_so():
+    v, f = _loose_triangles(400)
+    res = robust_integrals(v, f, tol=1e-3, time_budget=0.0)
+    assert res.stopped_by == "time budget" and not res.converged and abs(res.volume) <= res.bound_volume
+    assert any("stopped by the time budget" in d.message for d in res.findings)
+    with pytest.raises(InputError, match="time_budget must be a number of seconds >= 0"):
+        robust_integrals(v, f, time_budget=-1.0)
+
+
+def test_a_converged_result_has_no_stop_and_reports_its_bound():
+    _, v, f, truth = random_case(np.random.default_rng(0), "flat holes")
+    seen = []
+    res = robust_integrals(v, f, reference=ORIGIN, tol=1e-3,
+                           progress=lambda fraction, bound: seen.append((fraction, bound)))
+    assert res.converged and res.stopped_by is None and 0 < res.bound <= 1e-3 and within_bound(res, truth)
+    assert seen[-1] == (1.0, res.bound) and [x for x, _ in seen] == sorted(x for x, _ in seen)
 
 
 def test_derived_bounds_cover_com_and_inertia():

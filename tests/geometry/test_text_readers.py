@@ -2,8 +2,8 @@
 
 Truths: Python's ``float()`` (correctly rounded, as strtod) for every number; trimesh's own
 parsers for the triangles of made and real files; closed-form volumes for polygons, solids
-and relative indices; MuJoCo for quadrilaterals split along their shorter diagonal; and a
-line-by-line reading of the grammar in plain Python (``tests/geometry/_text_oracle.py``:
+and relative indices; MuJoCo for quadrilaterals split along their shorter diagonal and for its
+triangulation of polygons; and a line-by-line reading of the grammar in plain Python (``tests/geometry/_text_oracle.py``:
 ``bytes.split`` and ``float()``), which the compiled readers must match array for array, and
 error for error, on valid and mutated files.
 """
@@ -373,14 +373,91 @@ def test_quads_split_along_the_shorter_diagonal_as_mujoco_does(tmp_path):
             "f " + " ".join(str(i + 1) for i in q) + "\n" for q in [top] + sides)
         path = tmp_path / f"{name}.obj"
         path.write_text(text)
-        for quads in ("fan", "shorter"):
-            v, f = read_obj(np.frombuffer(text.encode(), dtype=np.uint8), path, quads=quads)
+        for polygons in ("fan", "shorter", "mujoco"):
+            v, f = read_obj(np.frombuffer(text.encode(), dtype=np.uint8), path, polygons=polygons)
             t = v[f]
-            volumes[name, quads] = float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6)
-    assert volumes["a", "shorter"] == pytest.approx(1.1, abs=1e-14) == volumes["b", "shorter"]
+            volumes[name, polygons] = float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6)
+    assert volumes["a", "shorter"] == pytest.approx(1.1, abs=1e-14) == volumes["b", "shorter"] == volumes["a", "mujoco"]
     assert {round(volumes["a", "fan"], 12), round(volumes["b", "fan"], 12)} == {1.2, 1.1}
     mujoco = pytest.importorskip("mujoco")
     model = mujoco.MjModel.from_xml_string(
         f'<mujoco><compiler meshdir="{tmp_path}"/><asset><mesh name="m" file="a.obj" inertia="exact"/></asset>'
         '<worldbody><body><freejoint/><geom type="mesh" mesh="m" density="1"/></body></worldbody></mujoco>')
     assert model.body_mass[1] == pytest.approx(volumes["a", "shorter"], rel=1e-7)
+
+
+def _mujoco_faces(tmp_path, text: str) -> list:
+    """The triangles MuJoCo's compiler holds for an OBJ, each from its smallest vertex, sorted."""
+    mujoco = pytest.importorskip("mujoco")
+    (tmp_path / "p.obj").write_text(text)
+    m = mujoco.MjModel.from_xml_string(
+        f'<mujoco><compiler meshdir="{tmp_path}"/><asset><mesh name="p" file="p.obj" inertia="shell"/></asset>'
+        '<worldbody><geom type="mesh" mesh="p"/></worldbody></mujoco>')
+    return _rotated(m.mesh_face[m.mesh_faceadr[0]:m.mesh_faceadr[0] + m.mesh_facenum[0]])
+
+
+def _rotated(faces) -> list:
+    return sorted(tuple(t[t.index(min(t)):] + t[:t.index(min(t))]) for t in np.asarray(faces).tolist())
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_polygons_are_triangulated_as_mujoco_reads_them(tmp_path, seed):
+    """polygons="mujoco" against the triangles MuJoCo's compiler holds for the same OBJ, triangle
+    for triangle: prisms over star-shaped or self-crossing n-gons (5 to 150 vertices; its reader
+    ear-clips 5 to 100 with a test that depends on the origin, leaves some polygons half cut and
+    drops faces of more than 100), tilted or not, around the origin or away from it."""
+    rng = np.random.default_rng(seed)
+    n = [5, 6, 9, 30, 49, 99, 100, 101, 150, 7, 12, 60][seed]
+    k = np.arange(n)
+    angle = np.sort(rng.uniform(0, 2 * np.pi, n)) if seed % 2 else 2 * np.pi * k / n + 0.1 * np.sin(3 * k)
+    r = 1 + (0.5 if seed % 4 < 2 else 0.0) * rng.uniform(-1, 1, n)
+    R = np.linalg.qr(rng.standard_normal((3, 3)))[0] if seed % 3 == 0 else np.eye(3)
+    ring = np.c_[r * np.cos(angle), 0.7 * r * np.sin(angle), np.zeros(n)] @ R.T + rng.uniform(-3, 3, 3) * (seed % 5 > 1)
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in np.vstack([ring, ring + 0.5 * R[:, 2]])]
+    lines += ["f " + " ".join(str(i + 1) for i in k[::-1]), "f " + " ".join(str(n + i + 1) for i in k)]
+    lines += [f"f {i + 1} {(i + 1) % n + 1} {n + (i + 1) % n + 1} {n + i + 1}" for i in k]
+    text = "\n".join(lines) + "\n"
+    v, f = _read(read_obj, text.encode(), polygons="mujoco")
+    assert _rotated(f) == _mujoco_faces(tmp_path, text)
+    assert len(v) == 2 * n
+
+
+@pytest.mark.parametrize("separator", ["o a", "g a", "g   ", "o\tb"])
+def test_mujoco_reads_the_first_obj_group_with_triangles(tmp_path, separator):
+    """MuJoCo keeps the faces of its reader's first shape: up to the first `o` or `g` line (with a
+    space or tab after the letter) that follows triangles; a group whose faces it all dropped
+    (here a 120-gon) does not count; a bare `g` starts no group.  Truth: MuJoCo's triangles."""
+    cube = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    lines = [f"v {x + 3 * j} {y} {z}" for j in range(3) for x, y, z in cube]
+    lines += [f"v {np.cos(a) + 10} {np.sin(a)} 0" for a in np.linspace(0, 2 * np.pi, 120, endpoint=False).tolist()]
+
+    def faces(j):
+        return ["f " + " ".join(str(i + 1 + 8 * j) for i in q) for q in quads]
+
+    dropped = "f " + " ".join(str(25 + i) for i in range(120))
+    text = "\n".join(lines + [separator, dropped, separator, "g"] + faces(0) + [separator] + faces(1) + faces(2)) + "\n"
+    v, f = _read(read_obj, text.encode(), polygons="mujoco")
+    assert _rotated(f) == _mujoco_faces(tmp_path, text)
+    assert len(f) == 12 and f.max() < 8 and len(v) == 24 + 120
+    assert len(_read(read_obj, text.encode())[1]) == 3 * 12 + 118
+
+
+def test_mujoco_triangulation_reads_mutated_files_as_the_fan_does():
+    """Mutated OBJ files with polygons, groups and coordinates beyond float's range: polygons="mujoco"
+    refuses what the fan reading refuses, with the same message, and otherwise reads the same
+    vertices and no more triangles, all indexing them."""
+    ring = [f"v {np.cos(a)!r} {np.sin(a)!r} {z}" for z in (0, 1) for a in np.linspace(0, 6.28, 12, endpoint=False).tolist()]
+    seed = "\n".join(ring + ["o a", "f " + " ".join(map(str, range(1, 13))), "g b", "f " + " ".join(map(str, range(13, 25))),
+                             "f 1 2 14 13", "f -1 -2 -3 -4 -5", "v 1e39 -1e39 nan", "f 1 2 25"]).encode() + b"\n"
+    rng = random.Random(5)
+    for _ in range(2000):
+        text = mutate_any(seed, rng)
+        fan, mujoco = _outcome(read_obj, text), None
+        try:
+            mujoco = _read(read_obj, text, polygons="mujoco")
+        except MeshFileError as exc:
+            assert (exc.code, str(exc)) == fan
+            continue
+        (v, f), (v0, f0) = mujoco, fan
+        assert np.array_equal(v, v0, equal_nan=True) and len(f) <= len(f0) and (len(f) == 0 or 0 <= f.min() <= f.max() < len(v))

@@ -294,7 +294,7 @@ def test_mass_units_convert_at_the_edge(tmp_path, capsys):
     code, out, _ = _run(capsys, "check", urdf, "--format", "json", "--mass-units", "g")
     assert code == 0
     model = read_robot(urdf)
-    from inertia.cli.check import scale_masses
+    from inertia.cli.props_robot import scale_masses
 
     scale_masses(model, 1e-3)
     assert model.link("a").inertial.mass == 2.0

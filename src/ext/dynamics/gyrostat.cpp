@@ -14,9 +14,9 @@
 //   [p_world, v_world, q_world_P, omega_P, h_w].
 #include <algorithm>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "common/parallel.hpp"
 #include "dynamics/gyrostat.hpp"
 #include "dynamics/kernels.hpp"
 
@@ -228,11 +228,6 @@ size_t wheels_of(size_t state_cols) {
     return state_cols - 13;
 }
 
-void check_rows(size_t got, size_t N, const char *what) {
-    if (!(got == 1 || got == N))
-        input_error(std::string(what) + " has " + std::to_string(got) + " rows, expected 1 or " + std::to_string(N));
-}
-
 void check_plant(const In2<double> &plant, size_t n, size_t N) {
     check_rows(plant.shape(0), N, "plant");
     check_length(plant.shape(1), plant_cols(n), "plant (axis 1)");
@@ -260,27 +255,19 @@ void gyro_rollout(int method, In2<double> x0, In2<double> plant, In2<double> con
     check_length(gravity.shape(0), 3, "gravity");
     if (!(h > 0.0) || !std::isfinite(h)) input_error("h must be positive and finite, got " + std::to_string(h));
     if (substeps < 1) input_error("substeps must be >= 1, got " + std::to_string(substeps));
-    if (n_steps < 0 || save_every < 0) input_error("n_steps and save_every must be >= 0");
-    if (save_every > 0 && n_steps % save_every) input_error("n_steps must be a multiple of save_every");
-    const size_t S = save_every > 0 ? static_cast<size_t>(n_steps / save_every) + 1 : 1;
+    const size_t S = saved_states(n_steps, save_every, threads);
     check_length(out.shape(0), S, "out");
     check_length(out.shape(1), N, "out (axis 1)");
     check_length(out.shape(2), 13 + n, "out (axis 2)");
     check_length(tilt.shape(0), S, "tilt");
     check_length(tilt.shape(1), N, "tilt (axis 1)");
-    if (threads < 1) input_error("threads must be >= 1, got " + std::to_string(threads));
     if (N == 0) return;
     const Job J{x0.data(), plant.data(), control.data(), gravity.data(), N, plant.shape(0), control.shape(0),
                 h, substeps, n_steps, save_every, out.data(), tilt.data()};
-    const size_t chunks = (N + CHUNK - 1) / CHUNK, workers = std::min(chunks, static_cast<size_t>(threads));
     with_gyro_method(method, [&](auto M) {
         with_wheels(n, [&](auto W) {
             auto run = run_chunks<decltype(M)::value, decltype(W)::value>;
-            std::vector<std::thread> pool;
-            for (size_t k = 1; k < workers; ++k)
-                pool.emplace_back(run, std::cref(J), chunks * k / workers, chunks * (k + 1) / workers);
-            run(J, 0, chunks / workers);
-            for (auto &th : pool) th.join();
+            parallel_for((N + CHUNK - 1) / CHUNK, threads, 1, [&](size_t c0, size_t c1) { run(J, c0, c1); });
         });
     });
 }

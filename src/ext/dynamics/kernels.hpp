@@ -1,6 +1,7 @@
 // The kernels of inertia._ext.dynamics, bound in bind.cpp.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <tuple>
 
 #include "common/arrays.hpp"
@@ -21,6 +22,21 @@ using Failure = std::tuple<int64_t, int64_t, int, double>;
 
 // InputError unless 0 <= method < METHOD_COUNT.
 void check_method(int method);
+
+// A batch input of `got` rows for N bodies: 1 (shared) or N (0 too when zero_ok).
+inline void check_rows(size_t got, size_t N, const char *what, bool zero_ok = false) {
+    if (!(got == 1 || got == N || (zero_ok && got == 0)))
+        input_error(std::string(what) + " has " + std::to_string(got) + " rows, expected 1 or " + std::to_string(N));
+}
+
+// The states a rollout saves (n_steps / save_every + 1, or 1 when save_every is 0), its step
+// counts and thread count checked.
+inline size_t saved_states(int64_t n_steps, int64_t save_every, int threads) {
+    if (n_steps < 0 || save_every < 0) input_error("n_steps and save_every must be >= 0");
+    if (save_every > 0 && n_steps % save_every) input_error("n_steps must be a multiple of save_every");
+    if (threads < 1) input_error("threads must be >= 1, got " + std::to_string(threads));
+    return save_every > 0 ? static_cast<size_t>(n_steps / save_every) + 1 : 1;
+}
 
 Failure advance(int method, OutNK<4> q, OutNK<3> m, InNK<3> moments, InNK<3> torque, In1<int64_t> counts,
                 In1<double> hs, In1<int64_t> slots, OutRNK<4> qs, OutRNK<3> ws, bool stop_if_not_finite);

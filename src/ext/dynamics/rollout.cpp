@@ -3,12 +3,12 @@
 // explicit methods; the implicit ones iterate Newton per body in the same layout).  Every body
 // runs the same code: the last chunk is padded to a multiple of LANES with copies of its last
 // body, so a body's bits do not depend on the batch size, its position or the thread count.
-// Disjoint whole chunks run on std::thread.
+// Disjoint whole chunks run on threads (parallel_for).
 #include <algorithm>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "common/parallel.hpp"
 #include "dynamics/kernels.hpp"
 #include "dynamics/steps.hpp"
 
@@ -189,35 +189,23 @@ void rollout(int method, InNK<13> x0, InU u, InNK<3> moments, In1<double> mass, 
              Out1<int64_t> status) {
     check_method(method);
     const size_t N = x0.shape(0), T = u.shape(0), Nu = u.shape(1), Nb = moments.shape(0), Nf = frame.shape(0);
-    auto one_or_all = [&](size_t got, const char *what, bool zero_ok = false) {
-        if (!(got == 1 || got == N || (zero_ok && got == 0)))
-            input_error(std::string(what) + " has " + std::to_string(got) + " rows, expected 1 or " + std::to_string(N));
-    };
-    if (n_steps < 0 || save_every < 0) input_error("n_steps and save_every must be >= 0");
-    if (save_every > 0 && n_steps % save_every) input_error("n_steps must be a multiple of save_every");
+    const size_t S = saved_states(n_steps, save_every, threads);
     if (!(T == 1 || T == static_cast<size_t>(n_steps))) input_error("u must hold 1 or n_steps inputs");
-    one_or_all(Nu, "u (axis 1)");
-    one_or_all(Nb, "moments");
-    one_or_all(Nf, "frame", true);
+    check_rows(Nu, N, "u (axis 1)");
+    check_rows(Nb, N, "moments");
+    check_rows(Nf, N, "frame", true);
     check_length(mass.shape(0), Nb, "mass");
     check_length(gravity.shape(0), 3, "gravity");
-    const size_t S = save_every > 0 ? static_cast<size_t>(n_steps / save_every) + 1 : 1;
     check_length(out.shape(0), S, "out");
     check_length(out.shape(1), N, "out (axis 1)");
     check_length(status.shape(0), N, "status");
-    if (threads < 1) input_error("threads must be >= 1, got " + std::to_string(threads));
     if (N == 0) return;
     for (size_t i = 0; i < N; ++i) status(i) = -1;
     const Job J{x0.data(), u.data(), moments.data(), mass.data(), frame.data(), gravity.data(), N, T, Nu, Nb,
                 Nf, h, n_steps, save_every, out.data(), status.data()};
-    const size_t chunks = (N + CHUNK - 1) / CHUNK, workers = std::min(chunks, static_cast<size_t>(threads));
     with_method(method, [&](auto M) {
         auto run = body_force ? run_chunks<decltype(M)::value, true> : run_chunks<decltype(M)::value, false>;
-        std::vector<std::thread> pool;
-        for (size_t k = 1; k < workers; ++k) pool.emplace_back(run, std::cref(J), chunks * k / workers,
-                                                               chunks * (k + 1) / workers);
-        run(J, 0, chunks / workers);
-        for (auto &th : pool) th.join();
+        parallel_for((N + CHUNK - 1) / CHUNK, threads, 1, [&](size_t c0, size_t c1) { run(J, c0, c1); });
     });
 }
 

@@ -1,16 +1,14 @@
 // Bindings of the integrals family (inertia._ext.integrals): mesh integrals, the clean-solid
-// pass, winding numbers.  Outputs are allocated with the GIL held; the kernels run without it.
+// pass.  Outputs are allocated with the GIL held; the kernels run without it.
 #include <nanobind/stl/optional.h>
 
 #include "common/arrays.hpp"
 #include "integrals/clean_solid.hpp"
 #include "integrals/sums.hpp"
-#include "integrals/winding.hpp"
 
 namespace {
 
 using namespace inertia;
-using Triangles = nb::ndarray<const double, nb::shape<-1, 3, 3>, nb::c_contig, nb::device::cpu>;
 using Adjacency = OutN3<int64_t>;
 
 V3 point3(const In1<double> &p, const char *what) {
@@ -32,7 +30,6 @@ auto sums(const Vertices &v, const Faces &f, const In1<double> &p) {
 }  // namespace
 
 void bind_integrals(nb::module_ &m) {
-    m.attr("STAR_RTOL") = STAR_RTOL;
     m.attr("SUM_BLOCK") = SUM_BLOCK;
     m.attr("SUM_CHUNK") = SUM_CHUNK;
     m.def("bbox_center", [](const Vertices &v) {
@@ -67,12 +64,4 @@ void bind_integrals(nb::module_ &m) {
         "One closed, consistently wound, outward, non-degenerate shell?  Its (15,) sums (10 volume sums "
         "about p, 2 x area, p (3), 1 if proved star-shaped from p) or None; adj (F, 3) int64 receives each "
         "edge's twin face when the shell is not proved star-shaped.");
-    m.def("winding_numbers", [](const InN3<double> &points, const Triangles &tri) {
-        auto out = new_vector<double>(points.shape(0));
-        {
-            nb::gil_scoped_release unlocked;
-            winding_numbers(points.data(), points.shape(0), tri.data(), tri.shape(0), out.data());
-        }
-        return out;
-    }, nb::arg("points"), nb::arg("tri"), "Generalized winding numbers (P,) of triangles (T, 3, 3) at points (P, 3).");
 }

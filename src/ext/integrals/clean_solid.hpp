@@ -12,10 +12,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "integrals/buffer.hpp"
-#include "integrals/star.hpp"
+#include "common/buffer.hpp"
+#include "common/star.hpp"
+#include "common/union_find.hpp"
 #include "integrals/sums.hpp"
-#include "integrals/union_find.hpp"
 
 namespace inertia {
 
@@ -95,10 +95,8 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     if (nf < 4 || nv < 4 || nv >= (size_t(1) << 31) || 4 * nf >= (size_t(1) << 31)) return false;
     const int64_t n = static_cast<int64_t>(nv);
     // 1. half-edges a -> b are filed under min(a, b): how many under each vertex (at end[min + 1])
-    Buffer<int32_t> end = scratch<int32_t>(nv + 1);
-    Buffer<uint8_t> used = scratch<uint8_t>(nv);
-    std::fill(end.get(), end.get() + nv + 1, 0);
-    std::fill(used.get(), used.get() + nv, 0);
+    Vec<int32_t> end(nv + 1, 0);
+    Vec<uint8_t> used(nv, 0);
     for (size_t t = 0; t < nf; ++t) {
         const int64_t a = faces[3 * t], b = faces[3 * t + 1], c = faces[3 * t + 2];
         if (a < 0 || a >= n || b < 0 || b >= n || c < 0 || c >= n) return false;
@@ -122,7 +120,7 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     for (size_t i = 0; i < nv; ++i) end[i + 1] += end[i];  // end[i]: where vertex i's list starts
     // 3. per face: area check, volume sums, star certificate, half-edge filing (end[i] moves to
     // the end of vertex i's list)
-    Buffer<detail::HalfEdge> he = scratch<detail::HalfEdge>(3 * nf);
+    Vec<detail::HalfEdge> he(3 * nf);
     const bool prefetch = nv >= PREFETCH_MIN_ROWS;
     m4 not_star = {}, through = {};  // lanes: some face off or grazed; -(faces the ray leaves through)
     const bool ok = blocked_sum<11>(nf, out, [&](size_t i, size_t m, d4 *t) INERTIA_INLINE {
@@ -163,14 +161,14 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     // of faces that all see p strictly inside has winding number >= 1 about p, and a ray leaves
     // it that many times, so one exit means one component.  Otherwise the faces of each edge are
     // joined by union-find: one component when F - 1 joins merged two.
-    const bool star_shaped = !any(not_star) && through[0] + through[1] + through[2] + through[3] == -1;
+    const bool star_shaped = !any(not_star) && true_count(through) == 1;
     if (star_shaped) {
-        if (detail::match_edges<false, false>(end.get(), nv, he.get(), nullptr, nullptr) < 0) return false;
+        if (detail::match_edges<false, false>(end.data(), nv, he.data(), nullptr, nullptr) < 0) return false;
     } else {
-        Buffer<int32_t> parent = scratch<int32_t>(nf);
+        Vec<int32_t> parent(nf);
         for (size_t t = 0; t < nf; ++t) parent[t] = int32_t(t);
-        const int64_t merged = adj ? detail::match_edges<true, true>(end.get(), nv, he.get(), parent.get(), adj)
-                                   : detail::match_edges<true, false>(end.get(), nv, he.get(), parent.get(), adj);
+        const int64_t merged = adj ? detail::match_edges<true, true>(end.data(), nv, he.data(), parent.data(), adj)
+                                   : detail::match_edges<true, false>(end.data(), nv, he.data(), parent.data(), adj);
         if (merged != int64_t(nf) - 1) return false;
     }
     out[11] = p.x;

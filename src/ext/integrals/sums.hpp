@@ -9,10 +9,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <string>
 
-#include "common/errors.hpp"
-#include "integrals/vec3.hpp"
+#include "common/arrays.hpp"
+#include "common/vec3.hpp"
 
 namespace inertia {
 
@@ -46,14 +45,6 @@ bool blocked_sum(size_t nf, double *out, Quad &&quad) {
         for (size_t k = 0; k < K; ++k) out[k] += chunk[k];
     }
     return true;
-}
-
-// Corner k of the m faces f[0..3m) (indices checked), minus p, one lane per face (lanes past m: 0).
-inline V3x4 corners(const double *v, const int64_t *f, size_t m, int k, const V3 &p) {
-    const double *r[4];
-    for (size_t l = 0; l < 4; ++l) r[l] = l < m ? v + 3 * f[3 * l + k] : &p.x;
-    return {d4{r[0][0], r[1][0], r[2][0], r[3][0]} - p.x, d4{r[0][1], r[1][1], r[2][1], r[3][1]} - p.y,
-            d4{r[0][2], r[1][2], r[2][2], r[3][2]} - p.z};
 }
 
 // Ask for the rows of the m faces f[0..3m) ahead of their use: their gathers miss the cache on
@@ -100,12 +91,6 @@ inline V3 bbox_center(const double *v, size_t nv) {
     return {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z)};
 }
 
-// InputError naming face i, whose corners f[0..3) are not all in [0, nv).
-[[noreturn]] inline void bad_face(size_t i, const int64_t *f, size_t nv) {
-    input_error("face " + std::to_string(i) + " = [" + std::to_string(f[0]) + ", " + std::to_string(f[1]) + ", " +
-                std::to_string(f[2]) + "] holds a vertex index outside [0, " + std::to_string(nv) + ")");
-}
-
 // Unscaled sums about p into out[10]: the solid's (w = det = a . ((b - a) x (c - a)), divide by
 // 6, 24, 120) or the shell's (w = |(b - a) x (c - a)|, divide by 2, 6, 24); a, b, c the corners
 // minus p.  The edge form of det keeps its error relative to |a| |n|, not |a| |b| |c|.
@@ -117,7 +102,7 @@ void mesh_sums(const double *v, size_t nv, const int64_t *faces, size_t nf, cons
         const int64_t *f = faces + 3 * i;
         if (prefetch && i + PREFETCH_FACES + 4 <= nf) prefetch_rows(v, f + 3 * PREFETCH_FACES, 4);
         for (size_t j = 0; j < 3 * m; ++j)
-            if (f[j] < 0 || f[j] >= n) bad_face(i + j / 3, f + j - j % 3, nv);
+            if (f[j] < 0 || f[j] >= n) check_faces(faces, nf, nv);  // throws, naming the first bad index
         const V3x4 a = corners(v, f, m, 0, p), b = corners(v, f, m, 1, p), c = corners(v, f, m, 2, p);
         const V3x4 nrm = cross(b - a, c - a);
         add_moments(t, Shell ? sqrt4(dot(nrm, nrm)) : dot(a, nrm), a, b, c);

@@ -92,8 +92,7 @@ struct CapArrays {
             bool crossed = false;
             for (int64_t f = face_ptr[j]; f < face_ptr[j + 1]; ++f) {
                 if (box_distance(x, face_lo + 3 * f, face_hi + 3 * f) <= rho) crossed = true;
-                w += CM[f] *
-                     solid_angle(CV + 3 * CF[3 * f], CV + 3 * CF[3 * f + 1], CV + 3 * CF[3 * f + 2], x[0], x[1], x[2]);
+                w += CM[f] * solid_angle(CV + 3 * CF[3 * f], CV + 3 * CF[3 * f + 1], CV + 3 * CF[3 * f + 2], row(x));
             }
             w /= FOUR_PI;
             const double g = loop_gradient(x, rho, edge_ptr[j], edge_ptr[j + 1]);

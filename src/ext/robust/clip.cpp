@@ -621,13 +621,13 @@ Arr1 winding_excluding(InN3<double> pts, In1<int64_t> owner, Vertices V, Faces F
         const int64_t *ptr = cut_ptr.data(), *idx = cut_idx.data(), *type = tr_type.data();
         parallel_for(n, threads, 1 + 100000 / (m.nf + 1), [&](size_t i0, size_t i1) {
             for (size_t i = i0; i < i1; ++i) {
-                const double* x = pts.data() + 3 * i;
+                const V3 x = row(pts.data(), int64_t(i));
                 const int64_t o = owner.data()[i];
                 double s = 0.0;
                 for (size_t f = 0; f < m.nf; ++f)
-                    if (int64_t(f) != o) s += m.M[f] * solid_angle(m, int64_t(f), x[0], x[1], x[2]);
+                    if (int64_t(f) != o) s += m.M[f] * solid_angle(m, int64_t(f), x);
                 for (int64_t k = ptr[o]; k < ptr[o + 1]; ++k)
-                    if (type[k] == 2) s -= m.M[idx[k]] * solid_angle(m, idx[k], x[0], x[1], x[2]);
+                    if (type[k] == 2) s -= m.M[idx[k]] * solid_angle(m, idx[k], x);
                 out[i] = s / FOUR_PI;
             }
         });

@@ -414,10 +414,10 @@ nb::ndarray<nb::numpy, double, nb::ndim<1>> winding_rest(InN3<double> pts, In1<i
         const int64_t* o = owner.data();
         parallel_for(n, threads, 1 + 100000 / (m.nf + 1), [&](size_t i0, size_t i1) {
             for (size_t i = i0; i < i1; ++i) {
+                const V3 x = row(P, int64_t(i));
                 double s = 0.0;
                 for (size_t f = 0; f < m.nf; ++f)
-                    if (int64_t(f) != o[i])
-                        s += m.M[f] * solid_angle(m, int64_t(f), P[3 * i], P[3 * i + 1], P[3 * i + 2]);
+                    if (int64_t(f) != o[i]) s += m.M[f] * solid_angle(m, int64_t(f), x);
                 out[i] = s / FOUR_PI;
             }
         });

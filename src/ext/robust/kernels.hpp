@@ -1,20 +1,19 @@
 // Shared pieces of the robust family (inertia._ext.robust): the mesh view, solid angles and
-// tetrahedron sums, index checks, fixed-partition threads and vectors handed to NumPy.
+// tetrahedron sums, the CSR check.
 // Conventions: triangles are index triples into V (N, 3); `eps` is a length; every
 // intersection test is conservative (true = "may cut" within eps), so that false is safe.
 #pragma once
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <exception>
-#include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "common/arrays.hpp"
+#include "common/parallel.hpp"
+#include "common/solid_angle.hpp"
+#include "common/vec3.hpp"
 
 namespace inertia::robust {
 
@@ -24,56 +23,7 @@ constexpr double TWO_PI = 2.0 * PI;
 constexpr double INF = INFINITY;
 
 template <class T>
-using In3x3 = nb::ndarray<const T, nb::shape<-1, 3, 3>, nb::c_contig, nb::device::cpu>;
-template <class T>
 using InN4 = nb::ndarray<const T, nb::shape<-1, 4>, nb::c_contig, nb::device::cpu>;
-template <class T>
-using OutN3 = nb::ndarray<T, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
-
-// A std::vector handed to NumPy without a copy (the capsule owns it).
-template <class T, size_t N>
-nb::ndarray<nb::numpy, T, nb::ndim<N>> to_numpy(std::vector<T>&& v, const size_t (&shape)[N]) {
-    if (v.empty()) v.reserve(1);
-    auto* owned = new std::vector<T>(std::move(v));
-    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-    return nb::ndarray<nb::numpy, T, nb::ndim<N>>(owned->data(), N, shape, owner);
-}
-
-// Items 0..n-1 in fixed contiguous ranges, one per thread (threads <= 0: one per core; fewer
-// when a range would hold less than `grain` items).  Callers write per-item slots only, so the
-// result does not depend on the number of threads.
-template <class Fn>
-void parallel_for(size_t n, int threads, size_t grain, Fn&& fn) {
-    size_t t = threads > 0 ? size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
-    t = std::min(t, (n + grain - 1) / std::max<size_t>(grain, 1));
-    if (t <= 1) {
-        if (n) fn(size_t(0), n);
-        return;
-    }
-    std::exception_ptr err;
-    std::mutex mu;
-    auto run = [&](size_t k) {
-        try {
-            fn(n * k / t, n * (k + 1) / t);
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(mu);
-            if (!err) err = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    for (size_t k = 1; k < t; ++k) pool.emplace_back(run, k);
-    run(0);
-    for (auto& th : pool) th.join();
-    if (err) std::rethrow_exception(err);
-}
-
-// Every a[i] in [lo, hi), else InputError naming the array, the row and the value.
-inline void check_range(const int64_t* a, size_t n, int64_t lo, int64_t hi, const char* what) {
-    for (size_t i = 0; i < n; ++i)
-        if (a[i] < lo || a[i] >= hi)
-            input_error(std::string(what) + "[" + std::to_string(i) + "] = " + std::to_string(a[i]) + " is outside [" +
-                        std::to_string(lo) + ", " + std::to_string(hi) + ")");
-}
 
 // A CSR pointer of `rows` rows over `items` entries: starts at 0, never decreases, ends at items.
 inline void check_ptr(const int64_t* ptr, size_t len, size_t rows, size_t items, const char* what) {
@@ -103,32 +53,8 @@ inline Mesh mesh_of(const Vertices& V, const Faces& F, const In1<double>* M = nu
     return {V.data(), F.data(), M ? M->data() : nullptr, V.shape(0), F.shape(0)};
 }
 
-inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline void cross(const double* u, const double* v, double* n) {
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-}
-inline void sub(const double* a, const double* b, double* out) {
-    for (int c = 0; c < 3; ++c) out[c] = a[c] - b[c];
-}
-inline double norm(const double* a) { return std::sqrt(dot(a, a)); }
-
-// Van Oosterom-Strackee solid angle of the triangle (a, b, c) - p (positive from behind):
-// tan(Omega / 2) = a . (b x c) / (|a||b||c| + (a.b)|c| + (b.c)|a| + (c.a)|b|).
-inline double solid_angle(const double* A, const double* B, const double* C, double px, double py, double pz) {
-    const double ax = A[0] - px, ay = A[1] - py, az = A[2] - pz;
-    const double bx = B[0] - px, by = B[1] - py, bz = B[2] - pz;
-    const double cx = C[0] - px, cy = C[1] - py, cz = C[2] - pz;
-    const double la = std::sqrt(ax * ax + ay * ay + az * az), lb = std::sqrt(bx * bx + by * by + bz * bz),
-                 lc = std::sqrt(cx * cx + cy * cy + cz * cz);
-    const double det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-    const double den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la +
-                       (cx * ax + cy * ay + cz * az) * lb;
-    return 2.0 * std::atan2(det, den);
-}
-inline double solid_angle(const Mesh& m, int64_t f, double px, double py, double pz) {
-    return solid_angle(m.at(f, 0), m.at(f, 1), m.at(f, 2), px, py, pz);
+inline double solid_angle(const Mesh& m, int64_t f, const V3& p) {
+    return solid_angle(m.at(f, 0), m.at(f, 1), m.at(f, 2), p);
 }
 
 // acc (10,) += weight x the signed tetrahedron (0, a, b, c) integrals times 6, 24 (x3), 120 (x6):

@@ -2,6 +2,7 @@
 // counting sort, no hash table): repeated faces merged with a multiplicity, certified
 // vertices, the face across each manifold edge, boundary edges, patches of uncut faces;
 // and the weighted sums of signed tetrahedra.
+#include "common/union_find.hpp"
 #include "robust/kernels.hpp"
 
 namespace inertia::robust {
@@ -356,17 +357,6 @@ nb::tuple vertex_pass(Vertices V, Faces F, In1<double> M, In1<int64_t> verts, Ou
                           to_numpy(std::move(emult), {ne}));
 }
 
-int64_t find_root(std::vector<int64_t>& parent, int64_t x) {
-    int64_t r = x;
-    while (parent[r] != r) r = parent[r];
-    while (parent[x] != r) {
-        const int64_t y = parent[x];
-        parent[x] = r;
-        x = y;
-    }
-    return r;
-}
-
 // Patches of uncut faces joined across nbr (vertex_pass): labels (F,) in 0..n-1 (cut faces
 // alone in theirs), n, and per patch the uncut face of largest area (-1 if none).
 nb::tuple patch_reps(Vertices V, Faces F, In2<int64_t> nbr, In1<bool> cut) {
@@ -387,17 +377,12 @@ nb::tuple patch_reps(Vertices V, Faces F, In2<int64_t> nbr, In1<bool> cut) {
             if (cu[f]) continue;
             for (int e = 0; e < 3; ++e) {
                 const int64_t g = nb_[3 * f + e];
-                if (g < 0 || cu[g]) continue;
-                const int64_t rf = find_root(parent, int64_t(f)), rg = find_root(parent, g);
-                if (rf < rg)
-                    parent[rg] = rf;
-                else if (rg < rf)
-                    parent[rf] = rg;
+                if (g >= 0 && !cu[g]) union_low(parent.data(), int64_t(f), g);
             }
         }
         int64_t n = 0;
         for (size_t f = 0; f < nf; ++f) {
-            const int64_t r = find_root(parent, int64_t(f));
+            const int64_t r = find_root(parent.data(), int64_t(f));
             labels[f] = r == int64_t(f) ? n++ : labels[r];
         }
         reps.assign(size_t(n), -1);

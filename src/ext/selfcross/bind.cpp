@@ -10,29 +10,20 @@
 #include <utility>
 
 #include "common/arrays.hpp"
+#include "common/star.hpp"
 #include "selfcross/search.hpp"
-#include "selfcross/star.hpp"
 #include "selfcross/winding.hpp"
 
 using namespace inertia;
 using namespace inertia::selfcross;
 using namespace nb::literals;
-using Triangles = nb::ndarray<const double, nb::shape<-1, 3, 3>, nb::c_contig, nb::device::cpu>;
 using Pair = std::optional<std::pair<int64_t, int64_t>>;
 
 namespace {
 
-// Every a[i] in 0..limit-1: a vectorised min/max pass (the loops that name a bad entry run
-// only when there is one).
-bool all_below(const int64_t *a, size_t n, int64_t limit) {
-    int64_t lo = 0, hi = -1;
-    for (size_t i = 0; i < n; ++i) lo = std::min(lo, a[i]), hi = std::max(hi, a[i]);
-    return lo >= 0 && hi < limit;
-}
-
 // The faces' vertex numbers, and the sizes the kernels' 32-bit face and vertex numbers hold.
 void checked_faces(const Faces &F, size_t n_vertices, const char *what = "faces", bool renumbered = false) {
-    if (!all_below(F.data(), 3 * F.shape(0), int64_t(n_vertices))) check_faces(F.data(), F.shape(0), n_vertices, what);
+    check_faces(F.data(), F.shape(0), n_vertices, what);
     if (F.shape(0) >= (size_t(1) << 29) || (n_vertices >= (size_t(1) << 31) && !renumbered))
         input_error(std::string(what) + ": at most 2^29 faces and 2^31 - 1 vertices");
 }
@@ -41,13 +32,8 @@ void checked_faces(const Faces &F, size_t n_vertices, const char *what = "faces"
 const int64_t *checked_twins(const InN3<int64_t> &twins, size_t nf, size_t limit) {
     if (twins.shape(0) == 0) return nullptr;
     check_length(twins.shape(0), nf, "twins");
-    const int64_t *a = twins.data();
-    const bool ok = all_below(a, 3 * nf, int64_t(limit));
-    for (size_t i = 0; !ok && i < 3 * nf; ++i)
-        if (a[i] < 0 || a[i] >= int64_t(limit))
-            input_error("twins[" + std::to_string(i / 3) + ", " + std::to_string(i % 3) + "] = " +
-                        std::to_string(a[i]) + " names no face (there are " + std::to_string(nf) + ")");
-    return a;
+    check_index_rows(twins.data(), nf, limit, "twins", "face", nf);
+    return twins.data();
 }
 
 template <class A>
@@ -90,7 +76,7 @@ void bind_selfcross(nb::module_ &m) {
           "A pair (i < j) of faces of the closed shell that cross, or None.  twins: the face across each edge\n"
           "(face_twins), or no rows.  prove_cells=False: every face pair searched, no cell proof.");
 
-    m.def("triangles_cross", [](Triangles T1, Triangles T2) {
+    m.def("triangles_cross", [](In3x3<double> T1, In3x3<double> T2) {
         const size_t n = T1.shape(0);
         check_length(T2.shape(0), n, "T2");
         return bool_out(n, [&](uint8_t *hit) {
@@ -150,9 +136,7 @@ void bind_selfcross(nb::module_ &m) {
         checked_faces(F, nv);
         check_length(twins.shape(0), nf, "twins");
         checked_twins(twins, nf, nf + 1);
-        for (size_t i = 0; i < n; ++i)
-            if (patch.data()[i] < 0 || size_t(patch.data()[i]) >= nf)
-                input_error("patch[" + std::to_string(i) + "] names no face");
+        check_range(patch.data(), n, 0, int64_t(nf), "patch");
         nb::gil_scoped_release release;
         std::vector<uint8_t> bits(nf);
         for (size_t t = 0; t < nf; ++t) {
@@ -184,12 +168,12 @@ void bind_selfcross(nb::module_ &m) {
     }, "vertices"_a, "faces"_a, "twins"_a, "cell"_a,
           "(F,) bool: the faces the cell proof (cells `cell` long from the low corner) leaves to the search.");
 
-    m.def("winding_numbers", [](InN3<double> points, Triangles tri) {
+    m.def("winding_numbers", [](InN3<double> points, In3x3<double> tri) {
         const size_t n = points.shape(0);
         auto out = new_vector<double>(n);
         nb::gil_scoped_release release;
-        std::vector<int64_t> F;
-        const std::vector<double> V = weld_corners(tri.data(), tri.shape(0), F);
+        Vec<int64_t> F;
+        const Vec<double> V = weld_corners(tri.data(), tri.shape(0), F);
         const ShellWinding shell(V.data(), F.data(), tri.shape(0));
         for (size_t i = 0; i < n; ++i) out.data()[i] = shell.at(points.data() + 3 * i);
         return out;

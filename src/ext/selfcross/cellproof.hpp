@@ -26,6 +26,7 @@
 #include <limits>
 #include <vector>
 
+#include "common/buffer.hpp"
 #include "selfcross/crossing.hpp"
 
 namespace inertia::selfcross {
@@ -44,11 +45,11 @@ constexpr double PROOF_CELLS_PER_FACE = 4.0;  // cells grow until the grid has a
 // (Faces below 2^31, vertices below 2^31.)
 struct VertexSlots {
     std::vector<int64_t> start;
-    Buffer<int32_t> fac, nxt;
+    Vec<int32_t> fac, nxt;
     VertexSlots(const int64_t *F, size_t nf, size_t nv) : start(nv + 1, 0), fac(3 * nf), nxt(3 * nf) {
         for (size_t i = 0; i < 3 * nf; ++i) start[F[i] + 1] += 1;
         for (size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
-        Buffer<int64_t> fill(nv);
+        Vec<int64_t> fill(nv);
         std::copy(start.begin(), start.end() - 1, fill.data());
         for (size_t t = 0; t < nf; ++t)
             for (int k = 0; k < 3; ++k) {
@@ -119,8 +120,8 @@ struct PatchWork {
     };
     std::vector<int64_t> fstamp;  // per face: the mark of the patch holding it
     std::vector<Vertex> vwork;
-    Buffer<int64_t> iwork;        // the border loop, then the edges' order
-    Buffer<double> fwork;         // projected corners and lowest u of the loop's edges
+    Vec<int64_t> iwork;        // the border loop, then the edges' order
+    Vec<double> fwork;         // projected corners and lowest u of the loop's edges
     int64_t mark = 0;
     PatchWork(size_t nf, size_t nv, size_t biggest)
         : fstamp(nf + 1, -1), vwork(nv, Vertex{-1, -1, -1}), iwork(6 * biggest), fwork(9 * biggest) {}
@@ -268,8 +269,8 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
     const double inv = 1.0 / h;
     const int64_t ncell = dims[0] * dims[1] * dims[2];
     auto corners = [&](int64_t t) { return std::array<const double *, 3>{V + 3 * F[3 * t], V + 3 * F[3 * t + 1], V + 3 * F[3 * t + 2]}; };
-    Buffer<uint8_t> bits(nf);
-    Buffer<int32_t> ilo(3 * nf), ihi(3 * nf);  // cells, below 1e5 an axis
+    Vec<uint8_t> bits(nf);
+    Vec<int32_t> ilo(3 * nf), ihi(3 * nf);  // cells, below 1e5 an axis
     std::vector<int64_t> counts(ncell + 1, 0);
     for (size_t t = 0; t < nf; ++t) {
         const auto [a, b, c] = corners(int64_t(t));
@@ -288,7 +289,7 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
     };
     for (size_t t = 0; t < nf; ++t) each_cell(t, [&](int64_t i) { counts[i + 1] += 1; });
     for (int64_t i = 0; i < ncell; ++i) counts[i + 1] += counts[i];
-    Buffer<int64_t> fill(ncell), entries(counts[ncell]);
+    Vec<int64_t> fill(ncell), entries(counts[ncell]);
     std::copy(counts.begin(), counts.end() - 1, fill.data());
     for (size_t t = 0; t < nf; ++t) each_cell(t, [&](int64_t i) { entries[fill[i]++] = int64_t(t); });
     int64_t biggest = 1;
@@ -297,7 +298,7 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
     // the stack of cut parts: their faces (the parts of a part of m faces take 8 m slots above
     // it), and each part's low corner, size (scaled) and depth
     constexpr int SLOTS = 8 * MAX_DEPTH + 1;
-    Buffer<int64_t> stack_faces(size_t(biggest) * SLOTS);
+    Vec<int64_t> stack_faces(size_t(biggest) * SLOTS);
     struct Part {
         int64_t start, n;
         double lo[3], size;

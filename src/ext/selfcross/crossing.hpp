@@ -5,21 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 namespace inertia::selfcross {
-
-// n elements left uninitialized (each is written before it is read): no pass to zero them.
-template <class T>
-struct Buffer {
-    std::unique_ptr<T[]> p;
-    explicit Buffer(size_t n) : p(new T[n > 0 ? n : 1]) {}
-    T &operator[](size_t i) { return p[i]; }
-    const T &operator[](size_t i) const { return p[i]; }
-    T *data() { return p.get(); }
-    const T *data() const { return p.get(); }
-};
 
 // Orientation tests closer to zero than this times L^3 count as touching (distances below
 // about 1e-9 L).

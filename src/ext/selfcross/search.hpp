@@ -148,13 +148,13 @@ struct HashedCells {
     const int64_t *lo, *hi;
     uint64_t mask;
     std::vector<int64_t> start;
-    Buffer<int64_t> item{0};
+    Vec<int64_t> item;
     HashedCells(const int64_t *lo_, const int64_t *hi_, size_t begin, size_t end, int64_t registrations)
         : lo(lo_), hi(hi_), mask(capacity(registrations) - 1), start(mask + 2, 0) {
         for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { start[b + 1] += 1; });
         for (uint64_t b = 0; b <= mask; ++b) start[b + 1] += start[b];
-        item = Buffer<int64_t>(size_t(start[mask + 1]));
-        Buffer<int64_t> fill(mask + 1);
+        item.resize(size_t(start[mask + 1]));
+        Vec<int64_t> fill(mask + 1);
         std::copy(start.begin(), start.end() - 1, fill.data());
         for (size_t t = begin; t < end; ++t) each(t, [&](uint64_t b) { item[fill[b]++] = int64_t(t); });
     }
@@ -201,7 +201,7 @@ inline int64_t cell_ranges(const double *V, const int64_t *Fs, size_t nf, const 
 // boxes cover only (once whatever the collisions).
 inline int grid_search(const double *V, const int64_t *Fs, size_t nf, const Frames &fr, const uint8_t *cert,
                        const double *origin, double cell, int64_t *out) {
-    Buffer<int64_t> lo(3 * nf), hi(3 * nf);
+    Vec<int64_t> lo(3 * nf), hi(3 * nf);
     const int64_t n_reg = cell_ranges(V, Fs, nf, origin, cell, lo.data(), hi.data());
     if (n_reg < 0) return -1;
     const HashedCells cells(lo.data(), hi.data(), 0, nf, n_reg);
@@ -211,7 +211,7 @@ inline int grid_search(const double *V, const int64_t *Fs, size_t nf, const Fram
         float box[6];  // relative to origin, widened: float32 rounds to nearest
         int32_t cor[3], who;
     };
-    Buffer<Entry> ent{size_t(n_reg)};
+    Vec<Entry> ent(static_cast<size_t>(n_reg));
     const float grow = 2.4e-7f;
     for (int64_t r = 0; r < n_reg; ++r) {  // each entry with a copy of its face's box and corners
         const size_t t = size_t(cells.item[r]);
@@ -359,7 +359,7 @@ inline int crossing_between(const double *V, const int64_t *Fa, size_t na, const
     if (ma == 0 || ma == n || n > max_faces) return 0;
     double cell = 2.0 * edges / double(3 * n);
     if (!(cell > 0.0 && std::isfinite(cell))) return 0;  // every triangle a point: none crosses
-    Buffer<int64_t> lo(3 * n), hi(3 * n);
+    Vec<int64_t> lo(3 * n), hi(3 * n);
     int64_t n_reg;
     while ((n_reg = cell_ranges(V, Fs.data(), n, origin, cell, lo.data(), hi.data())) < 0)
         if (!std::isfinite(cell *= 2.0)) return 0;  // (not reached with finite boxes)

@@ -9,29 +9,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
+#include "common/solid_angle.hpp"
+#include "common/star.hpp"
 #include "selfcross/crossing.hpp"
-#include "selfcross/star.hpp"
+#include "topology/weld.hpp"
 
 namespace inertia::selfcross {
 
 // a point nearer than this times the shell's box diagonal to a face takes the solid-angle sum
 constexpr double NEAR_RTOL = 1e-9;
-
-// Solid angle of triangle (a, b, c) seen from p, in (-2 pi, 2 pi).
-inline double solid_angle(const double *a_, const double *b_, const double *c_, const double *p) {
-    const double ax = a_[0] - p[0], ay = a_[1] - p[1], az = a_[2] - p[2];
-    const double bx = b_[0] - p[0], by = b_[1] - p[1], bz = b_[2] - p[2];
-    const double cx = c_[0] - p[0], cy = c_[1] - p[1], cz = c_[2] - p[2];
-    const double la = std::sqrt(ax * ax + ay * ay + az * az), lb = std::sqrt(bx * bx + by * by + bz * bz),
-                 lc = std::sqrt(cx * cx + cy * cy + cz * cz);
-    const double num = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-    const double den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (ax * cx + ay * cy + az * cz) * lb +
-                       (bx * cx + by * cy + bz * cz) * la;
-    return 2.0 * std::atan2(num, den);
-}
 
 // Every directed edge a -> b met as often as b -> a (a hash table of signed counts): the shell
 // is closed as a chain.  Vertex numbers of 32 bits and more: not told (false).
@@ -52,30 +40,13 @@ inline bool edges_pair_up(const int64_t *F, size_t nf) {
     return std::all_of(count.begin(), count.end(), [](int32_t c) { return c == 0; });
 }
 
-// The corners of a triangle soup (T, 3, 3) as vertices and faces, corners with equal coordinates
-// (bit for bit) one vertex.
-inline std::vector<double> weld_corners(const double *tri, size_t nt, std::vector<int64_t> &F) {
-    size_t cap = 16;
-    while (cap < 6 * nt) cap *= 2;
-    std::vector<int64_t> slot(cap, -1);
-    std::vector<double> V;
-    F.resize(3 * nt);
-    for (size_t i = 0; i < 3 * nt; ++i) {
-        const double *x = tri + 3 * i;
-        uint64_t h = 0;
-        for (int k = 0; k < 3; ++k) {
-            uint64_t b;
-            std::memcpy(&b, x + k, 8);
-            h = (h ^ b) * 0x9E3779B97F4A7C15ull;
-        }
-        size_t j = size_t(h >> 20) & (cap - 1);
-        while (slot[j] >= 0 && std::memcmp(&V[3 * slot[j]], x, 24) != 0) j = (j + 1) & (cap - 1);
-        if (slot[j] < 0) {
-            slot[j] = int64_t(V.size() / 3);
-            V.insert(V.end(), x, x + 3);
-        }
-        F[i] = slot[j];
-    }
+// The corners of a triangle soup (T, 3, 3) as vertices (returned) and faces F (T, 3), corners
+// with equal coordinates (bit for bit) one vertex (topology's weld).
+inline Vec<double> weld_corners(const double *tri, size_t nt, Vec<int64_t> &F) {
+    topology::Groups<int64_t> g = topology::weld_rows<true>(tri, 3 * nt);
+    Vec<double> V(3 * size_t(g.count));
+    for (size_t j = 0; j < size_t(g.count); ++j) std::copy(tri + 3 * g.first[j], tri + 3 * g.first[j] + 3, &V[3 * j]);
+    F = std::move(g.group);
     return V;
 }
 
@@ -160,7 +131,7 @@ class ShellWinding {
             if (n != NO_COUNT) return double(n);
         }
         double sum = 0.0;
-        for (size_t t = 0; t < nf_; ++t) sum += solid_angle(corner(t, 0), corner(t, 1), corner(t, 2), p);
+        for (size_t t = 0; t < nf_; ++t) sum += solid_angle(corner(t, 0), corner(t, 1), corner(t, 2), row(p));
         return sum / (4.0 * M_PI);
     }
 

@@ -10,14 +10,6 @@ using inertia::text::Mesh;
 
 namespace {
 
-// A (rows, 3) NumPy array owning `rows` (no copy).
-template <class T>
-nb::ndarray<nb::numpy, T, nb::shape<-1, 3>> rows3(std::vector<T> &&rows) {
-    auto *owned = new std::vector<T>(std::move(rows));
-    nb::capsule owner(owned, [](void *p) noexcept { delete static_cast<std::vector<T> *>(p); });
-    return nb::ndarray<nb::numpy, T, nb::shape<-1, 3>>(owned->data(), {owned->size() / 3, 3}, owner);
-}
-
 // (vertices, faces, None), or (None, None, error) with error (kind, line number, line start, line end, token start,
 // token end, count) with offsets into the text.
 nb::tuple result(Mesh &&m, const uint8_t *d, size_t n) {
@@ -27,7 +19,9 @@ nb::tuple result(Mesh &&m, const uint8_t *d, size_t n) {
         return nb::make_tuple(nb::none(), nb::none(), nb::make_tuple(e.kind, line, e.line, end, e.token, e.token_end,
                                                                      e.count));
     }
-    return nb::make_tuple(rows3(std::move(m.vertices)), rows3(std::move(m.faces)), nb::none());
+    const size_t nv = m.vertices.size() / 3, nf = m.faces.size() / 3;
+    return nb::make_tuple(inertia::to_numpy(std::move(m.vertices), {nv, 3}), inertia::to_numpy(std::move(m.faces), {nf, 3}),
+                          nb::none());
 }
 
 template <class Read>
@@ -50,10 +44,14 @@ void bind_text(nb::module_ &m) {
         "vertices[faces] are the file's corners (a repeated corner stored once).");
     m.def(
         "read_obj",
-        [](inertia::In1<uint8_t> data, bool shorter) {
-            return read(data, [shorter](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, shorter); });
+        [](inertia::In1<uint8_t> data, int polygons) {
+            if (polygons < inertia::text::FAN || polygons > inertia::text::MUJOCO)
+                throw nb::value_error("read_obj: polygons must be 0 (fan), 1 (shorter) or 2 (mujoco)");
+            const auto how = inertia::text::Polygons(polygons);
+            return read(data, [how](const uint8_t *d, size_t n) { return inertia::text::read_obj(d, n, how); });
         },
-        "data"_a, "shorter"_a = false,
+        "data"_a, "polygons"_a = 0,
         "(vertices (V, 3) float64, triangles (F, 3) int64, None) of OBJ bytes, or (None, None, error); polygons "
-        "fanned from their first vertex, quadrilaterals split along their shorter diagonal with shorter=True.");
+        "fanned from their first vertex (0), quadrilaterals split along their shorter diagonal (1), or as MuJoCo "
+        "reads them (2: see src/ext/text/obj.hpp).");
 }

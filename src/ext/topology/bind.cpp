@@ -16,22 +16,11 @@ using namespace inertia::topology;
 
 namespace {
 
-template <class T, size_t N>
-using NpArray = nb::ndarray<nb::numpy, T, nb::ndim<N>>;
-
-// A NumPy array over the vector's buffer, which it then owns.
-template <class T, size_t N>
-NpArray<T, N> adopt(Vec<T> &&data, const size_t (&shape)[N]) {
-    auto *owned = new Vec<T>(std::move(data));
-    nb::capsule owner(owned, [](void *p) noexcept { delete static_cast<Vec<T> *>(p); });
-    return NpArray<T, N>(owned->data(), N, shape, owner);
-}
-
 using MeshArrays = std::tuple<NpArray<double, 2>, NpArray<int64_t, 2>>;
 
 MeshArrays arrays(Mesh &&m) {
     const size_t nv = m.n_vertices(), nf = m.n_faces();
-    return {adopt<double, 2>(std::move(m.v), {nv, 3}), adopt<int64_t, 2>(std::move(m.f), {nf, 3})};
+    return {to_numpy(std::move(m.v), {nv, 3}), to_numpy(std::move(m.f), {nf, 3})};
 }
 
 template <class F>
@@ -45,13 +34,7 @@ auto released(F &&job) {
 void bind_topology(nb::module_ &m) {
     m.def("weld_map", [](Vertices v) {
         const size_t n = v.shape(0);
-        Vec<int64_t> rep = released([&] {
-            const Groups<int64_t> g = weld_rows(v.data(), n);
-            Vec<int64_t> r(n);
-            for (size_t i = 0; i < n; ++i) r[i] = g.first[size_t(g.group[i])];
-            return r;
-        });
-        return adopt<int64_t, 1>(std::move(rep), {n});
+        return to_numpy(released([&] { return weld_map(v.data(), n); }), {n});
     }, "rep[i]: the lowest index of a row equal to row i (-0.0 == 0.0; a row with NaN or inf maps to itself).");
 
     m.def("weld_compact", [](Vertices v, Faces f) {
@@ -70,7 +53,7 @@ void bind_topology(nb::module_ &m) {
         if (!(tol > 0.0)) input_error("near_merge_map: tol must be positive, got " + std::to_string(tol));
         Vec<int64_t> rep = released([&] { return near_merge_map(v.data(), v.shape(0), tol); });
         const size_t n = rep.size();
-        return adopt<int64_t, 1>(std::move(rep), {n});
+        return to_numpy(std::move(rep), {n});
     }, "rep[i]: the lowest index of i's group of rows joined by distances <= tol; empty when the grid "
        "cannot number the cells.");
 
@@ -114,7 +97,7 @@ void bind_topology(nb::module_ &m) {
         const int64_t count = released([&] {
             return connected_components(n, a.data(), b.data(), a.shape(0), labels.data());
         });
-        return std::make_tuple(count, adopt<int64_t, 1>(std::move(labels), {n}));
+        return std::make_tuple(count, to_numpy(std::move(labels), {n}));
     }, "(count, labels): components of the graph on nodes 0..n-1 with edges a[e] - b[e], numbered in order "
        "of their lowest node.");
 }

@@ -55,7 +55,7 @@ inline Vec<int64_t> near_merge_map(const double *v, size_t n, double tol) {
     };
     auto join_cell = [&](int64_t i, int64_t j) {   // i with every point of the cell whose head is j
         for (; j >= 0; j = next[j])
-            if (within(v, i, j, tol2)) union_low(parent, i, j);
+            if (within(v, i, j, tol2)) union_low(parent.data(), i, j);
     };
     Vec<int64_t> leaving;
     for (size_t i = 0; i < n; ++i) {
@@ -83,7 +83,7 @@ inline Vec<int64_t> near_merge_map(const double *v, size_t n, double tol) {
                     if (!(c[0] == own[0] && c[1] == own[1] && c[2] == own[2])) join_cell(i, head[slot_of(c)]);
     }
     Vec<int64_t> rep(n);
-    for (size_t i = 0; i < n; ++i) rep[i] = find_root(parent, int64_t(i));
+    for (size_t i = 0; i < n; ++i) rep[i] = find_root(parent.data(), int64_t(i));
     return rep;
 }
 

@@ -89,14 +89,25 @@ Groups<I> weld_groups(size_t n, Load load) {
     return out;
 }
 
-// Groups of the rows of v (n, 3) float64 by exactly equal coordinates.
+// Groups of the rows of v (n, 3) float64 by exactly equal coordinates (-0.0 == 0.0, unless
+// SignedZeros: then equal bits).
+template <bool SignedZeros = false>
 inline Groups<int64_t> weld_rows(const double *v, size_t n) {
     return weld_groups<int64_t, uint64_t>(n, [v](size_t i, uint64_t *k) {
         for (int c = 0; c < 3; ++c) {
-            const double x = v[3 * i + c] + 0.0;
+            const double x = SignedZeros ? v[3 * i + c] : v[3 * i + c] + 0.0;
             std::memcpy(&k[c], &x, 8);
         }
     });
+}
+
+// rep[i]: the lowest index of a row equal to row i (as weld_rows; a row with NaN or inf: i).
+template <bool SignedZeros = false>
+inline Vec<int64_t> weld_map(const double *v, size_t n) {
+    const Groups<int64_t> g = weld_rows<SignedZeros>(v, n);
+    Vec<int64_t> rep(n);
+    for (size_t i = 0; i < n; ++i) rep[i] = g.first[size_t(g.group[i])];
+    return rep;
 }
 
 // Drop the vertices no face uses and renumber the faces, keeping the vertices' order.

@@ -78,6 +78,8 @@ CODES = {
     "legacy_mesh_inertia": ("warning", "MuJoCo's legacy mesh inertia differs from the exact solid"),
     "implausible_inertia": ("warning", "a radius of gyration far below the link's size"),
     "mesh_not_found": ("warning", "a mesh file the robot names cannot be found"),
+    "mesh_unreadable": ("warning", "a mesh reference that is no file the mesh reader opens (FIFO, device, folder)"),
+    "mujoco_refuses_mesh": ("error", "a mesh MuJoCo's compiler refuses, so the model does not load"),
     "unsupported_geometry": ("warning", "a shape the reader cannot use"),
     "unsupported_pose": ("warning", "a pose the reader cannot resolve"),
     "ros_unreadable_number": ("warning", "a number ROS tools cannot parse (the reader did)"),

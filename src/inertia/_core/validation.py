@@ -96,9 +96,12 @@ def resolve_mass(measure: float, density, mass, *, what: str, measure_name: str 
         raise InputError(f"{what}: {measure_name} must be positive and finite, got {measure!r}")
     if density is not None:
         rho = as_positive_scalar(density, "density")
+        if not math.isfinite(rho * measure):
+            raise InputError(f"{what}: the mass, density {rho:g} x {measure_name} {measure:g}, is larger than a "
+                             "double holds (1.8e308 kg)")
         return rho * measure, rho
     m = as_positive_scalar(mass, "mass")
-    return m, m / measure
+    return m, m / measure   # may overflow: central_inertia(..., mass=m) scales the moments first
 
 
 def as_unit_quat(q, name: str = "q_world_body", *, allow_batch: bool = True) -> np.ndarray:

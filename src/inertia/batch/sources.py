@@ -9,6 +9,7 @@ searched recursively for the mesh extensions that :func:`inertia.load_mesh` read
 from __future__ import annotations
 
 import glob
+import io
 import math
 import os
 import stat
@@ -16,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._core.errors import InputError
+from .._core.files import MAX_MESH_FILE_BYTES, read_regular
 from ..geometry.mesh_io import SUPPORTED_EXTENSIONS, UNITS
 
 MANIFEST_EXTENSIONS = (".csv", ".parquet")
@@ -98,8 +100,9 @@ def read_manifest(path, *, default: Job) -> list[Job]:
     import pandas as pd
 
     path = Path(path)
+    data = io.BytesIO(read_regular(path, what="manifest", limit=MAX_MESH_FILE_BYTES, error=InputError))
     try:
-        table = pd.read_parquet(path) if path.suffix.lower() == ".parquet" else pd.read_csv(path, dtype=object)
+        table = pd.read_parquet(data) if path.suffix.lower() == ".parquet" else pd.read_csv(data, dtype=object)
     except Exception as exc:  # pandas/pyarrow raise many types on malformed files
         raise InputError(f"{path}: cannot read manifest ({type(exc).__name__}: {exc})") from None
     if "path" not in table.columns:
@@ -134,7 +137,8 @@ def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[
     Each source is a file, a folder (recursive), a glob pattern or a manifest.  A source
     that names nothing (missing path, glob without matches, empty folder) is an
     :class:`InputError`: a typo should not pass as an empty dataset.  A named mesh file that
-    turns out unreadable is not an error here; it becomes an error row when processed.
+    turns out unreadable (or not a file: a FIFO, a device) is not an error here; it becomes an
+    error row when processed.
     """
     if units not in UNITS:
         raise InputError(f"unknown units {units!r}; use one of {', '.join(UNITS)}")
@@ -157,22 +161,22 @@ def collect_jobs(sources, *, density=None, mass=None, units: str = "m") -> list[
         try:
             mode_size = os.stat(text)
             mode, size = mode_size.st_mode, mode_size.st_size
-        except OSError:
-            mode, size = 0, None
+        except OSError:   # a dangling or looping link is something (its row says what), not a typo
+            mode, size = (stat.S_IFLNK if os.path.lexists(text) else 0), None
         if stat.S_ISDIR(mode):
             found = _mesh_files_under(os.path.abspath(text))   # names joined to a normal path stay normal
             if not found:
                 raise InputError(f"{text}: folder holds no mesh files ({', '.join(SUPPORTED_EXTENSIONS)})")
             for f, fsize in found:
                 add(default, fsize, f)
-        elif stat.S_ISREG(mode) and os.path.splitext(text)[1].lower() in MANIFEST_EXTENSIONS:
-            for job in read_manifest(Path(text), default=default):
+        elif mode and os.path.splitext(text)[1].lower() in MANIFEST_EXTENSIONS:
+            for job in read_manifest(Path(text), default=default):   # a FIFO, a device...: refused by name
                 add(job)
-        elif stat.S_ISREG(mode):
-            add(Job(text, density, mass, units), size)
+        elif mode:   # a file, or what is not one (a FIFO, a device, a link to nothing): its row says which
+            add(Job(text, density, mass, units), size if stat.S_ISREG(mode) else None)
         elif _is_glob(text):
             matches = sorted(glob.glob(text, recursive=True))
-            files = [m for m in matches if os.path.isfile(m)]
+            files = [m for m in matches if not os.path.isdir(m)]
             if not files:
                 raise InputError(f"{text}: pattern matches no files")
             for f in files:

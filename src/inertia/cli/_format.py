@@ -7,8 +7,10 @@ All numbers are printed with 6 significant digits in tables and full precision i
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
+import textwrap
 
 from ..geometry.report import plural  # noqa: F401 - "1 link", "2 links" (the mesh report's own; no NumPy)
 
@@ -167,13 +169,181 @@ def emit(lines_or_text, file=None) -> None:
     (file or sys.stdout).write(text.rstrip("\n") + "\n")
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse with two habits of this CLI: a shared option block (a group with a ``topic``)
+    is shown as one line of its option names, its full text being ``inertia help TOPIC``; and
+    an unknown option is refused by the command it was given to, with the nearest spelling."""
+
+    def format_help(self) -> str:
+        f = self._get_formatter()
+        f.add_usage(self.usage, self._actions, self._mutually_exclusive_groups)
+        f.add_text(self.description)
+        for group in self._action_groups:
+            f.start_section(group.title)
+            topic = getattr(group, "topic", None)
+            if topic:
+                names = ", ".join(option_synopsis(a) for a in group._group_actions)
+                f.add_text(textwrap.fill(f"{names} (inertia help {topic})", f._width - f._current_indent))
+            else:
+                f.add_text(group.description)
+                f.add_arguments(group._group_actions)
+            f.end_section()
+        f.add_text(self.epilog)
+        return f.format_help()
+
+    def unknown(self, extras) -> None:
+        """Refuse ``extras`` (what the command did not recognise), naming the spelling it takes."""
+        import difflib
+
+        known = [s for a in self._actions for s in a.option_strings]
+        hints = []
+        for arg in extras:
+            name = arg.split("=", 1)[0]
+            near = RENAMED.get(name) or next(iter(difflib.get_close_matches(name, known, 1, 0.6)), None)
+            if name.startswith("--") and near:
+                hints.append(f"{near} instead of {name}?")
+        self.error("unrecognized arguments: " + " ".join(extras) + ("; did you mean " + ", ".join(hints)
+                                                                     if hints else ""))
 
 
-def add_command(sub, name: str, help: str, description: str, epilog: str):
+#: options renamed so that one concept has one spelling in every command: old -> new
+RENAMED = {"--mesh-units": "--units"}
+
+
+def option_synopsis(action) -> str:
+    """``--units UNIT`` or ``--self-crossing search|certificate``: an option as a list names it."""
+    name = action.option_strings[-1]
+    if action.nargs == 0:
+        return name
+    if action.choices:
+        return f"{name} {'|'.join(map(str, action.choices))}"
+    return f"{name} {action.metavar or action.dest.upper()}"
+
+
+def add_command(sub, name: str, help: str, description: str, epilog: str, usage: str | None = None):
     """A subcommand parser: one-line ``help``, ``description`` wrapped to the terminal's
-    usual width, ``epilog`` (examples) kept as written."""
-    import argparse
-    import textwrap
-
+    usual width, ``epilog`` (examples) kept as written, ``usage`` after the command's name."""
     return sub.add_parser(name, help=help, description=textwrap.fill(description), epilog=epilog,
+                          usage=f"%(prog)s {usage}" if usage else None,
                           formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+#: mass unit name -> kg (the file's masses: --mass-units; printed masses: --output-units)
+MASS_UNITS = {"kg": 1.0, "g": 1e-3, "lb": 0.45359237}
+
+
+class Units:
+    """How printed numbers are expressed: ``--output-units MASS,LENGTH`` (kg,m by default) and
+    ``--convention`` of the products of inertia (``tensor``: the negated products, L = I w;
+    ``cad``: positive products, as CAD programs list them).  Each method takes SI values."""
+
+    def __init__(self, mass: str = "kg", length: str = "m", convention: str = "tensor"):
+        from .._core.units import LENGTH_UNITS
+
+        self.mass_unit, self.length_unit, self.convention = mass, length, convention
+        self.kg, self.m = MASS_UNITS[mass], LENGTH_UNITS[length]
+
+    @classmethod
+    def from_args(cls, args) -> "Units":
+        """From ``--output-units`` and ``--convention`` (SI and tensor when the command has neither)."""
+        from .._core.errors import InputError
+        from .._core.units import LENGTH_UNITS
+
+        text = getattr(args, "output_units", None) or "kg,m"
+        mass, sep, length = text.replace(" ", "").partition(",")
+        if not sep or mass not in MASS_UNITS or length not in LENGTH_UNITS:
+            raise InputError(f"--output-units {text!r} must read MASS,LENGTH with MASS one of "
+                             f"{'|'.join(MASS_UNITS)} and LENGTH one of {'|'.join(LENGTH_UNITS)}, e.g. g,mm")
+        return cls(mass, length, getattr(args, "convention", None) or "tensor")
+
+    @property
+    def si(self) -> bool:
+        return self.kg == 1.0 and self.m == 1.0 and self.convention == "tensor"
+
+    @property
+    def inertia_unit(self) -> str:
+        return f"{self.mass_unit} {self.length_unit}^2"
+
+    @property
+    def density_unit(self) -> str:
+        return f"{self.mass_unit}/{self.length_unit}^3"
+
+    def mass(self, x):
+        return _scaled(x, 1.0 / self.kg)
+
+    def length(self, x):
+        return _scaled(x, 1.0 / self.m)
+
+    def volume(self, x):
+        return _scaled(x, self.m ** -3)
+
+    def density(self, x, per_area: bool = False):
+        return _scaled(x, self.m ** (2 if per_area else 3) / self.kg)
+
+    def moments(self, x):
+        """Principal moments (the same whatever the product convention)."""
+        return _scaled(x, 1.0 / (self.kg * self.m ** 2))
+
+    def inertia(self, I):
+        """A 3 x 3 tensor about the COM, its products positive under ``cad``."""
+        I = [[v / (self.kg * self.m ** 2) for v in row] for row in _as_list(I)]
+        if self.convention == "cad":
+            I = [[v if i == j else -v for j, v in enumerate(row)] for i, row in enumerate(I)]
+        return I
+
+    def to_dict(self) -> dict:
+        return {"mass": self.mass_unit, "length": self.length_unit, "inertia": self.inertia_unit,
+                "convention": self.convention}
+
+    def conventions(self) -> str:
+        """The sentence of the JSON's ``conventions`` about units and products."""
+        products = ("products of inertia positive (CAD convention: Ixy = +sum m x y)" if self.convention == "cad"
+                    else "products of inertia negated (L = I w)")
+        return f"{self.mass_unit}, {self.length_unit}, {self.inertia_unit}; {products}"
+
+
+def _scaled(x, factor: float):
+    """``x`` (a number, None or a nested list or array of numbers) times ``factor``."""
+    x = _as_list(x)
+    if x is None:
+        return None
+    if isinstance(x, list):
+        return [_scaled(v, factor) for v in x]
+    return x * factor
+
+
+def _as_list(x):
+    """Nested lists from an array or tuple (NaN kept, unlike :func:`_plain`)."""
+    if hasattr(x, "tolist"):
+        x = x.tolist()
+    return [_as_list(v) for v in x] if isinstance(x, (list, tuple)) else x
+
+
+def short_digits(mass, inertia) -> int:
+    """Significant digits to write a mass and tensor with: 6, the figure a user would write,
+    or as many more as keep the written values physical (a tensor near the triangle-inequality
+    boundary can round across it)."""
+    from ..massprops.validity import is_physical
+
+    def rounded(x, digits):
+        return [[float(f"{v:.{digits}g}") for v in row] for row in _as_list(x)]
+
+    if not is_physical(inertia, mass):
+        return 6                  # no number of digits makes it physical
+    return next(d for d in range(6, 18) if is_physical(rounded(inertia, d), float(f"{mass:.{d}g}")))
+
+
+def inertial_block(props, kind: str) -> str:
+    """The library's ``<inertial>`` block (:func:`inertia.robots.writers.inertial_block`) with
+    each number at :func:`short_digits` significant digits instead of repr's 17."""
+    import re
+
+    from ..robots.writers import inertial_block as block
+
+    digits = short_digits(props.mass, props.inertia_com)
+
+    def short(m) -> str:
+        x = float(m.group())
+        return "0" if x == 0 else f"{x:.{digits}g}"
+
+    return re.sub(r"(?<![\w.])-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?(?![\w.])", short, block(props, kind))

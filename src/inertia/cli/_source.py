@@ -1,4 +1,4 @@
-"""The SOURCE argument shared by ``inertia props``, ``inertia particles`` and ``inertia demo``.
+"""The SOURCE argument of ``inertia props``, ``particles``, ``simulate``, ``flip`` and ``demo --mesh``.
 
 SOURCE is either a mesh file (any format :func:`inertia.load_mesh` reads: STL, OBJ, PLY,
 OFF, ...) or a primitive spec ``NAME:n1,n2,...`` such as ``box:0.1,0.2,0.4``.  The mass
@@ -6,10 +6,8 @@ comes from ``--mass`` (kg) or ``--density`` (kg/m^3); with neither, the density 
 :data:`DEFAULT_DENSITY` = 1000 kg/m^3, is used and the output says so.
 
 Lengths (mesh coordinates and primitive dimensions) are read in ``--units`` and converted
-to metres; every result is in SI units.
-
-Only the standard library is imported at module level (``inertia --help`` must start fast);
-the numerical modules are imported inside :func:`load_source`.
+to metres; every result is in SI units.  The options themselves are in :mod:`._options`.
+Only the standard library is imported at module level.
 """
 
 from __future__ import annotations
@@ -17,10 +15,7 @@ from __future__ import annotations
 import math
 import os
 
-from .._core.units import DEFAULT_DENSITY, LENGTH_UNITS  # noqa: F401 - DEFAULT_DENSITY: used by commands
-
-#: the last sentence of every SOURCE command's description
-DENSITY_NOTE = "Default density: 1000 kg/m^3 (water) when neither --mass nor --density is given."
+from .._core.units import DEFAULT_DENSITY, LENGTH_UNITS
 
 
 class PrimitiveSpec:
@@ -67,53 +62,6 @@ PRIMITIVES = {
 }
 
 
-def source_help() -> str:
-    """The SOURCE paragraph of --help."""
-    specs = ", ".join(p.usage for p in PRIMITIVES.values())
-    return ("a mesh file (STL, OBJ, PLY, OFF, ...) or a primitive spec NAME:numbers, one of: "
-            f"{specs} (dimensions in --units, default m)")
-
-
-def add_source_arguments(parser, *, source_required: bool = True) -> None:
-    """Add SOURCE and the mass/units/mesh options to an argparse sub-parser."""
-    if source_required:
-        parser.add_argument("source", metavar="SOURCE", help=source_help())
-    g = parser.add_argument_group("mass (give at most one; default: density 1000 kg/m^3, water)")
-    g.add_argument("--density", type=float, metavar="RHO",
-                   help="density in kg/m^3 (kg/m^2 with --shell); default 1000 kg/m^3 when "
-                        "neither --density nor --mass is given")
-    g.add_argument("--mass", type=float, metavar="KG", help="total mass in kg (the density follows)")
-    m = parser.add_argument_group("geometry")
-    m.add_argument("--units", default="m", choices=tuple(LENGTH_UNITS), metavar="UNIT",
-                   help="length unit of the mesh coordinates or primitive dimensions: "
-                        + "|".join(LENGTH_UNITS) + " (default m); results are always SI")
-    add_mesh_options(m)
-
-
-def add_mesh_options(group, *, batch: bool = False) -> None:
-    """The options of how a mesh becomes a body: --shell, --fix-orientation, --accept-defects,
-    --robust and --robust-tol (``batch``: the row-wise wording)."""
-    group.add_argument("--shell", action="store_true",
-                       help="thin shell: mass spread over the surface (needs --mass, or --density in kg/m^2)")
-    group.add_argument("--fix-orientation", action="store_true",
-                       help="mesh files: repair inconsistent or inverted face winding instead of refusing the mesh")
-    group.add_argument("--accept-defects", action="store_true",
-                       help=("accept defective meshes with warnings instead of error rows" if batch else
-                             "mesh files: compute even when the mesh is open/defective; the result carries "
-                             "warnings (the numbers may be meaningless)"))
-    group.add_argument("--robust", action="store_true",
-                       help="mesh files: for an open, overlapping or self-intersecting solid, integrate the points "
-                            "of generalised winding number >= 1/2, with an error bound (docs/robust.md)"
-                            + ("; a warning row" if batch else ""))
-    group.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
-                       help="with --robust: the relative error bound to reach (default 1e-3)")
-    group.add_argument("--self-crossing", choices=("search", "certificate"), default="search",
-                       help="how a closed mesh is shown not to pass through itself: search (default) proves "
-                            "it in one pass when it is star-shaped from its center of mass and tests face pairs "
-                            "otherwise (10-50x the integrals); certificate only tries the proof and notes a mesh "
-                            "it does not prove (self_crossing_unchecked)")
-
-
 class SourceInfo:
     """What was computed and how: echoed in every output so a reader can reproduce it.
 
@@ -139,36 +87,45 @@ class SourceInfo:
         self.shell = shell
         self.primitive = primitive
         self.dimensions_m = tuple(dimensions_m)
-        self.dimensions_text = ""
+        self.dimensions_text = ""   # an assembly's description (a primitive's comes from dimensions_m)
         self.mesh = None    # mesh files: {"n_vertices", "n_faces", "bbox_min", "bbox_max", "extents"} (m)
         self.notes = []     # unit-slip warnings (an implausible size or density)
 
-    @property
-    def density_unit(self) -> str:
-        return "kg/m^2" if self.shell else "kg/m^3"
+    def dimensions(self, units) -> str:
+        """A primitive's dimensions in ``units`` (an assembly's own description)."""
+        from ._format import num
 
-    def density_text(self) -> str:
+        if self.kind != "primitive":
+            return self.dimensions_text
+        spec = PRIMITIVES[self.primitive]
+        return (", ".join(f"{p} = {num(v)}" for p, v in zip(spec.params, units.length(self.dimensions_m)))
+                + f" {units.length_unit} ({spec.meaning})")
+
+    def density_text(self, units) -> str:
         """E.g. ``1000 kg/m^3 (default: neither --mass nor --density given)``."""
         from ._format import num
 
         if self.density != self.density:  # NaN: a thin shell given by --mass (its area is not reported)
             return "n/a (thin shell given by --mass)"
-        d = f"{num(self.density)} {self.density_unit}"
+        unit = f"{units.mass_unit}/{units.length_unit}^{2 if self.shell else 3}"
+        d = f"{num(units.density(self.density, self.shell))} {unit}"
         if self.density_source == "default":
             return d + " (default: neither --mass nor --density given)"
         if self.density_source == "from --mass":
-            return d + " (mean, from --mass)"
+            return d + " (mean, from --mass)" if self.density < float("inf") else "beyond a double (mean, from --mass)"
         return d + f" ({self.density_source})"
 
-    def to_dict(self) -> dict:
+    def to_dict(self, units) -> dict:
         out = {"source": self.source, "kind": self.kind, "units": self.units,
-               "density": self.density, "density_unit": self.density_unit,
+               "density": units.density(self.density, self.shell),
+               "density_unit": f"{units.mass_unit}/{units.length_unit}^{2 if self.shell else 3}",
                "density_source": self.density_source, "shell": self.shell}
         if self.kind == "primitive":
             out["primitive"] = self.primitive
-            out["dimensions_m"] = list(self.dimensions_m)
+            out["dimensions"] = units.length(list(self.dimensions_m))
         if self.mesh is not None:
-            out["mesh"] = dict(self.mesh)
+            out["mesh"] = {k: units.length(v) if k.startswith(("bbox", "extents")) else v
+                           for k, v in self.mesh.items()}
         return out
 
 
@@ -198,7 +155,7 @@ def classify_source(text: str):
     if not text or not text.strip():
         raise _input_error("SOURCE is empty: give a mesh file or a primitive spec such as box:0.1,0.2,0.4")
     text = text.strip()
-    if os.path.isfile(text):
+    if os.path.lexists(text) and not os.path.isdir(text):   # a FIFO, a device...: the reader says what it is
         return ("mesh", text)
     name, sep, rest = text.partition(":")
     key = name.strip().lower()
@@ -277,8 +234,6 @@ def load_source(args, *, source: str | None = None):
     Returns ``(props, info)``: a :class:`inertia.MassProperties` (SI units, frame of the
     mesh file or of the primitive) and a :class:`SourceInfo`.
     """
-    from ._format import num
-
     text = args.source if source is None else source
     units = getattr(args, "units", "m") or "m"
     if units not in LENGTH_UNITS:
@@ -312,8 +267,6 @@ def load_source(args, *, source: str | None = None):
         props = _build_primitive(text, spec, dims, density=density, mass=mass, shell=shell)
         info = SourceInfo(source=text, kind="primitive", units=units, density=0.0, density_source=dsrc,
                           shell=shell or thin_sphere, primitive=spec.name, dimensions_m=tuple(dims))
-        info.dimensions_text = (", ".join(f"{p} = {num(v)}" for p, v in zip(spec.params, dims))
-                                + f" m ({spec.meaning})")
     info.density = _effective_density(props, density, mass, info.shell)
     _unit_slip_notes(info, command)
     return props, info

@@ -45,17 +45,16 @@ DESCRIPTION = ("Mass properties of every mesh in folders, globs, files or manife
 
 
 def register(sub) -> None:
-    from ._source import LENGTH_UNITS, add_mesh_options
+    from ._options import add_mesh_options, add_units
 
-    p = fmt.add_command(sub, "batch", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "batch", HELP, DESCRIPTION, EPILOG, usage="SOURCE... -o OUTPUT [options]")
     p.add_argument("sources", nargs="+", metavar="SOURCE", help="mesh file, folder, glob or manifest (.csv/.parquet)")
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="results table (.parquet, .csv or .jsonl)")
     p.add_argument("--format", choices=("parquet", "csv", "jsonl"), help="output format (default: from -o's extension)")
     m = p.add_mutually_exclusive_group()
     m.add_argument("--density", type=float, metavar="RHO", help="kg/m^3 (kg/m^2 with --shell) for every file")
     m.add_argument("--mass", type=float, metavar="KG", help="total mass of each body, kg")
-    p.add_argument("--units", choices=tuple(LENGTH_UNITS), default="m", help="length unit of the files (default m)")
-    add_mesh_options(p, batch=True)
+    add_units(p)
     p.add_argument("--scheduler", metavar="ADDR",
                    help="threads (default: a thread per core in this process), cluster (a local Dask cluster), "
                         "synchronous (this process, one file at a time), or tcp://HOST:PORT of a Dask scheduler")
@@ -68,6 +67,7 @@ def register(sub) -> None:
                    help="overwrite an existing output and start again; with --resume, recompute the rows made "
                         "with other options")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_mesh_options(p)
     p.set_defaults(func=run)
 
 
@@ -113,11 +113,12 @@ def _scheduler_from_config(path):
     import yaml
 
     from .._core.errors import InputError
+    from .._core.files import MAX_ROBOT_FILE_BYTES, read_regular
 
     try:
-        with open(path, encoding="utf-8") as fh:
-            cfg = yaml.safe_load(fh) or {}
-    except (OSError, yaml.YAMLError) as exc:
+        cfg = yaml.safe_load(read_regular(path, what="Dask configuration (--dask-config)", limit=MAX_ROBOT_FILE_BYTES,
+                                          error=InputError)) or {}
+    except yaml.YAMLError as exc:
         raise InputError(f"--dask-config {path}: cannot read ({exc})") from None
     dask.config.update(dask.config.config, cfg, priority="new")
     return dask.config.get("scheduler-address", None) or dask.config.get("scheduler_address", None)

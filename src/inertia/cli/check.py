@@ -12,7 +12,8 @@ EPILOG = """\
 examples:
   inertia check robot.urdf
   inertia check model.sdf --package-path ~/gazebo_models --format json
-  inertia check scene.xml --mesh-units mm --mass-units g
+  inertia check scene.xml --units mm --mass-units g
+  inertia check robot.urdf --errors-only
 
 errors (by code): non_positive_mass, not_symmetric, not_positive_definite, triangle_inequality,
 massless_moving_link, below_simulator_floor (a moving body with a mass or moment under 1e-15,
@@ -20,7 +21,8 @@ which MuJoCo refuses), no_links, joints_unreadable.
 warnings: com_outside_geometry, geometry_mismatch (declared vs computed from the link's own shapes at
 the declared mass: principal-moment ratio outside [1/3, 3] or axes over 45 deg apart),
 implausible_inertia (radius of gyration under 1 % of the link's size), legacy_mesh_inertia,
-mesh_not_found, unsupported_geometry, unsupported_pose.  notes: geometry_unusable (comparison skipped).
+mesh_not_found (one line per folder or package; --verbose lists each mesh), mesh_unreadable,
+unsupported_geometry, unsupported_pose.  notes: geometry_unusable (comparison skipped).
 Massless frames (no inertial, or mass 0 and tensor 0, on fixed joints or welded to a body with mass)
 are an idiom, listed in one line; a massless link that moves alone is an error.
 
@@ -29,59 +31,45 @@ JSON: {"file": ..., "links": [{"name": ..., "line": ..., "errors": [{"code": ...
 
 exit status: 0 no errors, 1 errors found, 2 the file could not be read (or bad usage)."""
 
-HELP = "check the inertials of a URDF, SDF or MJCF file"
+HELP = "check the inertials of a URDF, SDF, MJCF or OpenUSD file"
 DESCRIPTION = ("For each link: non-positive mass, non-symmetric or non-positive-definite tensor, "
                "triangle-inequality violation (with the margin), center of mass outside the link's "
                "geometry, and the declared inertial against the one computed from the link's own geometry.")
 
-MASS_UNITS = {"kg": 1.0, "g": 1e-3, "lb": 0.45359237}
 
+def add_file_argument(p) -> None:
+    """FILE and --units, the two arguments of every robot command."""
+    from ._options import add_units
 
-def add_robot_arguments(p) -> None:
-    from ._source import LENGTH_UNITS
-
-    p.add_argument("file", metavar="FILE", help="URDF (.urdf), SDF (.sdf) or MJCF (.xml with <mujoco>) file")
-    p.add_argument("--robot-format", choices=("urdf", "sdf", "mjcf"), help="override the detected format")
-    p.add_argument("--package-path", action="append", default=[], metavar="DIR",
-                   help="folder searched for package:// and model:// meshes (repeatable)")
-    p.add_argument("--mesh-units", choices=tuple(LENGTH_UNITS), default="m",
-                   help="length unit of the mesh files (default m)")
-    p.add_argument("--mass-units", choices=tuple(MASS_UNITS), default="kg",
-                   help="unit of the file's masses (inertias in that unit times m^2; default kg)")
+    p.add_argument("file", metavar="FILE", help="URDF (.urdf), SDF (.sdf), MJCF (.xml with <mujoco>), xacro or "
+                                                "OpenUSD file")
+    add_units(p)
 
 
 def register(sub) -> None:
-    p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG)
-    add_robot_arguments(p)
-    from .usd import add_usd_arguments
-    add_usd_arguments(p, physx=False)
+    from ._options import add_robot_options, add_usd_options
+
+    p = fmt.add_command(sub, "check", HELP, DESCRIPTION, EPILOG, usage="FILE [options]")
+    add_file_argument(p)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
-    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
-                   help="an argument of a .xacro file (repeatable)")
     detail = p.add_mutually_exclusive_group()
     detail.add_argument("-q", "--quiet", dest="detail", action="store_const", const="quiet", default="default",
                         help="print only the summary line (the exit status says the rest)")
     detail.add_argument("--errors-only", dest="detail", action="store_const", const="errors",
                         help="print the errors, not the warnings and notes")
     detail.add_argument("-v", "--verbose", dest="detail", action="store_const", const="verbose",
-                        help="print every note too (comparisons skipped, and why)")
+                        help="print every note, and every missing mesh, too")
+    add_robot_options(p, ("xacro-arg", "package-path", "robot-format", "mass-units"))
+    add_usd_options(p, physx=False)
     p.set_defaults(func=run)
-
-
-def scale_masses(model, scale: float) -> None:
-    """Convert the declared masses and tensors of a model to kg (in place)."""
-    if scale == 1.0:
-        return
-    for link in model.links:
-        if link.inertial is not None:
-            link.inertial.mass *= scale
-            link.inertial.inertia_com_inertial = link.inertial.inertia_com_inertial * scale
 
 
 def run(args) -> int:
     import sys
 
     from ..robots.xmlsafe import RobotFileError
+    from ._format import MASS_UNITS
+    from .props_robot import scale_masses
     from .usd import run_check
 
     if (code := run_check(args)) is not None:
@@ -96,7 +84,7 @@ def run(args) -> int:
         print(f"inertia check: error: {exc}", file=sys.stderr)
         return 2
     scale_masses(model, MASS_UNITS[args.mass_units])
-    report = check_model(model, mesh_units=args.mesh_units)
+    report = check_model(model, mesh_units=args.units)
     if args.format == "json":
         fmt.emit(fmt.to_json(report.to_dict()))
     else:
@@ -115,9 +103,11 @@ def report_lines(report, model, *, detail: str = "default") -> list:
     if detail == "quiet":
         return lines
     lines += [f"  error {e.code}: {e.message}" for e in report.errors]
+    missing = {} if detail == "verbose" else _missing_meshes(report)
     if detail != "errors":
-        lines += [f"  warning {w.code}: {w.message}" for w in report.warnings]
+        lines += [f"  warning {w.code}: {w.message}" for w in report.warnings if id(w) not in missing]
         lines += [f"  note {n.code}: {n.message}" for n in report.notes]
+        lines += _missing_summary(missing)
     if report.massless_frames and detail != "errors":
         names = report.massless_frames
         shown = ", ".join(names[:8]) + (f", ... ({len(names) - 8} more)" if len(names) > 8 else "")
@@ -125,13 +115,56 @@ def report_lines(report, model, *, detail: str = "default") -> list:
                      f"with mass; an idiom, not errors): {shown}")
     kinds = ["errors"] + (["warnings"] if detail != "errors" else []) + (["notes"] if detail == "verbose" else [])
     for lk in report.links:
-        found = [(kind[:-1], f) for kind in kinds for f in getattr(lk, kind)]
+        found = [(kind[:-1], f) for kind in kinds for f in getattr(lk, kind) if id(f) not in missing]
         if not found:
             continue
         lines.append(f"  link {lk.name!r} (line {lk.line}):")
         lines += [f"    {kind} {f.code}: {_short(f.message, report.file, lk.name)}" for kind, f in found]
     if n_notes and detail == "default":
         lines += _note_summary(report)
+    return lines
+
+
+def _missing_meshes(report) -> dict:
+    """``{id(finding): (root, mesh, link)}`` for each mesh_not_found warning whose message names the
+    mesh: root is the folder it was looked for in, or ``package://NAME``, ``model://NAME``."""
+    import os
+    import re
+
+    out = {}
+    for lk in [None, *report.links]:
+        for w in report.warnings if lk is None else lk.warnings:
+            m = w.code == "mesh_not_found" and re.search(r"(?:mesh|file) '([^']*)' not found \(([^)]*)\)", w.message)
+            if not m:
+                continue
+            uri, how = m.groups()
+            if uri.startswith(("package://", "model://")):
+                root = uri.split("/", 3)[2] and "/".join(uri.split("/", 3)[:3])
+            elif how.startswith("looked for "):
+                root = os.path.normpath(os.path.dirname(how[len("looked for "):]))
+            else:
+                root = how if how == "meshdir" else os.path.dirname(uri) or "."
+            out[id(w)] = (root, os.path.basename(uri), None if lk is None else lk.name)
+    return out
+
+
+def _missing_summary(missing: dict) -> list:
+    """One line per folder or package of missing meshes, then one hint."""
+    by_root: dict = {}
+    for root, mesh, link in missing.values():
+        by_root.setdefault(root, []).append((mesh, link))
+    lines = []
+    for root, found in by_root.items():
+        meshes, links = dict.fromkeys(m for m, _ in found), {lk for _, lk in found if lk}
+        where = "the file's meshdir" if root == "meshdir" else root
+        lines.append(f"  warning mesh_not_found: {fmt.plural(len(meshes), 'mesh', 'meshes')} of "
+                     f"{fmt.plural(len(links), 'link')} not found in {where} (e.g. {next(iter(meshes))}); "
+                     "their geometry comparisons are skipped")
+    if by_root:
+        package = any(r.startswith(("package://", "model://")) for r in by_root)
+        lines.append("  hint: " + ("--package-path DIR adds a folder to search for package:// and model:// meshes; "
+                                   if package else "mesh paths are read relative to the robot file (MJCF: its "
+                                                   "meshdir); ") + "--verbose lists each missing mesh")
     return lines
 
 

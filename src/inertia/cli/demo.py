@@ -27,6 +27,7 @@ examples:
   inertia demo
   inertia demo --density 2700                 (the same T-handle in aluminium)
   inertia demo --mesh part.stl --units mm --mass 0.25
+  inertia demo --output-units g,mm --no-report
   inertia demo --control                      (and hold the spin with reaction wheels)
   inertia demo --format json"""
 
@@ -36,28 +37,23 @@ DESCRIPTION = ("Mass properties, canonical form, validity, six-point and four-po
 
 
 def register(sub) -> None:
-    from ._source import LENGTH_UNITS
+    from ._options import add_mesh_options, add_output_options, add_units
     from .props import add_format_argument
 
-    p = fmt.add_command(sub, "demo", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "demo", HELP, DESCRIPTION, EPILOG, usage="[--mesh FILE] [options]")
     p.add_argument("--mesh", metavar="FILE",
                    help="your own closed triangle mesh (STL, OBJ, PLY, OFF, ...) instead of the T-handle")
-    g = p.add_argument_group("mass (give at most one)")
+    g = p.add_argument_group("the body (give at most one of --density and --mass)")
     g.add_argument("--density", type=float, metavar="RHO",
                    help="density in kg/m^3 (default: 7850, steel, for the T-handle; 1000 for --mesh)")
-    g.add_argument("--mass", type=float, metavar="KG", help="total mass in kg (the density follows)")
-    m = p.add_argument_group("with --mesh only")
-    m.add_argument("--units", choices=tuple(LENGTH_UNITS), metavar="UNIT",
-                   help="length unit of the mesh: " + "|".join(LENGTH_UNITS) + " (default m)")
-    m.add_argument("--shell", action="store_true",
-                   help="thin shell: mass spread over the surface (needs --mass, or --density in kg/m^2)")
-    m.add_argument("--fix-orientation", action="store_true", help="repair inconsistent or inverted face winding")
-    m.add_argument("--accept-defects", action="store_true",
-                   help="compute even for an open/defective mesh; the result carries warnings")
+    g.add_argument("--mass", type=float, metavar="KG", help="the body's mass in kg, its density following")
+    add_units(g)
     add_format_argument(p)
     from ._control import HELP as CONTROL_HELP
 
     p.add_argument("--control", action="store_true", help=CONTROL_HELP)
+    add_mesh_options(p)
+    add_output_options(p)
     r = p.add_argument_group("report (a folder with index.html, plots, an animation and a 3D page)")
     r.add_argument("--out", metavar="DIR", default=DEFAULT_OUT,
                    help=f"report folder (default: ./{DEFAULT_OUT}); a folder inertia did not create is refused "
@@ -76,20 +72,15 @@ def register(sub) -> None:
 
 def demo_body(args):
     """``(props, info, display_mesh or None, built_body or None)`` for the demo's body."""
-    import argparse
-
     from .._core.errors import InputError
     from ._source import SourceInfo, load_source
 
     if args.mesh is not None:
-        ns = argparse.Namespace(
-            source=args.mesh, units=args.units or "m", density=args.density, mass=args.mass, shell=args.shell,
-            fix_orientation=args.fix_orientation, accept_defects=args.accept_defects, command="demo")
-        props, info = load_source(ns)
+        props, info = load_source(args, source=args.mesh)
         return props, info, None, None
-    used = [flag for flag, on in (("--units", args.units is not None), ("--shell", args.shell),
+    used = [flag for flag, on in (("--units", args.units != "m"), ("--shell", args.shell),
                                   ("--fix-orientation", args.fix_orientation),
-                                  ("--accept-defects", args.accept_defects)) if on]
+                                  ("--accept-defects", args.accept_defects), ("--robust", args.robust)) if on]
     if used:
         raise InputError(f"{', '.join(used)} appl{'ies' if len(used) == 1 else 'y'} to --mesh FILE only, not to the "
                          "built-in T-handle")
@@ -115,6 +106,7 @@ def run(args) -> int:
         from .._core.errors import InputError
 
         raise InputError("--control shows the built-in T-handle and Basilisk's spacecraft; it does not take --mesh")
+    units = fmt.Units.from_args(args)
     props, info, display_mesh, body = demo_body(args)
     bundled = body is not None
     report = build_report(props)
@@ -143,7 +135,7 @@ def run(args) -> int:
 
         study = flip_study(props.principal().moments)
     if args.format == "json":
-        d = report_dict(props, info, report, bundled=bundled)
+        d = report_dict(props, info, report, units, bundled=bundled)
         d["flip"] = None if study is None else _flip_dict(study)
         if control is not None:
             from ._control import control_dict
@@ -153,7 +145,7 @@ def run(args) -> int:
             d["report"] = {"index": str(files["index"]), "files": sorted(f for v in files["files"].values() for f in v)}
         fmt.emit(fmt.to_json(d))
     else:
-        lines = report_lines(props, info, report, bundled=bundled) + flip_lines(study, props)
+        lines = report_lines(props, info, report, units, bundled=bundled) + flip_lines(study, props)
         if control is not None:
             from ._control import control_lines
 
@@ -187,7 +179,7 @@ def _write_report(args, props, title, display_mesh, description, control=None):
         try:
             from ..geometry.mesh_io import load_mesh
 
-            mesh = load_mesh(args.mesh, units=args.units or "m")
+            mesh = load_mesh(args.mesh, units=args.units)
         except Exception:  # noqa: BLE001 - the page then shows the equivalent box only
             mesh = None
     try:
@@ -266,58 +258,73 @@ def _canonical_dict(cf) -> dict:
     }
 
 
-def report_dict(props, info, report, *, bundled: bool) -> dict:
-    """JSON-ready dict of the whole demo."""
+def report_dict(props, info, report, units, *, bundled: bool) -> dict:
+    """JSON-ready dict of the whole demo (its masses, lengths and tensors in ``units``)."""
     from .particles import model_dict
     from .props import props_dict
 
-    body = info.to_dict()
+    u = units
+    canonical = _canonical_dict(report["canonical"])
+    canonical.update(principal_moments=u.moments(canonical["principal_moments"]),
+                     p_body_com=u.length(canonical["p_body_com"]))
     return {
-        "body": body,
-        "mass_properties": props_dict(props, info),
-        "canonical_form": _canonical_dict(report["canonical"]),
+        "body": info.to_dict(u),
+        "mass_properties": props_dict(props, info, u),
+        "canonical_form": canonical,
         "validity": [{"code": v.code, "message": v.message} for v in props.check()],
-        "six_point": model_dict(report["six_point"], props),
-        "four_point": model_dict(report["four_point"], props),
-        "equivalent_box": report["equivalent_box"].to_dict(),
-        "equivalent_ellipsoid": report["equivalent_ellipsoid"].to_dict(),
+        "six_point": model_dict(report["six_point"], props, u),
+        "four_point": model_dict(report["four_point"], props, u),
+        "equivalent_box": _solid_dict(report["equivalent_box"], u),
+        "equivalent_ellipsoid": _solid_dict(report["equivalent_ellipsoid"], u),
+        "output_units": u.to_dict(),
     }
 
 
-def report_lines(props, info, report, *, bundled: bool) -> list[str]:
+def _solid_dict(solid, u) -> dict:
+    """An equivalent solid's ``to_dict()`` in ``u``: its mass, volume and every length."""
+    d = solid.to_dict()
+    by_key = {"mass": u.mass, "volume": u.volume, "p_body_com": u.length}
+    return {k: by_key[k](v) if k in by_key else u.length(v) if isinstance(v, list) and k != "R_body_principal"
+            and k != "warnings" else v for k, v in d.items()}
+
+
+def report_lines(props, info, report, units, *, bundled: bool) -> list[str]:
     """The demo's readable tables."""
     from .particles import model_lines
     from .props import canonical_lines, inertia_lines, summary_lines, validity_lines, warnings_lines
 
+    u = units
     title = "inertia demo: " + ((("a steel " if info.density_source.startswith("steel") else "a ") + "T-handle")
                                 if bundled else str(info.source))
     lines = [title, "=" * len(title)]
     if bundled:
-        lines += ["Body: a T-handle built from two solid cylinders (exact mass properties); SI units throughout.",
+        lines += ["Body: a T-handle built from two solid cylinders (exact mass properties); "
+                  + ("SI units throughout." if u.si else f"masses in {u.mass_unit}, lengths in {u.length_unit}."),
                   "Your own body: inertia demo --mesh FILE [--units mm] [--density RHO | --mass KG]"]
-    lines += [""] + summary_lines(props, info, title="1. Mass properties")
-    lines += inertia_lines(props, heading=False)
-    lines += canonical_lines(props, title="2. Canonical form: principal moments and axes")
+    lines += [""] + summary_lines(props, info, u, title="1. Mass properties")
+    lines += inertia_lines(props, u, heading=False)
+    lines += canonical_lines(props, u, title="2. Canonical form: principal moments and axes")
     lines += fmt.heading("3. Validity")
     lines += validity_lines(props.check())
     lines += ["  warnings:"] + ["  " + w for w in warnings_lines([f.message for f in props.findings])]
-    lines += model_lines("4. Six-point model", report["six_point"], props)
-    lines += model_lines("5. Four-point model", report["four_point"], props)
-    lines += _equivalent_lines(props, report["equivalent_box"], report["equivalent_ellipsoid"])
+    lines += model_lines("4. Six-point model", report["six_point"], props, u)
+    lines += model_lines("5. Four-point model", report["four_point"], props, u)
+    lines += _equivalent_lines(props, report["equivalent_box"], report["equivalent_ellipsoid"], u)
     return lines
 
 
-def _equivalent_lines(props, box, ellipsoid) -> list[str]:
+def _equivalent_lines(props, box, ellipsoid, u) -> list[str]:
     """Equivalent uniform box and ellipsoid: dimensions along the principal axes, volume, density."""
     lines = fmt.heading("6. Equivalent uniform solids (same mass, COM and inertia tensor)")
     rows = []
-    fx = fmt.fixed_formatter([box.dims, ellipsoid.dims])
+    fx = fmt.fixed_formatter([u.length(box.dims), u.length(ellipsoid.dims)])
     for name, what, solid in (("box", "edge", box), ("ellipsoid", "semi-axis", ellipsoid)):
-        rows.append([name, what, *(fx(x) for x in solid.dims.tolist()),
-                     fmt.num(solid.volume), fmt.num(solid.density)])
-    lines += fmt.table(["solid", "dimension", "axis 1 [m]", "axis 2 [m]", "axis 3 [m]", "volume [m^3]",
-                        "density [kg/m^3]"], rows)
-    volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
+        rows.append([name, what, *(fx(x) for x in u.length(solid.dims)),
+                     fmt.num(u.volume(solid.volume)), fmt.num(u.density(solid.density))])
+    L = u.length_unit
+    lines += fmt.table(["solid", "dimension", f"axis 1 [{L}]", f"axis 2 [{L}]", f"axis 3 [{L}]", f"volume [{L}^3]",
+                        f"density [{u.density_unit}]"], rows)
+    volume = f"{fmt.num(u.volume(props.volume))} {L}^3" if props.volume == props.volume else "n/a (thin shell)"
     lines.append(f"  axes: the principal axes of section 2, centred on the COM; body volume {volume}")
     for w in tuple(box.findings) + tuple(ellipsoid.findings):
         lines.append(f"  warning: {w.message}")

@@ -13,6 +13,7 @@ examples:
   inertia diff robot.urdf robot.usda                     (what urdf-usd-converter changed)
   inertia diff scene.xml out/scene.usda --tol 1e-4
   inertia diff a.urdf b.sdf --map base_link=base --format json
+  inertia diff a.urdf b.urdf --output-units g,mm
 
 A pair differs when |m_A - m_B| / max(m_A, m_B), max|I_A - I_B| / max|I| (tensors about each COM,
 root frame) or |c_A - c_B| (metres, root frame) exceeds --tol.  Bodies are matched by name, then by
@@ -27,21 +28,21 @@ DESCRIPTION = ("Read both descriptions at their default configuration, match the
 
 
 def register(sub) -> None:
-    from .usd import add_usd_arguments
+    from ._options import add_output_options, add_robot_options, add_units, add_usd_options
 
-    p = fmt.add_command(sub, "diff", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "diff", HELP, DESCRIPTION, EPILOG, usage="A B [options]")
     p.add_argument("a", metavar="A", help="the first description (the reference)")
     p.add_argument("b", metavar="B", help="the second description")
     p.add_argument("--tol", type=float, default=1e-6, metavar="TOL",
                    help="relative for mass and inertia, metres for the COM (default 1e-6)")
     p.add_argument("--map", action="append", default=[], metavar="NAME_A=NAME_B",
                    help="match a renamed body (repeatable)")
-    p.add_argument("--package-path", action="append", default=[], metavar="DIR",
-                   help="folder searched for package:// and model:// meshes (repeatable)")
-    p.add_argument("--mesh-units", default="m", metavar="UNIT", help="length unit of URDF/MJCF mesh files (default m)")
+    add_units(p)
     p.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     p.add_argument("--limit", type=int, default=50, metavar="N", help="print at most N bodies (default 50; json: all)")
-    add_usd_arguments(p)
+    add_output_options(p)
+    add_robot_options(p, ("xacro-arg", "package-path"))
+    add_usd_options(p)
     p.set_defaults(func=run)
 
 
@@ -50,29 +51,43 @@ def run(args) -> int:
 
     from .._core.errors import InputError, RobotFileError
     from ..robots.diff import diff_robots
+    from ..robots.io import parse_xacro_args
     from .usd import name_pairs, unset_tolerance
 
     if not (args.tol >= 0):
         raise InputError(f"--tol must be a non-negative number, got {args.tol}")
+    units = fmt.Units.from_args(args)
     try:
         report = diff_robots(args.a, args.b, tol=args.tol, rename=name_pairs(args.map), physx=args.as_physx,
                              unset_tolerance=unset_tolerance(args), search_paths=args.package_path,
-                             mesh_units=args.mesh_units)
+                             xacro_args=parse_xacro_args(args.xacro_arg), mesh_units=args.units)
     except RobotFileError as exc:
         print(f"inertia diff: error: {exc}", file=sys.stderr)
         return 2
     if args.format == "json":
-        fmt.emit(fmt.to_json(report.to_dict()))
+        fmt.emit(fmt.to_json(diff_dict(report, units)))
     else:
-        fmt.emit(diff_lines(report, limit=args.limit))
+        fmt.emit(diff_lines(report, units, limit=args.limit))
     return 1 if report.differ else 0
 
 
-def _values(r) -> str:
+def diff_dict(report, units) -> dict:
+    """The library's report, its masses, positions and tensors in ``units``."""
+    from ._props_text import converted
+
+    out = report.to_dict()
+    for d in out["differ"]:
+        d.update({side: converted(d[side], units) for side in ("a", "b") if d[side] is not None})
+    out["totals"] = {k: units.mass(v) if k.startswith("mass") else v for k, v in out["totals"].items()}
+    out["output_units"] = units.to_dict()
+    return out
+
+
+def _values(r, u) -> str:
     if r is None:
         return "absent"
-    return (f"{fmt.num(r.mass)} kg, COM {fmt.vector(r.com)} m, moments "
-            + fmt.vector(_moments(r.inertia_com)) + " kg m^2")
+    return (f"{fmt.num(u.mass(r.mass))} {u.mass_unit}, COM {fmt.vector(u.length(r.com))} {u.length_unit}, moments "
+            f"{fmt.vector(u.moments(_moments(r.inertia_com)))} {u.inertia_unit}")
 
 
 def _moments(I):
@@ -81,15 +96,15 @@ def _moments(I):
     return np.linalg.eigvalsh(np.asarray(I))
 
 
-def diff_lines(report, *, limit: int = 50) -> list:
-    n = len(report.differ)
+def diff_lines(report, units, *, limit: int = 50) -> list:
+    n, u = len(report.differ), units
     lines = [f"{report.a} vs {report.b}: {fmt.plural(n, 'body', 'bodies')} differ beyond {report.tol:g}, "
-             f"{fmt.plural(report.same, 'body', 'bodies')} agree (total mass {fmt.num(report.totals['mass_a'])} vs "
-             f"{fmt.num(report.totals['mass_b'])} kg)"]
+             f"{fmt.plural(report.same, 'body', 'bodies')} agree (total mass {fmt.num(u.mass(report.totals['mass_a']))}"
+             f" vs {fmt.num(u.mass(report.totals['mass_b']))} {u.mass_unit})"]
     for d in report.differ[:limit]:
         name = d.name_a if d.name_b in (None, d.name_a) else f"{d.name_a} -> {d.name_b}" if d.name_a else d.name_b
         errs = ", ".join(f"{k} {v:.3g}" for k, v in sorted(d.errors.items(), key=lambda kv: -kv[1]) if v > report.tol)
-        lines += [f"  {name}: {errs}", f"    A: {_values(d.a)}", f"    B: {_values(d.b)}"]
+        lines += [f"  {name}: {errs}", f"    A: {_values(d.a, u)}", f"    B: {_values(d.b, u)}"]
     if n > limit:
         lines.append(f"  ... {n - limit} more (--limit, or --format json for all)")
     if report.massless_unmatched:

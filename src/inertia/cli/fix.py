@@ -10,9 +10,10 @@ from . import _format as fmt
 EPILOG = """\
 examples:
   inertia fix model.sdf -o fixed.sdf                        (invalid tensors -> nearest physical)
-  inertia fix robot.urdf -o fixed.urdf --from-geometry collision
+  inertia fix robot.urdf -o fixed.urdf --from-geometry collision --units mm
   inertia fix scene.xml -o scene_fixed.xml --from-geometry visual --density 2700
   inertia fix robot.urdf --in-place --nearest-valid
+  inertia fix stage.usda -o fixed.usda --from robot.urdf    (an OpenUSD stage from another description)
 
 Nearest physical tensor: the declared tensor's principal moments projected (least squares) onto
 {I_i >= 1e-6 trace, I_i + I_j >= I_k}, axes and COM kept.  From geometry: the link's shapes as
@@ -33,10 +34,11 @@ DESCRIPTION = ("Recompute inertials from each link's collision (or visual) geome
 
 
 def register(sub) -> None:
-    from .check import add_robot_arguments
+    from ._options import add_robot_options
+    from .check import add_file_argument
 
-    p = fmt.add_command(sub, "fix", HELP, DESCRIPTION, EPILOG)
-    add_robot_arguments(p)
+    p = fmt.add_command(sub, "fix", HELP, DESCRIPTION, EPILOG, usage="FILE (-o OUT | --in-place) [options]")
+    add_file_argument(p)
     p.add_argument("-o", "--output", metavar="OUT", help="corrected copy (required unless --in-place)")
     p.add_argument("--in-place", action="store_true", help="replace FILE itself")
     mode = p.add_mutually_exclusive_group()
@@ -49,6 +51,7 @@ def register(sub) -> None:
                            "(products copied from CAD with the wrong sign)")
     p.add_argument("--density", type=float, metavar="RHO",
                    help="with --from-geometry: kg/m^3, the mass then follows from the volume")
+    add_robot_options(p, ("package-path", "mass-units"))
     from .usd import add_fix_arguments
     add_fix_arguments(p)
     p.set_defaults(func=run)
@@ -59,7 +62,7 @@ def run(args) -> int:
 
     from .._core.errors import InputError
     from ..robots.xmlsafe import RobotFileError
-    from .check import MASS_UNITS
+    from ._format import MASS_UNITS
     from .usd import run_fix
 
     if (code := run_fix(args)) is not None:
@@ -75,7 +78,7 @@ def run(args) -> int:
         report = fix_file(args.file, args.output, mode=mode,
                           role=None if args.from_geometry in (None, "auto") else args.from_geometry,
                           density=args.density, in_place=args.in_place, search_paths=args.package_path,
-                          mesh_units=args.mesh_units, mass_scale=MASS_UNITS[args.mass_units])
+                          mesh_units=args.units, mass_scale=MASS_UNITS[args.mass_units])
     except RobotFileError as exc:
         print(f"inertia fix: error: {exc}", file=sys.stderr)
         return 2

@@ -47,7 +47,8 @@ CONVENTIONS = ("SI units; moments in kg m^2 (for --moments in the given order, f
 
 
 def register(sub) -> None:
-    p = fmt.add_command(sub, "flip", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "flip", HELP, DESCRIPTION, EPILOG,
+                        usage="[SOURCE | --moments I1,I2,I3] --omega W1,W2,W3 [options]")
     add_body_arguments(p)
     p.add_argument("--format", choices=("table", "json"), default="table",
                    help="table: aligned text for people (default); json: machine-readable")

@@ -35,7 +35,7 @@ DESCRIPTION = ("Lagrange equations of a rigid body in Euler angles, solved for t
 
 
 def register(sub) -> None:
-    p = fmt.add_command(sub, "lagrangian", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "lagrangian", HELP, DESCRIPTION, EPILOG, usage="[options]")
     p.add_argument("--sequence", default="ZYX", metavar="SEQ",
                    help="intrinsic Euler sequence: XYZ XZY YXZ YZX ZXY ZYX XYX XZX YXY YZY ZXZ ZYZ (default ZYX)")
     p.add_argument("--translation", action="store_true",

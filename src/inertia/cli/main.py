@@ -25,17 +25,32 @@ COMMANDS = {
     "check": "check",
     "fix": "fix",
     "diff": "diff",
+    "help": "main",
 }
+
+EPILOG = """\
+examples:
+  inertia demo                                        (a tour on a steel T-handle, no files needed)
+  inertia props part.stl --units mm --density 2700    (mass, COM, inertia, principal axes)
+  inertia props part.stl --units mm --output-units g,mm --convention cad
+  inertia check robot.urdf --package-path ~/ws/src    (every inertial problem, by link and line)
+  inertia help mesh                                   (the options every mesh command shares)
+
+Every command says more with --help; shared options are described once by inertia help TOPIC
+(topics: source, mesh, output, robot, usd); docs/cli.md has them all.  SI units throughout unless
+--output-units says otherwise."""
 
 
 def build_parser(commands=tuple(COMMANDS)) -> argparse.ArgumentParser:
     """The parser of ``inertia`` with the sub-commands ``commands`` (all by default)."""
     from .._core.version import __version__
+    from ._format import Parser
 
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="inertia",
-        description="Rigid-body mass properties and rotational dynamics (SI units; "
-                    "inertia in the negated-product convention, L = I w).",
+        description="Rigid-body mass properties and rotational dynamics (SI units; inertia in the\n"
+                    "negated-product convention, L = I w).",
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"inertia {__version__}")
     parser.add_argument("--debug", action="store_true", help="show Python tracebacks for errors")
@@ -43,6 +58,37 @@ def build_parser(commands=tuple(COMMANDS)) -> argparse.ArgumentParser:
     for name in commands:
         importlib.import_module(f"inertia.cli.{COMMANDS[name]}").register(sub)
     return parser
+
+
+def sub_parsers(parser) -> dict:
+    """Command name -> its parser."""
+    return next(a.choices for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+
+
+def register(sub) -> None:
+    """``inertia help [COMMAND | TOPIC]``."""
+    from ._format import add_command
+    from ._options import TOPICS
+
+    p = add_command(sub, "help", "a command's help, or a shared option block's (TOPIC)",
+                    "Without an argument, this list of commands; with a command, its --help; with a "
+                    "TOPIC, the options that several commands share, described once.",
+                    "examples:\n  inertia help props\n  inertia help mesh", usage="[COMMAND | TOPIC]")
+    p.add_argument("topic", nargs="?", metavar="COMMAND | TOPIC",
+                   choices=[c for c in COMMANDS if c != "help"] + list(TOPICS),
+                   help="a command, or one of the topics " + ", ".join(TOPICS))
+    p.set_defaults(func=_help)
+
+
+def _help(args) -> int:
+    from ._options import TOPICS, topic_help
+
+    if args.topic in TOPICS:
+        sys.stdout.write(topic_help(args.topic))
+        return 0
+    parser = build_parser((args.topic,) if args.topic else tuple(COMMANDS))
+    (sub_parsers(parser)[args.topic] if args.topic else parser).print_help()
+    return 0
 
 
 def _pop_debug(argv: list[str]) -> tuple[list[str], bool]:
@@ -92,7 +138,9 @@ def main(argv=None) -> int:
     # modules cost ~10 ms to import); anything else (--help, a typo) gets them all
     named = argv[0] if argv and argv[0] in COMMANDS else None
     parser = build_parser((named,) if named else tuple(COMMANDS))
-    args = parser.parse_args(argv)
+    args, extras = parser.parse_known_args(argv)
+    if extras:    # refused by the command they were given to, with its usage, not the top level's
+        (sub_parsers(parser).get(getattr(args, "command", None)) or parser).unknown(extras)
     args.debug = debug
     if not getattr(args, "func", None):
         parser.print_help()

@@ -12,53 +12,62 @@ columns of a proper rotation ``R_body_principal`` (det +1).
 from __future__ import annotations
 
 from . import _format as fmt
-from ._props_text import XYZ, canonical_lines, degenerate_text
-from ._source import DENSITY_NOTE, add_source_arguments
+from ._options import (
+    DENSITY_NOTE,
+    add_body_options,
+    add_mesh_options,
+    add_output_options,
+    add_robot_options,
+    add_usd_options,
+)
+from ._props_text import XYZ, canonical_lines, inertia_lines
 
 __all__ = ["register", "run", "props_dict", "props_lines", "summary_lines", "inertia_lines", "canonical_lines",
-           "degenerate_text", "validity_lines", "warnings_lines", "XYZ"]
+           "validity_lines", "warnings_lines", "XYZ"]
 
-CONVENTIONS = ("SI units (kg, m, kg m^2); inertia_com about the center of mass in the body axes, "
-               "products of inertia negated (L = I w); principal_moments ascending; principal_axes "
-               "are the columns of R_body_principal (det +1)")
+
+def conventions(units) -> str:
+    """The JSON's ``conventions`` sentence."""
+    return (f"{units.conventions()}; inertia_com about the center of mass in the body axes; principal_moments "
+            "ascending; principal_axes are the columns of R_body_principal (det +1)")
 
 EPILOG = """\
 examples:
   inertia props box:0.1,0.2,0.4 --mass 2
   inertia props part.stl --units mm --density 2700 --format json
-  inertia props sphere:5 --units cm            (water, 1000 kg/m^3, by default)
+  inertia props part.stl --units mm --density 2700 --output-units g,mm --convention cad
+  inertia props part.stl --units mm --density 2700 --format urdf   (a ready-to-paste <inertial>)
   inertia props robot.urdf --joint elbow=0.5   (whole robot and each link, root frame)
   inertia props scene.xml --subtree gripper --format json
-  inertia props robot.urdf.xacro --xacro-arg prefix:=left_ --package-path ~/ws/src
 
 exit status: 0 on success, 1 on bad input (the message on stderr names the problem), 2 on bad usage."""
 
 HELP = "mass properties of a mesh file, a primitive or a whole robot"
-DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal "
-               "moments and axes, repeated-moment report and physical validity of a mesh file "
-               "or a primitive shape.  " + DENSITY_NOTE + "  For a robot file (URDF, SDF, MJCF, "
-               ".xacro): the whole robot's mass, center of mass and inertia at a joint "
-               "configuration, and each link's, in the root frame (--units: the unit of its mesh files).")
+DESCRIPTION = ("Mass, volume, center of mass, inertia about the center of mass, principal moments and axes "
+               "and physical validity of a mesh file or a primitive shape, or of a whole robot (URDF, SDF, MJCF, "
+               "xacro, OpenUSD) at a joint configuration with each of its links, in the root frame.  "
+               + DENSITY_NOTE)
 
 
 def register(sub) -> None:
-    p = fmt.add_command(sub, "props", HELP, DESCRIPTION, EPILOG)
-    from .props_robot import add_robot_arguments
-
-    add_source_arguments(p)
+    p = fmt.add_command(sub, "props", HELP, DESCRIPTION, EPILOG, usage="SOURCE [options]")
+    p.add_argument("source", metavar="SOURCE",
+                   help="a mesh file, a primitive NAME:numbers such as box:0.1,0.2,0.4 (inertia help source), "
+                        "or a robot file")
     add_format_argument(p, robot=True)
-    add_robot_arguments(p)
-    from .usd import add_usd_arguments
-    add_usd_arguments(p)
+    add_body_options(p)
+    add_mesh_options(p)
+    add_output_options(p)
+    add_robot_options(p)
+    add_usd_options(p)
     p.set_defaults(func=run)
 
 
 def add_format_argument(p, *, robot: bool = False) -> None:
     if robot:
         p.add_argument("--format", choices=("table", "json", "urdf", "mjcf", "sdf"), default="table",
-                       help="table: aligned text for people (default); json: machine-readable; urdf, mjcf, "
-                            "sdf: a ready-to-paste <inertial> block (COM and tensor in the mesh's axes, "
-                            "tensor-element products)")
+                       help="table (default), json, or urdf|mjcf|sdf: a ready-to-paste <inertial> block (SI, "
+                            "tensor elements, 6 significant digits or as many as keep it physical)")
         return
     p.add_argument("--format", choices=("table", "json"), default="table",
                    help="table: aligned text for people (default); json: machine-readable")
@@ -69,55 +78,65 @@ def run(args) -> int:
     from ._source import load_source
     from .usd import run_props
 
-    if (code := run_props(args)) is not None:
+    units = fmt.Units.from_args(args)
+    if args.format in BLOCK_FORMATS and not units.si:
+        from .._core.errors import InputError
+
+        raise InputError(f"--format {args.format} writes SI units and tensor elements, as the format requires: "
+                         "drop --output-units and --convention")
+    if (code := run_props(args, units)) is not None:
         return code
     if props_robot.is_robot_file(args.source):
-        return props_robot.run(args)
+        return props_robot.run(args, units)
     props_robot.refuse_robot_options(args)
     props, info = load_source(args)
-    if args.format in ("urdf", "mjcf", "sdf"):
-        from ..robots.writers import inertial_block
-
-        fmt.emit(inertial_block(props, args.format))
+    if args.format in BLOCK_FORMATS:
+        fmt.emit(fmt.inertial_block(props, args.format))
         return 0
     if args.format == "json":
-        fmt.emit(fmt.to_json(props_dict(props, info)))
+        fmt.emit(fmt.to_json(props_dict(props, info, units)))
     else:
-        fmt.emit(props_lines(props, info))
+        fmt.emit(props_lines(props, info, units))
     return 0
+
+
+BLOCK_FORMATS = ("urdf", "mjcf", "sdf")
 
 
 # ---------------------------------------------------------------------------- content
 
 
-def props_dict(props, info) -> dict:
-    """JSON-ready dict of the mass properties and how they were obtained."""
+def props_dict(props, info, units=None) -> dict:
+    """JSON-ready dict of the mass properties and how they were obtained (in ``units``, SI by default)."""
+    u = units or fmt.Units()
     pf = props.principal()
     violations = props.check()
-    out = dict(info.to_dict())
+    out = dict(info.to_dict(u))
     out.update({
         "frame": props.frame,
-        "mass": props.mass,
-        "volume": props.volume,
-        "com": props.com,
-        "inertia_com": props.inertia_com,
-        "principal_moments": pf.moments,
+        "mass": u.mass(props.mass),
+        "volume": u.volume(props.volume),
+        "com": u.length(props.com),
+        "inertia_com": u.inertia(props.inertia_com),
+        "principal_moments": u.moments(pf.moments),
         "principal_axes": pf.R_body_principal,
         "degenerate_moments": [list(g) for g in pf.degenerate],
-        "radii_of_gyration": props.radii_of_gyration,
+        "radii_of_gyration": u.length(props.radii_of_gyration),
         "validity": [{"code": v.code, "message": v.message} for v in violations],
         "physical": not violations,
         "warnings": list(getattr(info, "notes", [])) + [f.message for f in props.findings],
-        "conventions": CONVENTIONS,
+        "output_units": u.to_dict(),
+        "conventions": conventions(u),
     })
     return out
 
 
-def props_lines(props, info, *, title: str | None = None) -> list[str]:
+def props_lines(props, info, units=None, *, title: str | None = None) -> list[str]:
     """Readable tables of the mass properties (used by ``props`` and ``demo``)."""
-    lines = summary_lines(props, info, title=title or f"Mass properties of {info.source}")
-    lines += inertia_lines(props)
-    lines += canonical_lines(props)
+    u = units or fmt.Units()
+    lines = summary_lines(props, info, u, title=title or f"Mass properties of {info.source}")
+    lines += inertia_lines(props, u)
+    lines += canonical_lines(props, u)
     lines += fmt.heading("Validity")
     lines += validity_lines(props.check())
     lines += fmt.heading("Warnings")
@@ -125,35 +144,30 @@ def props_lines(props, info, *, title: str | None = None) -> list[str]:
     return lines
 
 
-def summary_lines(props, info, *, title: str) -> list[str]:
+def summary_lines(props, info, u, *, title: str) -> list[str]:
     """Title, source, mass, volume, density, center of mass."""
     lines = fmt.heading(title)[1:]  # no blank line before the first heading
+    L = u.length_unit
+    results = "results in SI units" if u.si else f"results in {u.mass_unit} and {L}"
     if info.kind == "assembly":
-        src = [("source", f"{info.source} (an assembly of primitives; SI units)")]
+        src = [("source", f"{info.source} (an assembly of primitives; {'SI units' if u.si else results})")]
     else:
-        src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, results in SI units)")]
+        src = [("source", f"{info.source} ({info.kind}; lengths read in {info.units}, {results})")]
     if info.kind in ("primitive", "assembly"):
-        src.append(("dimensions", info.dimensions_text))
+        src.append(("dimensions", info.dimensions(u)))
     if info.mesh is not None:
         m = info.mesh
         src.append(("mesh", f"{m['n_vertices']} vertices, {m['n_faces']} faces (after merging duplicates)"))
-        src.append(("extents", fmt.vector(m["extents"]) + " m (bounding box " + fmt.vector(m["bbox_min"]) + " .. "
-                    + fmt.vector(m["bbox_max"]) + " m)"))
-    volume = f"{fmt.num(props.volume)} m^3" if props.volume == props.volume else "n/a (thin shell)"
+        src.append(("extents", f"{fmt.vector(u.length(m['extents']))} {L} (bounding box "
+                    f"{fmt.vector(u.length(m['bbox_min']))} .. {fmt.vector(u.length(m['bbox_max']))} {L})"))
+    volume = f"{fmt.num(u.volume(props.volume))} {L}^3" if props.volume == props.volume else "n/a (thin shell)"
     lines += fmt.key_values(src + [
-        ("mass", f"{fmt.num(props.mass)} kg"),
+        ("mass", f"{fmt.num(u.mass(props.mass))} {u.mass_unit}"),
         ("volume", volume),
-        ("density", info.density_text()),
-        ("center of mass", fmt.vector(props.com) + f" m (in frame {props.frame!r})"),
+        ("density", info.density_text(u)),
+        ("center of mass", f"{fmt.vector(u.length(props.com))} {L} (in frame {props.frame!r})"),
     ])
     return lines
-
-
-def inertia_lines(props, *, heading: bool = True) -> list[str]:
-    """The central inertia matrix, labelled (as its own section, or as a block of the previous one)."""
-    text = "Inertia about the center of mass [kg m^2] (body axes, products negated: L = I w)"
-    lines = fmt.heading(text) if heading else ["  " + text[0].lower() + text[1:] + ":"]
-    return lines + fmt.matrix_lines(props.inertia_com, row_labels=XYZ, col_labels=XYZ, style="e")
 
 
 def validity_lines(violations) -> list[str]:

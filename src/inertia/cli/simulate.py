@@ -76,18 +76,20 @@ def allow_negative_lists(p) -> None:
 
 
 def add_body_arguments(p) -> None:
-    """SOURCE or --moments, --omega, and the SOURCE mass options."""
-    from ._source import add_source_arguments, source_help
+    """SOURCE or --moments, --omega, and the SOURCE options (shared blocks)."""
+    from ._options import add_body_options, add_mesh_options
 
     allow_negative_lists(p)
 
     p.add_argument("source", nargs="?", metavar="SOURCE",
-                   help="instead of --moments: " + source_help())
+                   help="instead of --moments: a mesh file or a primitive NAME:numbers such as box:0.1,0.2,0.4 "
+                        "(inertia help source)")
     p.add_argument("--moments", metavar="I1,I2,I3",
                    help="principal moments of inertia in kg m^2 along the body x, y, z axes (any order)")
     p.add_argument("--omega", metavar="W1,W2,W3", required=True,
                    help="initial angular velocity in rad/s in the body frame (SOURCE: in its axes)")
-    add_source_arguments(p, source_required=False)
+    add_body_options(p)
+    add_mesh_options(p)
 
 
 def parse_numbers(text, option: str, count: int | None = None, *, what: str = "numbers") -> list:
@@ -128,7 +130,7 @@ class Body:
     def to_dict(self) -> dict:
         out = {"moments": self.moments}
         if self.info is not None:
-            out.update(self.info.to_dict())
+            out.update(self.info.to_dict(fmt.Units()))
             out["principal_axes"] = self.R_BP
         return out
 
@@ -200,7 +202,9 @@ def to_output_frame(body, q_WP, w_P):
 
 # ============================================================================ simulate
 def register(sub) -> None:
-    p = fmt.add_command(sub, "simulate", HELP, DESCRIPTION, EPILOG)
+    p = fmt.add_command(sub, "simulate", HELP, DESCRIPTION, EPILOG,
+                        usage="[SOURCE | --moments I1,I2,I3] --omega W1,W2,W3 (--duration T --step H | --times "
+                              "T1,...) [options]")
     add_body_arguments(p)
     p.add_argument("--q0", metavar="W,X,Y,Z",
                    help="initial attitude, unit quaternion body -> world, scalar first (default 1,0,0,0)")

@@ -10,15 +10,13 @@ from __future__ import annotations
 import os
 
 from . import _format as fmt
-
-USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
-ZERO_UNSET_HELP = ("OpenUSD stages: read only exact zeros as 'not set' (the schema's text), instead of usd-core's "
-                   "ComputeMassProperties, which also ignores a diagonalInertia or principalAxes of norm <= 1e-5")
+from ._options import USD_EXTENSIONS, add_usd_options
 
 
 def is_usd_file(text) -> bool:
-    """A path to an existing file with an OpenUSD extension."""
-    return os.path.isfile(str(text)) and os.path.splitext(str(text))[1].lower() in USD_EXTENSIONS
+    """A path to something that is not a folder (the reader names what it is) with an OpenUSD extension."""
+    text = str(text)
+    return os.path.lexists(text) and not os.path.isdir(text) and os.path.splitext(text)[1].lower() in USD_EXTENSIONS
 
 
 def unset_tolerance(args) -> float:
@@ -27,19 +25,9 @@ def unset_tolerance(args) -> float:
     return 0.0 if getattr(args, "zero_unset", False) else UNSET_TOLERANCE
 
 
-def add_usd_arguments(p, *, physx: bool = True) -> None:
-    """The options that only OpenUSD stages take."""
-    g = p.add_argument_group("OpenUSD stages (.usd, .usda, .usdc, .usdz; needs the usd extra)")
-    if physx:
-        g.add_argument("--as-physx", action="store_true",
-                       help="what PhysX simulates: a triangle mesh on a dynamic body as its convex hull (or the "
-                            "physics:approximation it names); the report gives the exact mass beside it")
-    g.add_argument("--zero-unset", action="store_true", help=ZERO_UNSET_HELP)
-
-
 def add_fix_arguments(p) -> None:
     """``fix``'s options for stages: --from SOURCE, --layer OUT, --map A=B."""
-    add_usd_arguments(p, physx=False)
+    add_usd_options(p, physx=False)
     g = p.add_argument_group("writing another description's values (fix STAGE --from SOURCE)")
     g.add_argument("--from", dest="from_source", metavar="SOURCE",
                    help="URDF, SDF, MJCF, xacro or USD file whose bodies' mass properties are written into STAGE "
@@ -72,7 +60,7 @@ def _refuse_mesh_options(args) -> None:
             raise InputError(f"{flag} does not apply to an OpenUSD stage (its bodies are read at their authored pose)")
 
 
-def run_props(args) -> int | None:
+def run_props(args, units) -> int | None:
     """``props`` for a stage (None: SOURCE is no stage)."""
     if _not_usd(args, args.source, (("--as-physx", "as_physx"), ("--zero-unset", "zero_unset"))):
         return None
@@ -83,35 +71,35 @@ def run_props(args) -> int | None:
     sub = result.subtree(args.subtree) if args.subtree else None
     props = sub if sub is not None else result.total
     if args.format in ("urdf", "mjcf", "sdf"):
-        from ..robots.writers import inertial_block
-
-        fmt.emit(inertial_block(props, args.format))
+        fmt.emit(fmt.inertial_block(props, args.format))
         return 0
     links = result.subtree_links(args.subtree) if sub is not None else result.links
     if args.format == "json":
-        pf = props.principal()
+        from ._props_text import body_dict, link_dict
+
+        u = units
         fmt.emit(fmt.to_json({
             "source": str(result.path), "format": result.format, "frame": result.frame, "subtree": args.subtree,
-            "configuration": {}, "mass": props.mass, "com": props.com, "inertia_com": props.inertia_com,
-            "principal_moments": pf.moments, "principal_axes": pf.R_body_principal,
-            "links": [lk.to_dict() for lk in links], "notes": list(result.notes),
-            "articulations": {root: {"bodies": a["bodies"], **({"mass": a["total"].mass, "com": a["total"].com,
-                                                               "inertia_com": a["total"].inertia_com}
+            "configuration": {}, **body_dict(props, u), "links": [link_dict(lk, u) for lk in links],
+            "notes": list(result.notes),
+            "articulations": {root: {"bodies": a["bodies"], **({"mass": u.mass(a["total"].mass),
+                                                               "com": u.length(a["total"].com),
+                                                               "inertia_com": u.inertia(a["total"].inertia_com)}
                                                               if a["total"] is not None else {})}
                               for root, a in result.articulations.items()},
-            "as_physx": bool(args.as_physx),
-            "conventions": ("SI units (kg, m, kg m^2); every position and tensor in the stage's world frame at the "
-                            "authored pose; inertia_com about the center of mass, products of inertia negated "
-                            "(L = I w)")}))
+            "as_physx": bool(args.as_physx), "output_units": u.to_dict(),
+            "conventions": (f"{u.conventions()}; every position and tensor in the stage's world frame at the "
+                            "authored pose; inertia_com about the center of mass")}))
     else:
-        fmt.emit(props_lines(result, props, links, args.subtree, physx=args.as_physx))
+        fmt.emit(props_lines(result, props, links, units, args.subtree, physx=args.as_physx))
     return 0
 
 
-def props_lines(result, props, links, subtree=None, *, physx: bool = False) -> list:
+def props_lines(result, props, links, units, subtree=None, *, physx: bool = False) -> list:
     from ..robots.usd.mass import SOURCES
-    from ._props_text import XYZ, canonical_lines
+    from ._props_text import canonical_lines, inertia_lines
 
+    u = units
     what = f"the subtree of body {subtree!r} ({len(links)} bodies)" if subtree else "every dynamic body"
     lines = fmt.heading(f"Mass properties of {what}: {result.path}")[1:]
     lines += fmt.key_values([
@@ -119,21 +107,21 @@ def props_lines(result, props, links, subtree=None, *, physx: bool = False) -> l
                    + (f", {len(result.articulations)} articulation(s)" if result.articulations else "")),
         ("frame", "world, at the authored pose (SI units)"),
         ("colliders", "as PhysX simulates them (--as-physx)" if physx else "exact solids"),
-        ("mass", f"{fmt.num(props.mass)} kg"),
-        ("center of mass", fmt.vector(props.com) + " m"),
+        ("mass", f"{fmt.num(u.mass(props.mass))} {u.mass_unit}"),
+        ("center of mass", f"{fmt.vector(u.length(props.com))} {u.length_unit}"),
     ])
-    lines += ["  inertia about the center of mass [kg m^2] (world axes, products negated: L = I w):"]
-    lines += fmt.matrix_lines(props.inertia_com, row_labels=XYZ, col_labels=XYZ, style="e")
-    lines += canonical_lines(props)
+    lines += inertia_lines(props, u, heading=False, axes="world axes")
+    lines += canonical_lines(props, u)
     lines += fmt.heading("Bodies")
-    rows = [[lk.name, fmt.num(lk.mass), *(fmt.num(x) for x in lk.com), lk.source
-             + ("" if lk.exact_mass != lk.exact_mass else f" (exact solid {fmt.num(lk.exact_mass)} kg)")]
+    m, L = u.mass_unit, u.length_unit
+    rows = [[lk.name, fmt.num(u.mass(lk.mass)), *(fmt.num(x) for x in u.length(lk.com)), lk.source
+             + ("" if lk.exact_mass != lk.exact_mass else f" (exact solid {fmt.num(u.mass(lk.exact_mass))} {m})")]
             for lk in links]
-    lines += fmt.table(["body", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "source"], rows)
+    lines += fmt.table(["body", f"mass [{m}]", f"com x [{L}]", f"com y [{L}]", f"com z [{L}]", "source"], rows)
     lines += [f"  {s}: {SOURCES[s]}" for s in dict.fromkeys(lk.source for lk in links)]
     for root, a in result.articulations.items():
-        total = "no mass" if a["total"] is None else (f"{fmt.num(a['total'].mass)} kg, COM "
-                                                      f"{fmt.vector(a['total'].com)} m")
+        total = "no mass" if a["total"] is None else (f"{fmt.num(u.mass(a['total'].mass))} {m}, COM "
+                                                      f"{fmt.vector(u.length(a['total'].com))} {L}")
         lines.append(f"  articulation {root}: {fmt.plural(len(a['bodies']), 'body', 'bodies')}, {total}")
     notes = list(result.notes) + [f"{lk.name}: {n}" for lk in links for n in lk.notes]
     if notes:

@@ -313,14 +313,22 @@ def _interiors_disjoint(caps, CV, n, a, b, tol):
     return bool(separated.all())
 
 
-def cap_region_bound(geo: CapGeometry, threshold, p, *, max_level=10, max_cells=200_000, enough=0.0, threads=0):
+#: most cell-cap element pairs (cells x (cap faces + loop edges)) one octree examines: each costs a
+#: solid angle or a distance, so a soup of thousands of loose triangles (as many caps) stops here
+#: (its cells left count whole) instead of running for minutes; a mesh with a few holes never nears it
+MAX_CAP_WORK = 200_000_000
+
+
+def cap_region_bound(geo: CapGeometry, threshold, p, *, max_level=10, max_cells=200_000, enough=0.0, threads=0,
+                     max_work=MAX_CAP_WORK, stop=None):
     """Upper bounds of ``int |1|, |y_i|, |y_i y_j|`` (y = x - p) over {x : |w_cap(x)| >= threshold}.
 
     Adaptive octree over the box around the caps outside which ``|w_cap| < threshold``
     (``|Omega| <= area / d^2``); ``cap_cells`` certifies cells free, or
     (threshold 1/2) bounds the part of a cell near a single flat cap in closed form.
     Cells left at the last level count whole; refinement also stops once the bound is at
-    most ``enough``.
+    most ``enough``, after ``max_work`` cell-element pairs, or when ``stop(level)`` says so
+    (a time budget; it may also report progress).
 
     Returns ``(volume bound, first (3,), second (3, 3), n_cells_left)``.
     """
@@ -335,11 +343,15 @@ def cap_region_bound(geo: CapGeometry, threshold, p, *, max_level=10, max_cells=
             geo.flat, geo.area, geo.perimeter, geo.diameter, geo.normal, geo.apex, geo.flat_dev, geo.eps)
     G = len(geo.area)
     near_parts = _NearParts(G)
+    per_cell, work = len(geo.CF) + len(geo.E0), 0
     for level in range(max_level + 1):
         status, which, delta, w_rest, contrib = _k.cap_cells(np.ascontiguousarray(centers), half, threshold, *args,
                                                              threads)
+        work += len(centers) * per_cell
         cell_vol = (2 * half) ** 3
-        last = level == max_level or 8 * int((status != 0).sum()) > max_cells
+        n_next = 8 * int((status != 0).sum())
+        last = (level == max_level or n_next > max_cells or work + n_next * per_cell > max_work
+                or (stop is not None and stop(level)))
         # a cell near one flat cap is accepted with its closed-form part once that part is
         # within its share of ``enough`` (by the area it covers), or stops shrinking (a cell well
         # inside the cap's size, the other caps' value dominating Delta), or refinement stops

@@ -204,9 +204,10 @@ class Pieces:
             P, owner, rows = P[~done], owner[~done], rows[~done]
             val = unpacked_sums(acc)
             guess, bnd = _unresolved(np.concatenate([P, P_left]), p, sliver)
-            out_of_budget = (depth >= max_depth or used + 4 * len(P) > max_pieces
-                             or (deadline is not None and time.perf_counter() > deadline))
-            if len(P) == 0 or out_of_budget or good_enough([a + b for a, b in zip(val, guess)], bnd):
+            stats["stopped_by"] = ("depth limit" if depth >= max_depth else "piece budget"
+                                   if used + 4 * len(P) > max_pieces else "time budget"
+                                   if deadline is not None and time.perf_counter() > deadline else None)
+            if len(P) == 0 or stats["stopped_by"] or good_enough([a + b for a, b in zip(val, guess)], bnd):
                 break
             depth += 1
             P, owner, rows = _split4(P), np.repeat(owner, 4), np.repeat(rows, 4)

@@ -8,20 +8,18 @@ OBJ by material, we keep the file's order) and refuse a malformed file with a
 
 A text file starting with a byte-order mark, or written in UTF-16 or UTF-32 (told by its mark
 or by the zero bytes of its first character), is read as the same text in UTF-8; any other
-byte (Latin-1 in a comment or a name) is read as it is: the grammars are ASCII.  PLY, OFF and
-glTF, read by trimesh, are given to it in UTF-8 (:func:`trimesh_source`).
+byte (Latin-1 in a comment or a name) is read as it is: the grammars are ASCII.  OFF and
+glTF, read by trimesh, are given to it in UTF-8 (:func:`utf8_for_trimesh`).
 """
 
 from __future__ import annotations
-
-import io
 
 import numpy as np
 
 from .._core.errors import MeshFileError
 from .._ext import text as _k
 
-__all__ = ["read_text_mesh", "read_ascii_stl", "read_obj", "text_encoding", "utf8_head", "trimesh_source"]
+__all__ = ["read_text_mesh", "read_ascii_stl", "read_obj", "text_encoding", "utf8_head", "utf8_for_trimesh"]
 
 # the error kinds of the compiled readers (src/ext/text/lexer.hpp)
 BAD_NUMBER, FEW_COORDS, EXTRA_TOKENS, UNEXPECTED, FACET_SIZE, TRUNCATED = 1, 2, 3, 4, 5, 6
@@ -30,12 +28,12 @@ BAD_REF, ZERO_INDEX, FEW_REFS, INDEX_RANGE = 7, 8, 9, 10
 STL_PLACES = ("outside a solid", "inside a solid, outside a facet", "inside a facet")
 
 
-def read_text_mesh(data: np.ndarray, path, ext: str, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+def read_text_mesh(data: np.ndarray, path, ext: str, polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
     """Vertices (V, 3) float64 and faces (F, 3) int64 of the bytes ``data`` (uint8) of an ASCII STL
     (``ext`` ".stl") or OBJ file, in any of the encodings of :func:`text_encoding`."""
     fmt = "OBJ" if ext == ".obj" else "ASCII STL"
     text = utf8_text(data, path, fmt)
-    return read_obj(text, path, quads) if ext == ".obj" else read_ascii_stl(text, path)
+    return read_obj(text, path, polygons) if ext == ".obj" else read_ascii_stl(text, path)
 
 
 def read_ascii_stl(data: np.ndarray, path) -> tuple[np.ndarray, np.ndarray]:
@@ -45,13 +43,10 @@ def read_ascii_stl(data: np.ndarray, path) -> tuple[np.ndarray, np.ndarray]:
     return _checked(_k.read_ascii_stl(data), data, path, "ASCII STL")
 
 
-def read_obj(data: np.ndarray, path, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of OBJ bytes (uint8).
-
-    Polygons are fanned from their first vertex (as trimesh does); with ``quads="shorter"`` a
-    quadrilateral is split along its shorter diagonal instead (as MuJoCo's OBJ reader does: the
-    two differ on a quad that is not planar)."""
-    return _checked(_k.read_obj(data, quads == "shorter"), data, path, "OBJ")
+def read_obj(data: np.ndarray, path, polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float64 and triangles (F, 3) int64 (0-based) of OBJ bytes (uint8), polygons
+    made triangles as ``polygons`` says (:func:`~inertia.geometry.mesh_io.load_mesh`)."""
+    return _checked(_k.read_obj(data, ("fan", "shorter", "mujoco").index(polygons)), data, path, "OBJ")
 
 
 def _checked(result, data: np.ndarray, path, fmt: str):
@@ -130,28 +125,12 @@ def utf8_text(data, path, fmt: str):
     return np.frombuffer(text, dtype=np.uint8) if isinstance(data, np.ndarray) else text
 
 
-def trimesh_source(path, ext: str):
-    """What trimesh should read for a PLY, OFF or glTF file: its path, or the file's text made
-    UTF-8 (a file object) when trimesh could not read it as it is: in UTF-16 or UTF-32, or with
-    bytes that are not UTF-8 (Latin-1 in a comment or a name) in its text part (a PLY's header,
-    all of an OFF or a glTF)."""
-    with open(path, "rb") as fh:
-        data = fh.read(1 << 16)
-        if ext == ".ply" and text_encoding(data) == ("utf-8", 0) and data.find(b"end_header") >= 0 \
-                and _utf8_for_trimesh(data, path, ext) == data:
-            return str(path)   # a PLY's text is its header, all in UTF-8: the usual case, read no further
-        data += fh.read()
-    text = _utf8_for_trimesh(data, path, ext)
-    return str(path) if text == data else io.BytesIO(text)
-
-
-def _utf8_for_trimesh(data: bytes, path, ext: str) -> bytes:
-    """``data`` in UTF-8 (:func:`utf8_text`), its text part decoded as Latin-1 when it is not UTF-8."""
+def utf8_for_trimesh(data: bytes, path, ext: str) -> bytes:
+    """The bytes of an OFF or glTF file as trimesh can read them: UTF-8 (:func:`utf8_text`), with
+    bytes that are not UTF-8 (Latin-1 in a comment or a name) decoded as Latin-1."""
     text = utf8_text(data, path, ext[1:].upper().replace("GLTF", "glTF"))
-    end = text.find(b"end_header") if ext == ".ply" else -1
-    head = text[:end] if end >= 0 else text
     try:
-        head.decode("utf-8")
+        text.decode("utf-8")
     except UnicodeDecodeError:   # Latin-1 (every byte is a character), which trimesh's parsers refuse
-        return head.decode("latin-1").encode("utf-8") + text[len(head):]
+        return text.decode("latin-1").encode("utf-8")
     return text

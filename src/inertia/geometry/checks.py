@@ -174,10 +174,12 @@ def _intersecting_defect(crossing, effect: dict, whole: str):
     ``whole`` says what passes through itself."""
     a, b = crossing.faces
     figures = ", ".join(f"{k} {x:.1e}" for k, x in effect.items())
+    off = (f"the integrals are off by up to {figures} (relative)" if all(np.isfinite(list(effect.values())))
+           else "it has no volume in double precision (the integrals have no scale to compare)")
     return mesh_finding("self_intersecting", 1,
-                  f"{whole} through itself (the integrals count the region it encloses twice, or negative), e.g. "
-                  f"faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds once the "
-                  f"integrals are off by up to {figures} (relative)",
+                        f"{whole} through itself (the integrals count the region it encloses twice, or negative), "
+                        f"e.g. faces {a} and {b} cross near {fmt_point(crossing.point)}; against the solid it bounds "
+                        f"once {off}",
                         {"faces": (a, b), "point": tuple(float(x) for x in crossing.point), "effect": effect})
 
 

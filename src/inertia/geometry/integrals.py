@@ -242,7 +242,8 @@ def shell_integrals(vertices: np.ndarray, faces: np.ndarray, reference: np.ndarr
     return _integrals(_k.shell_sums, v, f, reference, _SHELL_SCALE)
 
 
-def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, reference: np.ndarray, density: float):
+def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, reference: np.ndarray, density: float,
+                    mass: float | None = None):
     """Turn integrals about ``reference`` into the COM and the inertia about it, for a uniform ``density``.
 
     Parameters
@@ -252,6 +253,8 @@ def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, refer
     second : (3, 3) float, ``int (x - r)(x - r)^T``.
     reference : (3,) float, m, the point r.
     density : float, kg/m^3 (kg/m^2 for a shell).
+    mass : float, optional, kg, ``density * measure``: given, the inertia is ``mass (C / measure)``
+        where ``density C`` would overflow (a huge mass on a small body: the density does not fit).
 
     Returns
     -------
@@ -263,10 +266,10 @@ def central_inertia(measure: float, first: np.ndarray, second: np.ndarray, refer
     if not (measure != 0.0 and np.isfinite(measure)):
         raise InputError(f"cannot locate the center of mass: the measure (volume or area) is {measure!r}")
     return central_from_floats(measure, first.tolist(), second.tolist(), np.asarray(reference).tolist(),
-                               float(density))
+                               float(density), mass)
 
 
-def central_from_floats(measure: float, first, second, reference, rho: float):
+def central_from_floats(measure: float, first, second, reference, rho: float, mass: float | None = None):
     """:func:`central_inertia` on Python floats (``first``, ``reference``: 3; ``second``: 3 rows
     of 3; ``measure`` finite, non-zero), the same arithmetic: 3 x 3 NumPy operations would cost
     more than the rest of a small mesh."""
@@ -280,9 +283,11 @@ def central_from_floats(measure: float, first, second, reference, rho: float):
     cxy = 0.5 * (sxy + syx) - measure * gx * gy
     cyz = 0.5 * (syz + szy) - measure * gy * gz
     czx = 0.5 * (szx + sxz) - measure * gz * gx
-    inertia = np.array([[rho * (cyy + czz), -rho * cxy, -rho * czx],
-                        [-rho * cxy, rho * (czz + cxx), -rho * cyz],
-                        [-rho * czx, -rho * cyz, rho * (cxx + cyy)]])
+    C = np.array([[cyy + czz, -cxy, -czx], [-cxy, czz + cxx, -cyz], [-czx, -cyz, cxx + cyy]])
+    with np.errstate(over="ignore", invalid="ignore"):
+        inertia = rho * C
+    if mass is not None and not np.isfinite(inertia).all():   # rho = mass / measure overflowed: scale first
+        inertia = mass * (C / measure)
     return np.array([reference[0] + gx, reference[1] + gy, reference[2] + gz]), inertia
 
 

@@ -28,9 +28,14 @@ def validate_inputs(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
             and faces.shape[1] == 3 and vertices.size and faces.size):
         return vertices, faces           # the common case, already in final form
     try:
-        v = np.asarray(vertices, dtype=np.float64)
+        v = np.asarray(vertices)
+        real = not (v.dtype == bool or np.issubdtype(v.dtype, np.complexfloating))
+        v = np.asarray(v, dtype=np.float64) if real else v
     except (TypeError, ValueError) as exc:
         raise InputError(f"vertices must be a numeric (V, 3) array, got {type(vertices).__name__}: {exc}") from None
+    if not real:   # never cut to 0/1 or to the real part
+        kind = "booleans" if v.dtype == bool else "complex values"
+        raise InputError(f"vertices must hold real numbers, got {kind} (dtype {v.dtype})")
     if v.size == 0:
         v = v.reshape(0, 3)
     if v.ndim != 2 or v.shape[1] != 3:

@@ -6,27 +6,29 @@ Supported: STL (ASCII and binary, including binary files whose 80-byte header be
 Binary STL, the common format of mesh datasets, is read here straight from its bytes (no
 dependency; its per-face vertex copies are welded in one compiled pass over the records, with
 the same result as the general route).  ASCII STL and OBJ are read by the compiled text
-readers of :mod:`._text_readers` (no dependency), which name the file, line and text of
-anything malformed.  PLY, OFF and glTF go through the optional dependency trimesh, with
-``process=False`` (trimesh changes nothing).  Text (STL, OBJ, PLY, OFF, glTF) in UTF-8 with
-or without a byte-order mark, UTF-16 or UTF-32 is read alike.  Then
-vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so that
-files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
+readers of :mod:`._text_readers` and PLY by :mod:`._ply` (no dependency), which name the file,
+line and text of anything malformed.  OFF, glTF and COLLADA go through the optional dependency
+trimesh, with ``process=False`` (trimesh changes nothing).  Every file, and every file a file
+names, is read by the rule of :mod:`inertia._core.files` (a regular file, a size cap).  Text
+(STL, OBJ, PLY, OFF, glTF) in UTF-8 with or without a byte-order mark, UTF-16 or UTF-32 is read
+alike.  Then vertices closer than :data:`MERGE_RTOL` times the size of the mesh are merged, so
+that files which repeat a vertex per face (STL) or per texture/normal seam (OBJ), or repeat it
 with float noise such as ``-2.7e-16`` for ``0``, give a connected surface.  Coordinates
 are then scaled to metres.
 """
 
 from __future__ import annotations
 
+import io
 import os
 import re
-import stat
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 from .._core.errors import InputError, MeshFileError
+from .._core.files import MAX_MESH_FILE_BYTES, open_regular, read_regular
 from .._core.optional import require
 from .._core.units import LENGTH_UNITS
 from .._ext import topology as _k
@@ -47,6 +49,9 @@ SUPPORTED_EXTENSIONS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".off": "of
 #: relative): on the shared test meshes distinct vertices are >= 2e-7 apart relative to
 #: the diagonal and split copies <= 1e-16.
 MERGE_RTOL = 1e-10
+
+#: how :func:`load_mesh` makes triangles of OBJ polygons
+POLYGONS = ("fan", "shorter", "mujoco")
 
 
 def _import_trimesh():
@@ -133,13 +138,10 @@ def stl_kind(p: Path) -> int:
     ``facet``); the header alone cannot tell, since binary headers may also start with "solid".
     A truncated (or padded) binary STL is refused by name instead of read as garbage.
     """
-    size = p.stat().st_size
-    with open(p, "rb") as fh:
+    fd, size = open_regular(p, what="mesh file", limit=MAX_MESH_FILE_BYTES, error=MeshFileError)
+    with os.fdopen(fd, "rb") as fh:
         head = fh.read(1024)
     return _stl_kind_of(head, size, p)
-
-
-_stl_kind = stl_kind   # the name tests and older callers use
 
 
 def _stl_kind_of(head: bytes, size: int, p) -> int:
@@ -178,13 +180,9 @@ def _read_binary_stl_merged(p: Path, n: int, merge_rtol: float, data: np.ndarray
 _COLLADA_UNIT = re.compile(rb"""<unit\b[^>]*?\bmeter\s*=\s*["']([^"']+)["']""")
 
 
-def _collada_unit(p: Path) -> float:
-    """Metres per unit of a COLLADA file: its ``<asset><unit meter=...>`` (1 when absent)."""
-    try:
-        with open(p, "rb") as fh:
-            head = fh.read(65536)
-    except OSError:
-        return 1.0  # the reader names the problem
+def _collada_unit(data: bytes, p: Path) -> float:
+    """Metres per unit of a COLLADA file (its bytes ``data``): its ``<asset><unit meter=...>`` (1 when absent)."""
+    head = data[:65536]
     end = head.find(b"</asset>")
     m = _COLLADA_UNIT.search(head, 0, end if end >= 0 else len(head))
     if m is None:
@@ -200,7 +198,7 @@ def _collada_unit(p: Path) -> float:
 
 
 def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
-              quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+              polygons: str = "fan") -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh file into arrays, in metres.
 
     Parameters
@@ -212,9 +210,12 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
         ("m", "cm", "mm", "um", "in", "ft").
     merge_rtol : float, vertices closer than ``merge_rtol`` x the mesh size are merged
         (0: merge exactly equal vertices only).
-    quads : {"fan", "shorter"}, how an OBJ quadrilateral becomes two triangles: fanned from its
-        first vertex (as trimesh does, the default) or split along its shorter diagonal (as
-        MuJoCo does); the two differ only on a quad that is not planar.
+    polygons : {"fan", "shorter", "mujoco"}, how an OBJ polygon becomes triangles: fanned from
+        its first vertex (as trimesh does, the default; exact for a planar polygon), the same
+        with quads split along their shorter diagonal, or as MuJoCo reads the file (its
+        tinyobjloader: quads along the shorter diagonal, 5 to 100 vertices by its ear clipping,
+        larger faces dropped, the first ``o``/``g`` group with triangles only, and the file's
+        vertices as they are: none merged or dropped).
 
     Returns
     -------
@@ -228,14 +229,14 @@ def load_mesh(path, *, units: str = "m", merge_rtol: float = MERGE_RTOL,
     InputError
         Unknown ``units``.
     MissingDependencyError
-        a PLY, OFF or glTF file and trimesh is not installed (``pip install "inertia[mesh]"``).
+        an OFF, glTF or COLLADA file and trimesh is not installed (``pip install "inertia[mesh]"``).
     """
     factor = _unit_factor(units)
-    if quads not in ("fan", "shorter"):
-        raise InputError(f"quads must be 'fan' or 'shorter', got {quads!r}")
+    if polygons not in POLYGONS:
+        raise InputError(f"polygons must be one of {', '.join(map(repr, POLYGONS))}, got {polygons!r}")
     p = Path(path)
     try:
-        return _load_mesh(p, factor, merge_rtol, quads)
+        return _load_mesh(p, factor, merge_rtol, polygons)
     except MemoryError:
         size = _file_size(p)
         raise MeshFileError(f"{p}: too large to read in the memory available ({size / 2**30:.2g} GiB file; "
@@ -249,76 +250,31 @@ def _file_size(p: Path) -> float:
         return float("nan")
 
 
-#: files up to this size are read into memory; larger ones are mapped, their pages read as used
-#: (mapping costs 40 us more per file of 300 KB: the page faults)
-MAP_BYTES = 16 * 2**20
-
-
-def _file_bytes(p: Path, size: int) -> np.ndarray:
-    """The bytes of a file as a read-only uint8 array (read, or mapped when large)."""
-    if size == 0:
-        return np.zeros(0, dtype=np.uint8)
-    if size > MAP_BYTES:
-        return np.memmap(p, dtype=np.uint8, mode="r").view(np.ndarray)
-    with open(p, "rb") as fh:
-        return np.frombuffer(fh.read(), dtype=np.uint8)
-
-
-def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
+def _load_mesh(p: Path, factor: float, merge_rtol: float, polygons: str = "fan"):
     """:func:`load_mesh` after the units are known (MemoryError is named by the caller)."""
     ext = p.suffix.lower()
     if ext not in SUPPORTED_EXTENSIONS:
         raise MeshFileError(f"{p}: unsupported mesh file extension {ext!r}; supported: "
                             f"{', '.join(SUPPORTED_EXTENSIONS)}", code="unsupported_format")
-    try:
-        st = os.stat(p)
-    except FileNotFoundError:
-        raise MeshFileError(f"{p}: mesh file not found", code="not_found") from None
-    except OSError as exc:
-        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise MeshFileError(f"{p}: not a file")
-    n_binary, data = -1, None
-    if ext in (".stl", ".obj"):
-        try:
-            data = _file_bytes(p, st.st_size)
-        except (OSError, ValueError) as exc:
-            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
-        if ext == ".stl":
-            n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p)
+    data = read_regular(p, what="mesh file", limit=MAX_MESH_FILE_BYTES, error=MeshFileError, map_large=True)
+    n_binary = _stl_kind_of(bytes(data[:1024]), len(data), p) if ext == ".stl" else -1
     if n_binary > 0:  # the common case of datasets: read directly (no trimesh needed)
-        vertices, faces = _read_binary_stl_merged(p, n_binary, merge_rtol, data)
+        vertices, faces = _read_binary_stl_merged(p, n_binary, merge_rtol, np.frombuffer(data, np.uint8))
         return (vertices * factor if factor != 1.0 else vertices), faces
     elif n_binary == 0:
         vertices, faces = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     elif ext in (".stl", ".obj"):  # ASCII STL and OBJ: compiled text readers
         from ._text_readers import read_text_mesh
 
-        vertices, faces = read_text_mesh(data, p, ext, quads)
-    else:
-        trimesh = _import_trimesh()
-        if ext == ".dae":  # trimesh reads COLLADA through pycollada
-            require("collada", "reading COLLADA (.dae) meshes")
-            factor *= _collada_unit(p)
-        try:
-            source, resolver = str(p), None
-            if ext in (".ply", ".off", ".gltf"):  # text in UTF-16/32 or with Latin-1 bytes: made UTF-8 for trimesh
-                from ._text_readers import trimesh_source
+        vertices, faces = read_text_mesh(np.frombuffer(data, np.uint8), p, ext, polygons)
+    elif ext == ".ply":
+        from ._ply import read_ply
 
-                source = trimesh_source(p, ext)
-                if not isinstance(source, str):   # (a glTF's buffers are found beside the file)
-                    resolver = trimesh.resolvers.FilePathResolver(str(p))
-            # trimesh's parsers cast and scale without guarding against overflow or NaN; what
-            # they return is checked here (shapes, indices) and by the mesh checks (non-finite
-            # and out-of-range coordinates), so their NumPy warnings are noise to the caller
-            with warnings.catch_warnings(), np.errstate(all="ignore"):
-                warnings.simplefilter("ignore", RuntimeWarning)
-                loaded = trimesh.load(source, file_type=SUPPORTED_EXTENSIONS[ext], process=False, resolver=resolver)
-                vertices, faces = _scene_triangles(trimesh, loaded, p)
-        except MeshFileError:
-            raise
-        except Exception as exc:  # trimesh raises many types on malformed files
-            raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+        vertices, faces = read_ply(data, p)
+    else:
+        vertices, faces = _trimesh_arrays(bytes(data), p, ext)
+        if ext == ".dae":   # COLLADA coordinates are in its <unit meter>
+            factor *= _collada_unit(bytes(data), p)
     for name, arr in (("vertex", vertices), ("face", faces)):
         if np.ndim(arr) != 2 or np.shape(arr)[1] != 3:
             raise MeshFileError(f"{p}: malformed {name} data: the reader returned an array of shape "
@@ -332,5 +288,49 @@ def _load_mesh(p: Path, factor: float, merge_rtol: float, quads: str = "fan"):
     if not faces_in_range(faces, len(vertices)):
         raise MeshFileError(f"{p}: face indices outside 0..{len(vertices) - 1} "
                             f"(min {int(faces.min())}, max {int(faces.max())})", code="malformed")
-    vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
+    if ext != ".obj" or polygons != "mujoco":
+        vertices, faces = _merge_close_vertices(vertices, faces, merge_rtol)
     return vertices * factor, faces
+
+
+def _trimesh_arrays(data: bytes, p: Path, ext: str):
+    """(vertices, faces) of an OFF, glTF/GLB or COLLADA file (its bytes ``data``) read by trimesh,
+    the files it names (buffers, textures) read by the same rule as the file itself."""
+    trimesh = _import_trimesh()
+    if ext == ".dae":  # trimesh reads COLLADA through pycollada
+        require("collada", "reading COLLADA (.dae) meshes")
+    if ext in (".off", ".gltf"):  # text in UTF-16/32 or with Latin-1 bytes: made UTF-8 for trimesh
+        from ._text_readers import utf8_for_trimesh
+
+        data = utf8_for_trimesh(data, p, ext)
+    try:
+        # trimesh's parsers cast and scale without guarding against overflow or NaN; what
+        # they return is checked here (shapes, indices) and by the mesh checks (non-finite
+        # and out-of-range coordinates), so their NumPy warnings are noise to the caller
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore", RuntimeWarning)
+            loaded = trimesh.load(io.BytesIO(data), file_type=SUPPORTED_EXTENSIONS[ext], process=False,
+                                  resolver=_checked_resolver(trimesh, p))
+            return _scene_triangles(trimesh, loaded, p)
+    except MeshFileError:
+        raise
+    except Exception as exc:  # trimesh raises many types on malformed files
+        raise MeshFileError(f"{p}: cannot read mesh file ({type(exc).__name__}: {exc})") from exc
+
+
+def _checked_resolver(trimesh, p: Path):
+    """trimesh's resolver of the files beside ``p``, each read as :func:`read_regular` reads (no FIFO,
+    device or unbounded read)."""
+    class Checked(trimesh.resolvers.FilePathResolver):
+        def get(self, name):
+            what = f"file {name!r} that {p.name} names"
+            for candidate in (name.strip(), name.strip().lstrip("/"), os.path.split(name)[-1]):
+                path = os.path.join(self.parent, candidate)
+                if os.path.lexists(path):   # what is there, by name, before trimesh's rule (nothing outside)
+                    data = read_regular(path, what=what, limit=MAX_MESH_FILE_BYTES, error=MeshFileError)
+                    self.absolute(candidate)
+                    return bytes(data)
+            raise MeshFileError(f"{os.path.join(self.parent, name.strip())}: the {what} was not found",
+                                code="not_found")
+
+    return Checked(str(p))

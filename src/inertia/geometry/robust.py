@@ -60,7 +60,7 @@ import numpy as np
 from .._core.errors import InputError
 from .._core.findings import Finding
 from .._ext import robust as _k
-from ._robust_caps import CapGeometry, Caps, cap_region_bound
+from ._robust_caps import MAX_CAP_WORK, CapGeometry, Caps, cap_region_bound
 from ._robust_pieces import Pieces, unpacked_sums
 from .integrals import reference_point
 from .mesh_arrays import validate_inputs, weld_map
@@ -91,7 +91,10 @@ class RobustResult:
         Absolute bounds of the errors (elementwise): ``|true - value| <= bound``.
     ambiguous_volume : float
         Upper bound of the volume where ``0.1 < w < 0.9`` (model ambiguity, not an error).
-    converged : bool, the bounds meet ``tol`` (see :attr:`bounds`).
+    converged : bool, the bounds meet ``tol`` (see :attr:`bounds`; :attr:`bound` is the largest
+        of them, the bound reached).
+    stopped_by : str or None, what ended the refinement short of ``tol``: "time budget", "piece
+        budget", "depth limit" or "octree limit" (the cap region's cells); None when converged.
     findings : tuple of Finding, what was found, with the codes of
         :func:`inertia.geometry.check_mesh` (``duplicate_faces``, ``open_edges``,
         ``non_manifold_edges``, ``inconsistent_winding``, ``inverted``, ``overlapping_shells``
@@ -112,11 +115,17 @@ class RobustResult:
     findings: tuple = ()
     stats: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict, repr=False)
+    stopped_by: str | None = None
 
     @property
     def codes(self) -> tuple:
         """The codes of :attr:`findings`."""
         return tuple(f.code for f in self.findings)
+
+    @property
+    def bound(self) -> float:
+        """The relative bound reached: the largest of :attr:`bounds` (inf: none)."""
+        return _worst(self.bounds)
 
     @property
     def ambiguous_fraction(self) -> float:
@@ -197,7 +206,7 @@ def _uncut_sums(pieces, p, stats):
 
 
 def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_pieces: int = 2_000_000,
-                     max_depth: int = 30, time_budget: float | None = None,
+                     max_depth: int = 30, time_budget: float | None = None, progress=None,
                      threads: int | None = None) -> RobustResult:
     """Volume integrals over {w >= 1/2} of any triangle soup, with an honest error bound.
 
@@ -209,7 +218,10 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         Target relative bound (volume / |V|, COM / radius of gyration, inertia / |I|).
     max_pieces : int, budget of face pieces examined while refining cut faces.
     max_depth : int, most 1 -> 4 splits of a cut face.
-    time_budget : float, optional, seconds; refinement stops (unconverged) after it.
+    time_budget : float, optional, seconds (default: none); the cap region's octree and the
+        refinement stop (unconverged, ``stopped_by="time budget"``) once it is spent.
+    progress : callable, optional, ``progress(fraction, bound)`` as the work goes on: the fraction
+        done (0 to 1) and the relative bound reached so far (inf until one is known).
     threads : int, optional, threads of the compiled kernels (default: one per core); the
         result is the same, bit for bit, whatever their number.
 
@@ -220,6 +232,10 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     t0 = time.perf_counter()
     if not (tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
+    if time_budget is not None and not (time_budget >= 0):
+        raise InputError(f"time_budget must be a number of seconds >= 0, got {time_budget!r}")
+    deadline = None if time_budget is None else t0 + time_budget
+    tell = progress or (lambda fraction, bound: None)
     if threads is not None and not (isinstance(threads, (int, np.integer)) and threads >= 1):
         raise InputError(f"threads must be None or a positive integer, got {threads!r}")
     threads = int(threads or 0)
@@ -250,17 +266,31 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     # 1. uncut faces: one winding evaluation per patch, then exact sums
     vol, first, second, n_uncertain = _uncut_sums(pieces, p, stats)
     if n_uncertain:
-        found["undecided_windings"] = f"{n_uncertain} faces whose side windings could not be decided (bounded)"
+        found["undecided_windings"] = (f"{n_uncertain} faces whose side windings could not be decided "
+                                       "(treated as unresolved)")
+    tell(0.1, math.inf)
     # 2. cap region where {w >= 1/2} may differ from {w' >= 1}; ambiguity
+
+    def stop(level):   # between the octree's levels: report, and end at the deadline
+        tell(0.15 + 0.35 * (level + 1) / 11, math.inf)
+        return deadline is not None and time.perf_counter() > deadline
+
     amb, (bv, bf, bs) = _cap_terms(caps, v, p, _volume_budget(vol, first, second, vu, p, 0.5 * tol), eps, stats,
-                                   threads)
+                                   threads, stop)
+    octree_left = stats.get("cap_cells_left", 0) > 0
     # 3. cut faces and uncertain patches: refine
-    deadline = None if time_budget is None else t0 + time_budget
+    start = []
 
     def good_enough(val, extra):
         # the unresolved pieces shrink fourfold per level: go well below tol while cheap
-        return _relative_ok(vol + val[0], first + val[1], second + val[2],
-                            bv + extra[0], bf + extra[1], bs + extra[2], REFINE_BELOW * tol)
+        bound = _worst(derived_bounds(vol + val[0], first + val[1], second + val[2], bv + extra[0], bf + extra[1],
+                                      bs + extra[2])["relative"])
+        start.append(bound)   # progress: the orders of magnitude the bound has come towards the target
+        target = REFINE_BELOW * tol
+        span = math.log(start[0] / target) if target < start[0] < math.inf else 0.0
+        gain = math.log(start[0] / bound) / span if span and 0 < bound < math.inf else 0.0
+        tell(0.5 + 0.5 * min(max(gain, 0.0), 1.0), bound)
+        return bound <= target
 
     rv, rf, rs, ev, ef, es, info = pieces.refine(good_enough, max_pieces, max_depth, deadline)
     vol, first, second = vol + rv, first + rf, second + rs
@@ -273,8 +303,12 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
         found["inverted"] = "regions of negative winding number: inside-out shells outside the solid (counted as empty)"
     der = derived_bounds(vol, first, second, bv, bf, bs)
     ok = all(x <= tol for x in der["relative"].values())
+    stopped_by = None
     if not ok:
-        found["bound_not_reached"] = (f"the error bound did not reach tol={tol:g} within the budget: "
+        late = deadline is not None and time.perf_counter() > deadline
+        stopped_by = info.get("stopped_by") or ("time budget" if late else "octree limit" if octree_left else None)
+        found["bound_not_reached"] = (f"the error bound did not reach tol={tol:g}"
+                                      + (f" (stopped by the {stopped_by})" if stopped_by else "") + ": "
                                       + ", ".join(f"{k} {x:.3g}" for k, x in der["relative"].items()))
     if r is not None:
         vol, first, second, bv, bf, bs = _moved(vol, first, second, bv, bf, bs, p - r)
@@ -285,8 +319,10 @@ def robust_integrals(vertices, faces, reference=None, *, tol: float = 1e-3, max_
     order = ("duplicate_faces", "open_edges", "non_manifold_edges", "inconsistent_winding", "inverted",
              "overlapping_shells", "undecided_windings", "bound_not_reached")
     findings = tuple(Finding(code, found[code]) for code in order if code in found)
-    return RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol, findings,
-                        stats, der)
+    res = RobustResult(float(vol), first, second, p.copy(), float(bv), bf, bs, float(amb), ok, tol, findings,
+                       stats, der, stopped_by)
+    tell(1.0, res.bound)
+    return res
 
 
 def _mesh_faces_cross(pieces, n_mesh: int) -> bool:
@@ -343,17 +379,19 @@ def _prepared(vertices, faces, reference):
     return np.ascontiguousarray(v), out, mult, r, used, n_valid
 
 
-def _cap_terms(caps, v, p, enough, eps, stats, threads):
-    """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region."""
+def _cap_terms(caps, v, p, enough, eps, stats, threads, stop=None):
+    """``(ambiguous volume, (bound_volume, bound_first, bound_second))`` of the cap region
+    (``stop(level)``: see :func:`cap_region_bound`)."""
     zero = (0.0, np.zeros(3), np.zeros((3, 3)))
     if not len(caps.apex):
         return 0.0, zero
     geo = CapGeometry(caps, v, eps)
     # an indicator, not an error: a coarse octree is enough
-    amb = cap_region_bound(geo, AMBIGUOUS_LOW, p, max_level=4, max_cells=20_000, threads=threads)[0]
+    amb = cap_region_bound(geo, AMBIGUOUS_LOW, p, max_level=4, max_cells=20_000, threads=threads,
+                           max_work=MAX_CAP_WORK // 10)[0]
     if len(caps.apex) == 1 and caps.planar_simple[0]:
         return amb, zero
-    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, p, enough=enough, threads=threads)
+    cv, cf1, cs2, left = cap_region_bound(geo, 0.5, p, enough=enough, threads=threads, stop=stop)
     stats["cap_cells_left"] = left
     return amb, (cv, cf1, cs2)
 
@@ -377,5 +415,6 @@ def _volume_budget(vol, first, second, vertices, p, target):
     return target * unit / worst if worst > 0 and np.isfinite(worst) else 0.25 * target * abs(vol)
 
 
-def _relative_ok(vol, first, second, bv, bf, bs, tol):
-    return all(x <= tol for x in derived_bounds(vol, first, second, bv, bf, bs)["relative"].values())
+def _worst(relative: dict) -> float:
+    """The largest relative bound (NaN counts as inf)."""
+    return max(math.inf if x != x else x for x in relative.values())

@@ -105,9 +105,11 @@ def crossing_effect(vertices, faces, exact) -> dict:
     mine = derived_bounds(vol, first_r, second_r, 0.0, np.zeros(3), np.zeros((3, 3)))
     theirs = res.derived
     V = abs(res.volume)
+    if not V > 0:   # the solid bounded once has no volume (e.g. swamped by a far vertex): no scale
+        return {"volume": np.inf, "com": np.inf, "inertia": np.inf}
     C_e, C_r = mine["central_second"], theirs["central_second"]
     I_e, I_r = np.trace(C_e) * np.eye(3) - C_e, np.trace(C_r) * np.eye(3) - C_r
-    k = np.sqrt(max(float(np.trace(C_r)), 0.0) / V) if V > 0 else np.inf
+    k = np.sqrt(max(float(np.trace(C_r)), 0.0) / V)
     rel = res.bounds
     with np.errstate(all="ignore"):
         return {"volume": abs(vol - res.volume) / V + rel["volume"],

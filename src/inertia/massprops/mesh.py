@@ -188,7 +188,7 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
             raise MeshError(f"{what} has zero total area; a thin shell needs a surface.", report=report,
                             code="zero_area")
         m, rho = resolve_mass(area, density, mass, what=f"{what} (shell)", measure_name="area")
-        com, inertia = central_inertia(area, first, second, r, rho)
+        com, inertia = central_inertia(area, first, second, r, rho, mass=m)
         return done(MassProperties(m, com, inertia, frame=frame, findings=tuple(findings)))
     volume, first, second, r = solid_integrals(vc, fc)
     if not volume > 0:
@@ -198,7 +198,7 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
                         f"(faces wound inward, or a flat or open surface){hint}.", report=report,
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
-    com, inertia = central_inertia(volume, first, second, r, rho)
+    com, inertia = central_inertia(volume, first, second, r, rho, mass=m)
     return done(MassProperties(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings)))
 
 
@@ -219,7 +219,7 @@ def _clean_solid(sums, v, f, *, density, mass, frame, what, findings=()):
         volume, first, second, r = solid_integrals(vc, fc)
         first, second, r = first.tolist(), second.tolist(), r.tolist()
     m, rho = resolve_mass(volume, density, mass, what=what)   # refuses a volume that is not positive and finite
-    com, inertia = central_from_floats(volume, first, second, r, rho)
+    com, inertia = central_from_floats(volume, first, second, r, rho, m)
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings))
 
 
@@ -256,7 +256,7 @@ def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findi
                         code="non_positive_volume")
     m, rho = resolve_mass(volume, density, mass, what=what)
     com, inertia = central_inertia(volume, np.asarray(res.first, float), np.asarray(res.second, float),
-                                   np.asarray(res.reference, float), rho)
+                                   np.asarray(res.reference, float), rho, mass=m)
     bounds = res.bounds
     text = (f"robust solid (the points of generalised winding number >= 1/2) of a mesh with "
             f"{', '.join(res.codes) or 'no defect'}; relative error bounds: "

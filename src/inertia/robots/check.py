@@ -5,7 +5,10 @@ Errors (codes are stable; other tools rely on them):
 * ``non_positive_mass``: mass <= 0 (or not finite);
 * ``not_symmetric``: the tensor is not symmetric (only possible where a format stores all nine);
 * ``not_positive_definite``: a principal moment <= 0;
-* ``triangle_inequality``: I1 + I2 < I3 (the message gives the margin).
+* ``triangle_inequality``: I1 + I2 < I3 (the message gives the margin);
+* ``mujoco_refuses_mesh``: an MJCF mesh MuJoCo's compiler refuses (faces inconsistently wound in
+  ``inertia="exact"``; for a body whose inertia comes from its geoms, also a mesh of no area or
+  volume, or a negative volume): the model does not load.
 
 Warnings:
 
@@ -19,8 +22,8 @@ Warnings:
 * ``legacy_mesh_inertia``: an MJCF body whose inertia MuJoCo infers from meshes in its
   default ``inertia="legacy"`` mode differs from the exact solid by more than 5 % in mass or
   a principal moment (legacy overcounts non-convex meshes);
-* ``mesh_not_found``, ``unsupported_geometry``, ``unsupported_pose``: the reader could not
-  use part of the file; the rest of the check goes on.
+* ``mesh_not_found``, ``mesh_unreadable`` (a FIFO, a device, a folder...), ``unsupported_geometry``,
+  ``unsupported_pose``: the reader could not use part of the file; the rest of the check goes on.
 
 Notes (``notes`` in the JSON): ``geometry_unusable`` when the shapes exist but cannot be
 integrated (an open or non-manifold mesh, an unsupported mesh format): the comparison with
@@ -38,7 +41,8 @@ import numpy as np
 
 from .._core.findings import Finding
 from .._core.tolerances import SIMULATOR_MIN_VALUE
-from .geometry import geometry_bounds, link_geometry_properties
+from .geometry import geometry_bounds, link_geometry_properties, mujoco_refusal
+from .mujoco_inertia import MUJOCO_REFUSES_MESH
 
 #: the validity checks' tolerance, relative to the trace: the rounding of the principal moments
 #: of a tensor written in float64 (a few ulps), so that a moment of 1e-12 beside 1 (which MuJoCo
@@ -196,8 +200,8 @@ def check_link(link, where: str, *, mesh_units: str = "m", inertial_where: str |
             problems = problems + collision_problems
     for code, msg in problems:  # e.g. an open visual mesh: no comparison, but no verdict on the inertial
         suffix = fallback or ("" if computed is not None else "; geometry comparison skipped")
-        if code == "mesh_not_found":  # the reader's warning says it already: one message per missing mesh
-            _mark_skipped(rep, msg, suffix)
+        if code in ("mesh_not_found", "mesh_unreadable"):  # the reader's warning says it: one message per mesh
+            _mark_skipped(rep, msg, suffix, code)
             continue
         rep.add(code, f"{msg}{suffix}", where=at, severity="note")
     if computed is not None:
@@ -239,12 +243,12 @@ def _compiler_repairs(rep, compiler: dict) -> None:
                 "itself stays invalid for other tools)", where=e.where, values={**e.values, "repairs": e.code})
 
 
-def _mark_skipped(rep, problem: str, suffix: str) -> None:
-    """Add ``suffix`` to the reader's mesh_not_found warning for the shape ``problem`` names
-    (``"line N: ..."``), instead of a second message about the same mesh."""
+def _mark_skipped(rep, problem: str, suffix: str, code: str) -> None:
+    """Add ``suffix`` to the reader's ``code`` warning (mesh_not_found, mesh_unreadable) for the
+    shape ``problem`` names (``"line N: ..."``), instead of a second message about the same mesh."""
     line = problem.split(":", 1)[0].removeprefix("line ").strip()
     for k, w in enumerate(rep.findings):
-        if w.code == "mesh_not_found" and f":{line}: " in f"{w}: " and not w.message.endswith(suffix):
+        if w.code == code and f":{line}: " in f"{w}: " and not w.message.endswith(suffix):
             rep.findings[k] = w.replace(message=w.message + suffix)
 
 
@@ -253,7 +257,10 @@ def _check_from_geoms(link, rep, where, mesh_units, warnings: bool = True):
     at = f"{where}: body {link.name!r}"
     props, _, problems = link_geometry_properties(link, role="collision", mesh_units=mesh_units, simulator=True)
     for code, msg in problems:
-        rep.add(code, f"inertia comes from the geoms (inertiafromgeom), but {msg}", where=at, severity="warning")
+        if code == MUJOCO_REFUSES_MESH:  # the model does not load
+            rep.add(code, msg, where=at, severity="error")
+        else:
+            rep.add(code, f"inertia comes from the geoms (inertiafromgeom), but {msg}", where=at, severity="warning")
     if props is not None:
         from ..massprops.validity import check_inertia
 
@@ -304,6 +311,19 @@ def _compare_legacy(link, simulated, rep, at, mesh_units) -> None:
             values={"mass_relative": dm, "moment_relative": dI})
 
 
+def _refused_meshes(link, rep, where: str, mesh_units: str = "m") -> None:
+    """``mujoco_refuses_mesh`` for each mesh of the MJCF body that MuJoCo's compiler refuses
+    whatever the body's inertial (:func:`.geometry.mujoco_refusal`), unless already found."""
+    for g in link.geometries:
+        said = [e.message for e in rep.errors if e.code == MUJOCO_REFUSES_MESH]
+        if any(f"line {g.line}: " in m for m in said):
+            continue
+        why = mujoco_refusal(g, mesh_units)
+        if why is not None:
+            rep.add(MUJOCO_REFUSES_MESH, f"line {g.line}: {g.role} mesh {g.params.get('uri')!r}: {why}",
+                    where=f"{where}: body {link.name!r}", severity="error")
+
+
 def _well_defined(moments, i: int) -> bool:
     """Principal axis i is well defined: its moment is 10 % away from the other two."""
     return all(abs(moments[i] - moments[j]) >= 0.1 * moments[i] for j in range(3) if j != i)
@@ -346,6 +366,8 @@ def check_model(model, *, mesh_units: str = "m", warnings: bool = True) -> Check
             compiler = compiler_mass_attrs(link.mjcf_compilers)
         links.append(check_link(link, where, mesh_units=mesh_units, inertial_where=inertial_where,
                                 warnings=warnings, compiler=compiler))
+        if model.format == "mjcf":
+            _refused_meshes(link, links[-1], where, mesh_units)
     report = CheckReport(str(model.path), links)
     for code, message in getattr(doc, "notes", ()):
         report.findings.append(reader_finding(code, message))
@@ -434,7 +456,7 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
     for i, (link, rep) in enumerate(zip(model.links, report.links)):
         props = props_of(link)
         if props is None or (props.mass == 0 and not np.any(props.inertia_com)):
-            if not any(e.code == "massless_moving_link" for e in rep.errors):
+            if not any(e.code in ("massless_moving_link", MUJOCO_REFUSES_MESH) for e in rep.errors):
                 report.massless_frames.append(link.name)
             continue
         if model.format == "sdf" and link.inertial is None:

@@ -17,6 +17,7 @@ import numpy as np
 from .._core.errors import InertiaError, MeshError
 from ..geometry.mesh_io import SUPPORTED_EXTENSIONS
 from ..geometry.shapes import BOX_CORNER_SIGNS as CORNER_SIGNS
+from .mujoco_inertia import MUJOCO_REFUSES_MESH
 
 #: geometry used when a link has both: collision first (it is what the simulator sees)
 ROLES = ("collision", "visual")
@@ -30,19 +31,24 @@ def mujoco_mesh_arrays(params: dict, mesh_units: str = "m"):
     """Vertices and faces of an MJCF mesh asset as MuJoCo's compiler holds them.
 
     File coordinates rounded to float32 (MuJoCo stores them so), then ``refpos``/
-    ``refquat`` and ``scale`` applied in double; a mesh given by vertices alone gets its
-    convex hull as faces, as in MuJoCo.  A mirroring scale reverses the winding.
+    ``refquat`` and ``scale`` applied in double; an OBJ file read as MuJoCo reads it
+    (``load_mesh(polygons="mujoco")``); a mesh given by vertices alone gets its convex hull as
+    faces, as in MuJoCo.  A mirroring scale reverses the winding.  In ``exact`` mode MuJoCo's
+    refusal of inconsistently wound faces is raised (:func:`.mujoco_inertia.check_orientation`).
     """
     from .._core.rotations import quat_normalize, quat_to_matrix
-    from .mujoco_inertia import hull_faces
+    from .mujoco_inertia import check_orientation, hull_faces
 
     if params.get("path") is not None:
-        v, f = _load_cached(params["path"], mesh_units)
+        v, f = _load_cached(params["path"], mesh_units, "mujoco")
     elif params.get("vertices") is not None:
         v, f = params["vertices"], params.get("faces")
     else:
         raise InertiaError(f"mesh {params.get('uri')!r} not found")
-    v = np.asarray(v, np.float32).astype(float) - np.asarray(params.get("refpos", (0, 0, 0)), float)
+    v = np.asarray(v, np.float32).astype(float)
+    if f is not None and params.get("mujoco_inertia") == "exact":
+        check_orientation(v, f)
+    v = v - np.asarray(params.get("refpos", (0, 0, 0)), float)
     q = np.asarray(params.get("refquat", (1, 0, 0, 0)), float)
     if not np.array_equal(q, [1, 0, 0, 0]):
         v = v @ quat_to_matrix(quat_normalize(q))
@@ -81,7 +87,7 @@ class _Collect(logging.Handler):
             self.lines.append(line)
 
 
-def _load_quietly(path, mesh_units: str):
+def _load_quietly(path, mesh_units: str, polygons: str):
     """:func:`~inertia.geometry.mesh_io.load_mesh`, with trimesh's log records kept as lines in
     :data:`_MESH_MESSAGES` instead of tracebacks on stderr."""
     from ..geometry.mesh_io import load_mesh
@@ -92,12 +98,26 @@ def _load_quietly(path, mesh_units: str):
     logger.addHandler(handler)
     logger.propagate = False
     try:
-        return load_mesh(path, units=mesh_units, quads="shorter")
+        return load_mesh(path, units=mesh_units, polygons=polygons)
     finally:
         logger.removeHandler(handler)
         logger.propagate = propagate
         if lines:
             _MESH_MESSAGES[str(path)] = lines
+
+
+def mujoco_refusal(geom, mesh_units: str = "m") -> str | None:
+    """Why MuJoCo's compiler refuses the mesh of an MJCF ``geom`` before any integral: its faces
+    inconsistently wound in ``exact`` mode (the model then does not load, whatever the body's
+    inertial); None otherwise (the integrals' refusals come with the geom's inertia)."""
+    p = geom.params
+    if geom.kind != "mesh" or p.get("mujoco_inertia") != "exact" or "error" in p:
+        return None
+    try:
+        mujoco_mesh_arrays(p, mesh_units)
+    except InertiaError as exc:
+        return str(exc) if exc.code == MUJOCO_REFUSES_MESH else None
+    return None
 
 
 def mesh_messages(geom) -> list:
@@ -106,18 +126,21 @@ def mesh_messages(geom) -> list:
     return _MESH_MESSAGES.get(str(path), []) if path is not None else []
 
 
-def _load_cached(path, mesh_units: str):
-    """The mesh file's arrays, cached; OBJ quadrilaterals split along their shorter diagonal, as
-    MuJoCo's OBJ reader splits them (a robot file's numbers are the simulator's)."""
+def _load_cached(path, mesh_units: str, polygons: str = "shorter"):
+    """The mesh file's arrays, cached; OBJ polygons as ``load_mesh(polygons=)`` makes them: by
+    default fanned, quadrilaterals split along their shorter diagonal as MuJoCo splits them (the
+    exact solid); "mujoco" for what MuJoCo's compiler integrates."""
+    if path.suffix.lower() != ".obj":
+        polygons = "shorter"  # one reading of other formats
     try:
         st = path.stat()
-        key = (str(path), st.st_size, st.st_mtime_ns, mesh_units)
+        key = (str(path), st.st_size, st.st_mtime_ns, mesh_units, polygons)
     except OSError:
-        return _load_quietly(path, mesh_units)
+        return _load_quietly(path, mesh_units, polygons)
     if key not in _MESH_CACHE:
         if len(_MESH_CACHE) >= _MESH_CACHE_SIZE:
             _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
-        v, f = _load_quietly(path, mesh_units)
+        v, f = _load_quietly(path, mesh_units, polygons)
         v.setflags(write=False)
         f.setflags(write=False)
         _MESH_CACHE[key] = (v, f)
@@ -225,10 +248,10 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
     """``(MassProperties or None, role used, problems)`` from the link's geometry.
 
     ``role=None`` uses the collision shapes, or the visual ones when there are none.
-    ``problems`` lists ``(code, message)`` for shapes that could not be used; any such
-    shape makes the result None (a partial sum would be silently wrong).  With a result,
-    the list holds the notes on it (:data:`SUMMED_OVERLAP`: a mesh whose closed parts
-    overlap, summed as the simulator sums it).
+    ``problems`` lists ``(code, message)`` for shapes that could not be used (``mesh_not_found``,
+    ``mujoco_refuses_mesh``, ``geometry_unusable``); any such shape makes the result None (a
+    partial sum would be silently wrong).  With a result, the list holds the notes on it
+    (:data:`SUMMED_OVERLAP`: a mesh whose closed parts overlap, summed as the simulator sums it).
     """
     roles = [role] if role else list(ROLES)
     for r in roles:
@@ -242,8 +265,9 @@ def link_geometry_properties(link, *, role: str | None = None, density: float = 
             except InertiaError as exc:
                 missing = g.kind == "mesh" and g.params.get("path") is None
                 said = f" (its reader said: {'; '.join(mesh_messages(g))})" if mesh_messages(g) else ""
-                problems.append(("mesh_not_found" if missing else "geometry_unusable",
-                                 f"line {g.line}: {r} {g.kind}: {_short(exc, g)}{said}"))
+                code = "mesh_not_found" if missing else "mesh_unreadable" if g.params.get("unreadable") else \
+                    exc.code if exc.code == MUJOCO_REFUSES_MESH else "geometry_unusable"
+                problems.append((code, f"line {g.line}: {r} {g.kind}: {_short(exc, g)}{said}"))
                 continue
             total = part if total is None else total + part
             if mesh_messages(g):

@@ -12,11 +12,12 @@
 
 from __future__ import annotations
 
+import os
 import re
 from contextlib import contextmanager
 from pathlib import Path
 
-from .xmlsafe import RobotFileError, parse_xml, parse_xml_bytes
+from .xmlsafe import RobotFileError, parse_xml, parse_xml_bytes, read_robot_bytes
 
 FORMATS = ("urdf", "sdf", "mjcf")
 _BY_ROOT = {"robot": "urdf", "sdf": "sdf", "mujoco": "mjcf"}
@@ -51,12 +52,7 @@ def _format_of(doc) -> str:
 
 
 def _refuse_old_gazebo(path: Path) -> None:
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(4096)
-    except OSError:
-        return  # the reader names the problem
-    m = _OLD_GAZEBO.match(head)
+    m = _OLD_GAZEBO.match(read_robot_bytes(path)[:4096])
     if m:
         raise _old_gazebo_error(path, m.group(1).decode("ascii", "replace"))
 
@@ -115,13 +111,14 @@ def expand_xacro(path, args=None, search_paths=()):
 
     xacro = require("xacro", "reading .xacro files")
     path = Path(path)
-    if not path.is_file():
-        raise RobotFileError(f"{path}: file not found")
+    read_robot_bytes(path)   # a FIFO, a device, a folder: refused before xacro opens it
     missing: list = []  # packages $(find) did not find (xacro wraps the error we raise)
     try:
-        with _packages(path.resolve(), search_paths, missing):
+        with _packages(path.resolve(), search_paths, missing), _checked_open(xacro):
             dom = xacro.process_file(str(path.resolve()), mappings=dict(args or {}))
         text = dom.toprettyxml(indent="  ")
+    except RobotFileError as exc:   # a file xacro includes or loads, refused by the input-file rule
+        raise RobotFileError(f"{path}: xacro could not expand the file: {exc}") from None
     except Exception as exc:  # noqa: BLE001 - xacro raises many types; each becomes one message
         if missing:
             raise RobotFileError(f"{path}: $(find {missing[0]}): package {missing[0]!r} not found; give the folder "
@@ -170,13 +167,33 @@ def _packages(path: Path, search_paths, missing: list):
         sa._eval_find = original
 
 
+@contextmanager
+def _checked_open(xacro):
+    """xacro's own file reads (the file, its includes, ``load_yaml``) by the input-file rule: its
+    module's ``open`` reads a file whole through :func:`read_robot_bytes` (a missing file keeps
+    xacro's own error, for ``optional`` includes)."""
+    import builtins
+    import io
+
+    def checked(file, mode="r", *args, **kwargs):
+        if "r" not in mode or "+" in mode or not os.path.lexists(file):
+            return builtins.open(file, mode, *args, **kwargs)
+        return io.BytesIO(read_robot_bytes(file, "file xacro reads"))   # XML and YAML parsers read bytes
+
+    xacro.open = checked
+    try:
+        yield
+    finally:
+        del xacro.open
+
+
 def _package_name(folder: Path) -> str | None:
     """The ``<name>`` of the ROS ``package.xml`` in ``folder``, or None."""
     manifest = folder / "package.xml"
-    if not manifest.is_file():
+    if not os.path.lexists(manifest):
         return None
     try:
-        m = re.search(rb"<name>\s*([^<\s]+)\s*</name>", manifest.read_bytes()[:65536])
-    except OSError:
+        m = re.search(rb"<name>\s*([^<\s]+)\s*</name>", read_robot_bytes(manifest, "package.xml")[:65536])
+    except RobotFileError:
         return None
     return m.group(1).decode("utf-8", "replace") if m else None

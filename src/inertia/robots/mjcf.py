@@ -27,6 +27,7 @@ Supported, following MuJoCo's compiler:
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -35,7 +36,7 @@ from .._core.errors import InertiaError
 from .._core.rotations import quat_from_rotvec, quat_normalize, quat_to_matrix
 from .mjcf_compose import MAX_ELEMENTS, Composer, Names
 from .model import Geometry, Inertial, Joint, Link, RobotModel
-from .resolve import resolve_mesh
+from .resolve import mesh_note, resolve_mesh
 from .urdf_sdf import floats
 from .xmlsafe import RobotFileError, parse_robot_xml, parse_xml
 
@@ -266,7 +267,7 @@ class _Scope:
             return self.models[target]
         if not exists:
             raise RobotFileError(f"{where}: model file not found (relative to {self.base})")
-        sub = parse_robot_xml(target, "mujoco", "an MJCF")
+        sub = parse_robot_xml(self.base / el.get("file"), "mujoco", "an MJCF")   # by the name given
         scope = _Scope(sub, target, self.search_paths, self.models, self.main_doc)
         self.main_doc.merge(sub)
         self.main_doc.included = [*getattr(self.main_doc, "included", []), target, *getattr(sub, "included", [])]
@@ -420,9 +421,13 @@ def _file_named(doc, el, base: Path):
     where = f"{doc.where(el)}: <{el.tag} file={file!r}>"
     if not file:
         raise RobotFileError(f"{doc.where(el)}: <{el.tag}> needs a file attribute")
-    try:
-        target = (base / file).resolve()
-        return where, target, target.is_file()
+    try:   # exists: anything at the path (a FIFO or a dangling link too: the reader names what it is)
+        named = base / file
+        exists = os.path.lexists(named)
+        try:
+            return where, named.resolve(), exists
+        except RuntimeError:   # a symlink loop: its own path stands for it
+            return where, Path(os.path.abspath(named)), exists
     except (OSError, ValueError) as exc:
         raise RobotFileError(f"{where}: the file name cannot be looked up "
                              f"({getattr(exc, 'strerror', None) or exc})") from None
@@ -438,7 +443,7 @@ def _included(doc, child, base: Path, first: dict):
                              "it twice too)")
     if not exists:
         raise RobotFileError(f"{where}: included file {child.get('file')!r} not found (relative to {base})")
-    sub = parse_xml(target)
+    sub = parse_xml(base / child.get("file"))   # by the name given: a refusal names it
     if sub.root.tag != "mujoco":
         raise RobotFileError(f"{sub.where(sub.root)}: an included MJCF file must have a <mujoco> root, "
                              f"not <{sub.root.tag}>")
@@ -547,9 +552,10 @@ def _geom(doc, a, el, comp, meshes, link) -> Geometry | None:
             raise RobotFileError(f"{where}: shellinertia does not apply to mesh geoms; set inertia=\"shell\" on "
                                  f"the mesh asset {name!r} (MuJoCo refuses it too)")
         params = meshes[name]
-        if params.get("uri") is not None and params["path"] is None:
-            link.notes.append(("mesh_not_found", f"{where}: mesh {name!r} file {params['uri']!r} not found "
-                                                 "(meshdir)"))
+        note = mesh_note(params["path"], params["uri"], None, f"{where}: mesh {name!r} file", "meshdir") \
+            if params.get("uri") is not None else None
+        link.notes += [note] if note else []
+        params["unreadable"] = bool(note) and params.get("path") is not None
     else:
         link.notes.append(("unsupported_geometry", f"{where}: geom type {kind!r} is not supported"))
         return None

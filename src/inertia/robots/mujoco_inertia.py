@@ -41,6 +41,25 @@ MJ_MINVAL = 1e-15
 #: ``<mesh inertia=...>`` values, MuJoCo's default first
 MESH_INERTIA_MODES = ("legacy", "convex", "exact", "shell")
 
+#: the code of the InertiaError raised where MuJoCo's compiler refuses a mesh (the model does not load)
+MUJOCO_REFUSES_MESH = "mujoco_refuses_mesh"
+
+
+def check_orientation(vertices: np.ndarray, faces: np.ndarray) -> None:
+    """MuJoCo's refusal of a mesh in ``exact`` mode whose faces are not consistently wound: a
+    directed edge shared by two faces (``Process`` in user_mesh.cc: faces of area up to
+    sqrt(mjMINVAL) in the file's units are not counted; vertices as in the file, before scale)."""
+    v, f = np.asarray(vertices, float), np.asarray(faces, np.int64)
+    D, E, F = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    cross = np.cross(E - D, F - D)
+    f = f[0.5 * np.sqrt(np.einsum("ij,ij->i", cross, cross)) > math.sqrt(MJ_MINVAL)]
+    key = np.sort((f * len(v) + np.roll(f, -1, axis=1)).ravel())  # directed edge a -> b as a * V + b
+    twice = key[1:][key[1:] == key[:-1]]
+    if len(twice):
+        a, b = divmod(int(twice[0]), len(v))
+        raise InertiaError(f"faces of the mesh have inconsistent orientation: two faces run from vertex {a + 1} to "
+                           f"vertex {b + 1} (MuJoCo refuses it in inertia=\"exact\")", code=MUJOCO_REFUSES_MESH)
+
 
 def _faces_geometry(v: np.ndarray, f: np.ndarray):
     """Per-face area, unit normal and centroid, with MuJoCo's small-face rule."""
@@ -102,7 +121,7 @@ def mesh_inertia(vertices, faces, mode: str = "legacy"):
     area, normal, center, _ = _faces_geometry(v, f)
     total_area = float(area.sum())
     if not total_area >= MJ_MINVAL:
-        raise InertiaError("mesh surface area is too small (MuJoCo refuses it)")
+        raise InertiaError("mesh surface area is too small (MuJoCo refuses it)", code=MUJOCO_REFUSES_MESH)
     facecen = (area[:, None] * center).sum(axis=0) / total_area
     if mode == "convex":
         f = hull_faces(v)
@@ -116,8 +135,10 @@ def mesh_inertia(vertices, faces, mode: str = "legacy"):
     total = float(weight.sum())
     if mode != "shell" and not total >= MJ_MINVAL:
         if total < 0:
-            raise InertiaError("mesh volume is negative (misoriented triangles; MuJoCo refuses it)")
-        raise InertiaError("mesh volume is too small (MuJoCo refuses it; it suggests inertia=\"shell\")")
+            raise InertiaError("mesh volume is negative (misoriented triangles; MuJoCo refuses it)",
+                               code=MUJOCO_REFUSES_MESH)
+        raise InertiaError("mesh volume is too small (MuJoCo refuses it; it suggests inertia=\"shell\")",
+                           code=MUJOCO_REFUSES_MESH)
     com = (weight[:, None] * (center * 0.75 + facecen * 0.25)).sum(axis=0) / total
     measure, inertia = _second_moments(v - com, f, mode)
     return measure, com, inertia
@@ -214,10 +235,11 @@ def check_mesh_inertia(moments: np.ndarray) -> None:
     """MuJoCo's compile-time checks on a mesh's principal moments (``Process``), smallest first."""
     e = moments
     if not e[0] > 0:
-        raise InertiaError("eigenvalue of mesh inertia must be positive (MuJoCo refuses it)")
+        raise InertiaError("eigenvalue of mesh inertia must be positive (MuJoCo refuses it)", code=MUJOCO_REFUSES_MESH)
     tol = lambda c: c * (1.0 - 1e-6) - 1e-9  # noqa: E731  (MuJoCo's inequality tolerance)
     if e[0] + e[1] < tol(e[2]) or e[0] + e[2] < tol(e[1]) or e[1] + e[2] < tol(e[0]):
-        raise InertiaError("eigenvalues of mesh inertia violate A + B >= C (MuJoCo refuses it)")
+        raise InertiaError("eigenvalues of mesh inertia violate A + B >= C (MuJoCo refuses it)",
+                           code=MUJOCO_REFUSES_MESH)
 
 
 def fit_primitive(kind: str, vertices, faces, mode: str, *, fitaabb: bool = False, fitscale: float = 1.0):

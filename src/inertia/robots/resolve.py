@@ -8,11 +8,13 @@
 * ``file://`` URIs: the local path.
 
 Nothing is fetched from a network.  A reference that cannot be found resolves to None and
-the caller reports it.
+the caller reports it; one that names something other than a file (a FIFO, a device, a folder,
+a dangling link) resolves to its path, which the mesh reader refuses by name.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
@@ -20,7 +22,7 @@ from .._core.errors import RobotFileError
 
 
 def resolve_mesh(uri: str, base_dir: Path, search_paths=(), *, where: str = "") -> Path | None:
-    """The existing file ``uri`` names, or None.
+    """The path ``uri`` names, where something is, or None.
 
     A name the operating system cannot look up at all (too long, a NUL byte) is a
     :class:`RobotFileError` whose message starts with ``where`` (the element's ``file:line``).
@@ -44,19 +46,40 @@ def _resolve(uri: str, base_dir: Path, search_paths) -> Path | None:
             candidates.append(d / name / tail)
             if scheme == "package":
                 candidates.append(d / tail)
-        for c in candidates:
-            if c.is_file():
-                return c
-        return None
+        return next((c for c in candidates if c.is_file()), None) or next(
+            (c for c in candidates if _present(c) and not c.is_dir()), None)
     if uri.startswith("file://"):
         p = Path(unquote(urlparse(uri).path))
-        return p if p.is_file() else None
-    if "://" in uri:
+    elif "://" in uri:
         return None  # http(s) and friends: never fetched
-    p = Path(uri)
-    if not p.is_absolute():
-        p = base_dir / p
-    return p if p.is_file() else None
+    else:
+        p = Path(uri) if Path(uri).is_absolute() else base_dir / uri
+    return p if _present(p) else None
+
+
+def _present(p: Path) -> bool:
+    """Whether something is at ``p`` (a dangling link too); OSError for a name that cannot be looked up."""
+    try:
+        os.lstat(p)
+    except (FileNotFoundError, NotADirectoryError):
+        return False
+    return True
+
+
+def mesh_note(found, uri: str, base_dir: Path, what: str, hint: str | None = None):
+    """The reader's ``(code, message)`` for the mesh reference ``uri`` that resolved to ``found``:
+    ``mesh_not_found`` when nothing is there, ``mesh_unreadable`` when what is there is not a file
+    the mesh reader opens (a FIFO, a device, a folder, a dangling link, no permission), else None.
+    ``what`` starts the message (``file:line: visual mesh``)."""
+    from .._core.files import MAX_MESH_FILE_BYTES, open_regular
+
+    if found is None:
+        return "mesh_not_found", f"{what} {uri!r} not found ({hint or not_found_hint(uri, base_dir)})"
+    try:
+        os.close(open_regular(found, what="mesh file", limit=MAX_MESH_FILE_BYTES, error=RobotFileError)[0])
+    except RobotFileError as exc:
+        return "mesh_unreadable", f"{what} {uri!r}: {exc}"
+    return None
 
 
 def not_found_hint(uri: str, base_dir: Path) -> str:

@@ -19,15 +19,16 @@ Both write products as tensor elements (``ixy = -sum m x y``): our convention.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 
 from .model import Geometry, Inertial, Link, RobotModel
 from .numbers import floats, rpy_matrix  # noqa: F401  (read from here by the other readers)
-from .resolve import not_found_hint, resolve_mesh
+from .resolve import mesh_note, resolve_mesh
 from .sdf_frames import sdf_models, sdf_pose, sdf_version
-from .xmlsafe import RobotFileError, parse_robot_xml
+from .xmlsafe import RobotFileError, parse_robot_xml, read_robot_bytes
 
 
 def _link_elements(doc, root):
@@ -158,10 +159,9 @@ def _urdf_geometry(doc, el, role, base, search_paths, link) -> Geometry | None:
         uri = shape.get("filename") or ""
         scale = floats(shape.get("scale", "1 1 1"), 3, where, "mesh scale")
         found = resolve_mesh(uri, base, search_paths, where=f"{where}: link {link.name!r}")
-        if found is None:
-            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               f"({not_found_hint(uri, base)})"))
-        params = {"path": found, "uri": uri, "scale": scale}
+        note = mesh_note(found, uri, base, f"{where}: {role} mesh")
+        link.notes += [note] if note else []
+        params = {"path": found, "uri": uri, "scale": scale, "unreadable": bool(note) and found is not None}
     else:
         link.notes.append(("unsupported_geometry", f"{where}: {role} geometry <{shape.tag}> is not supported"))
         return None
@@ -275,21 +275,21 @@ def _included_sdf(uri: str, base: Path, search, where: str) -> Path:
         raise RobotFileError(f"{where}: only model:// and file paths are followed (nothing is fetched)")
     else:
         folders = [Path(uri) if Path(uri).is_absolute() else base / uri]
-    found = next((f for f in folders if f.exists()), None)
+    found = next((f for f in folders if os.path.lexists(f)), None)
     if found is None:
         raise RobotFileError(f"{where}: not found (model:// is searched in each --package-path folder and the "
                              "file's parent folders)")
-    if found.is_file():
-        return found
+    if not found.is_dir():
+        return found   # a file, or something the reader names (a FIFO, a dangling link)
     config = found / "model.config"
-    if config.is_file():
+    if os.path.lexists(config):
         listed = re.findall(rb"""<sdf[^>]*version\s*=\s*["']([\d.]+)["'][^>]*>\s*([^<\s]+)\s*</sdf>""",
-                            config.read_bytes())
+                            read_robot_bytes(config, "model.config"))
         if listed:
             _, file = max(listed, key=lambda v: tuple(int(x) for x in v[0].split(b".") if x.isdigit()))
-            if (found / file.decode()).is_file():
+            if os.path.lexists(found / file.decode()):
                 return found / file.decode()
-    if (found / "model.sdf").is_file():
+    if os.path.lexists(found / "model.sdf"):
         return found / "model.sdf"
     raise RobotFileError(f"{where}: the model folder {found} names no SDF file (model.config, model.sdf)")
 
@@ -339,10 +339,9 @@ def _sdf_geometry(doc, el, role, base, search, link, version, frames) -> Geometr
         uri = (_text(shape, "uri") or "").strip()
         scale = floats(_text(shape, "scale", "1 1 1"), 3, where, "mesh scale")
         found = resolve_mesh(uri, base, search, where=f"{where}: link {link.name!r}")
-        if found is None:
-            link.notes.append(("mesh_not_found", f"{where}: {role} mesh {uri!r} not found "
-                               f"({not_found_hint(uri, base)})"))
-        params = {"path": found, "uri": uri, "scale": scale}
+        note = mesh_note(found, uri, base, f"{where}: {role} mesh")
+        link.notes += [note] if note else []
+        params = {"path": found, "uri": uri, "scale": scale, "unreadable": bool(note) and found is not None}
     elif shape.tag in ("plane", "heightmap", "empty"):
         return None
     else:

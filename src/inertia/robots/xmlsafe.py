@@ -19,6 +19,7 @@ from pathlib import Path
 from xml.parsers import expat
 
 from .._core.errors import RobotFileError
+from .._core.files import MAX_ROBOT_FILE_BYTES, read_regular
 
 
 class Document:
@@ -73,13 +74,13 @@ def _refuse(path, parser, what: str):
 def parse_xml(path) -> Document:
     """Parse ``path`` safely (see the module docstring); :class:`RobotFileError` on any problem."""
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise RobotFileError(f"{path}: file not found") from None
-    except OSError as exc:
-        raise RobotFileError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    return parse_xml_bytes(data, path)
+    return parse_xml_bytes(read_robot_bytes(path), path)
+
+
+def read_robot_bytes(path, what: str = "robot file") -> bytes:
+    """The bytes of a robot file (or a file it includes) by the input-file rule
+    (:func:`inertia._core.files.read_regular`: a regular file, at most MAX_ROBOT_FILE_BYTES)."""
+    return read_regular(path, what=what, limit=MAX_ROBOT_FILE_BYTES, error=RobotFileError)
 
 
 def _relocated_declaration(data: bytes) -> tuple[bytes, bool]:

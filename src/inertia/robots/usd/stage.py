@@ -146,16 +146,11 @@ class Stage:
 
 def open_stage(path):
     """The composed ``Usd.Stage`` of the file ``path`` (RobotFileError when usd-core cannot open it)."""
-    import os
-
-    from ..._core.files import MAX_MESH_FILE_BYTES, open_regular
-
     Usd = pxr_modules()[0]
     from pxr import Tf
 
-    fd, _ = open_regular(path, what="USD file", limit=MAX_MESH_FILE_BYTES, error=RobotFileError)
-    os.close(fd)
     try:
+        _check_layers(path)
         stage = Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
         text = " ".join(str(exc).split())
@@ -163,6 +158,30 @@ def open_stage(path):
     if stage is None:
         raise RobotFileError(f"{path}: usd-core cannot open the stage")
     return stage
+
+
+def _check_layers(path) -> None:
+    """Every layer the stage at ``path`` composes (sublayers, references, payloads, found layer by
+    layer) checked by the input-file rule before usd-core opens it: a FIFO or a device would
+    block it or be read without end.  A missing layer is left to usd-core (it composes without it)."""
+    import os
+
+    from pxr import Sdf
+
+    from ..._core.files import MAX_MESH_FILE_BYTES, open_regular
+
+    todo, seen = [os.path.abspath(path)], set()
+    while todo:
+        layer_path = todo.pop()
+        if layer_path in seen or (seen and not os.path.lexists(layer_path)):
+            continue
+        seen.add(layer_path)
+        what = f"layer {os.path.basename(path)} composes" if len(seen) > 1 else "USD file"
+        fd, _ = open_regular(layer_path, what=what, limit=MAX_MESH_FILE_BYTES, error=RobotFileError)
+        os.close(fd)
+        layer = Sdf.Layer.FindOrOpen(layer_path)
+        if layer is not None:
+            todo += [layer.ComputeAbsolutePath(a) for a in layer.GetCompositionAssetDependencies()]
 
 
 def _matrix(m) -> tuple[np.ndarray, np.ndarray]:
@@ -228,7 +247,8 @@ def _shape_params(prim, kind: str) -> dict:
         top, bottom = prim.GetAttribute("radiusTop"), prim.GetAttribute("radiusBottom")
         if top and bottom and top.Get() is not None and bottom.Get() is not None:   # Capsule_1, Cylinder_1
             if float(top.Get()) != float(bottom.Get()):
-                raise ValueError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} is not supported")
+                raise RobotFileError(f"a {kind} with radiusTop {top.Get()} != radiusBottom {bottom.Get()} "
+                                     "is not supported")
             radius = float(top.Get())
         return {"radius": radius, "height": _float(prim, "height", defaults[1]), "axis": _axis(prim)}
     if kind == "mesh":
@@ -242,14 +262,14 @@ def _mesh_params(prim) -> dict:
     counts = prim.GetAttribute("faceVertexCounts").Get()
     indices = prim.GetAttribute("faceVertexIndices").Get()
     if points is None or counts is None or indices is None or len(points) == 0:
-        raise ValueError("the mesh has no points or faces")
+        raise RobotFileError("the mesh has no points or faces")
     v = np.array(points, float).reshape(-1, 3)
     n = np.array(counts, np.int64)
     idx = np.array(indices, np.int64)
     if n.sum() != idx.size or np.any(n < 0):
-        raise ValueError(f"faceVertexCounts sum to {int(n.sum())} but there are {idx.size} faceVertexIndices")
+        raise RobotFileError(f"faceVertexCounts sum to {int(n.sum())} but there are {idx.size} faceVertexIndices")
     if idx.size and (idx.min() < 0 or idx.max() >= len(v)):
-        raise ValueError(f"a face vertex index is outside the {len(v)} points")
+        raise RobotFileError(f"a face vertex index is outside the {len(v)} points")
     start = np.concatenate([[0], np.cumsum(n)[:-1]])
     tri_per_face = np.maximum(n - 2, 0)
     face_of = np.repeat(np.arange(n.size), tri_per_face)

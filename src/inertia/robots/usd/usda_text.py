@@ -12,6 +12,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from ..._core.errors import RobotFileError
+
 _TOKEN = re.compile(r'''
     (?P<comment>\#[^\n]*)
   | (?P<string>"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:\\.|[^"\\\n])*"|'(?:\\.|[^'\\\n])*')
@@ -73,7 +75,7 @@ class _Scanner:
                 depth -= 1
                 if depth == 0:
                     return j
-        raise ValueError("unbalanced brackets")
+        raise RobotFileError("unbalanced brackets")
 
     def _newline_before(self, j: int) -> bool:
         return "\n" in self.text[self.toks[j - 1][2]:self.toks[j][1]] if j > 0 else True
@@ -112,7 +114,7 @@ class _Scanner:
             meta = (self.toks[self.i][1], self.toks[j][1])
             self.i = j + 1
         if self.toks[self.i][3] != "{":
-            raise ValueError(f"prim {name!r}: expected {{")
+            raise RobotFileError(f"prim {name!r}: expected {{")
         open_at = self.toks[self.i][1]
         path = f"{parent}/{name}" if not parent.endswith("}") else f"{parent}{name}"
         prim = PrimText(header, name_end, meta, (open_at, -1))
@@ -172,7 +174,7 @@ def scan(text: str) -> dict:
     try:
         return _Scanner(text).layer()
     except IndexError:
-        raise ValueError("the text ends inside a statement") from None
+        raise RobotFileError("the text ends inside a statement") from None
 
 
 def line_start(text: str, pos: int) -> int:
