@@ -318,7 +318,7 @@ def cpu_count() -> int:
 
 def _keep_freed_memory() -> None:
     """glibc: keep freed memory for the next file instead of returning and faulting it in again
-    (page faults take a lock per process: threads scale 1.3x -> 1.9x on 2 cores with this)."""
+    (page faults take a lock per process, which serialises the threads; bench/batch.py)."""
     if sys.platform.startswith("linux"):
         try:
             import ctypes

@@ -137,6 +137,7 @@ class RigidBody:
 
 
 def check_body(body) -> RigidBody:
+    """``body`` itself when it is a :class:`RigidBody`; an :class:`InputError` naming its type otherwise."""
     if not isinstance(body, RigidBody):
         raise InputError(f"body must be a RigidBody (mass, inertia_com), got {type(body).__name__}")
     return body

@@ -66,9 +66,8 @@ def _solve3(A, b):
     """Solve ``A x = b`` for (..., 3, 3) matrices A and (..., 3) vectors b.
 
     Batches use cofactors (Cramer's rule) in elementwise NumPy: a few dozen vector
-    operations instead of one LAPACK call per matrix (``np.linalg.solve`` on a stack of
-    10^4 systems is 4x slower); a single system goes to ``np.linalg.solve``, which is then
-    faster.  Inertia matrices are positive definite and well conditioned (cond = I3/I1,
+    operations instead of one LAPACK call per matrix; a single system goes to
+    ``np.linalg.solve``.  Inertia matrices are positive definite and well conditioned (cond = I3/I1,
     below ~1e3 even for a needle), where Cramer's rule loses ~cond * eps, like LU.
     """
     if A.ndim == 2 and b.ndim == 1:

@@ -275,6 +275,11 @@ class _Scope:
 
 
 def read_mjcf(path, *, search_paths=(), document=None) -> RobotModel:
+    """The bodies, inertials and geoms of an MJCF file, as MuJoCo's compiler reads them.
+
+    ``search_paths``: folders for meshes and includes besides the file's; ``document``: the
+    file already parsed (read from ``path`` otherwise).
+    """
     doc = document if document is not None else parse_robot_xml(path, "mujoco", "an MJCF")
     main = _Scope(doc, path, search_paths, {})
     links = []

@@ -94,7 +94,11 @@ def _urdf_ros_numbers(doc, root) -> None:
 
 
 def read_urdf(path, *, search_paths=(), document=None) -> RobotModel:
-    """``document``: the file already parsed (e.g. expanded by xacro); read from ``path`` otherwise."""
+    """The links, joints, inertials and geometries of a URDF file.
+
+    ``search_paths``: folders that ``package://`` and relative mesh paths resolve against;
+    ``document``: the file already parsed (e.g. expanded by xacro); read from ``path`` otherwise.
+    """
     doc = document if document is not None else parse_robot_xml(path, "robot", "a URDF")
     root = doc.root
     _urdf_ros_numbers(doc, root)
@@ -192,6 +196,8 @@ def _sdf_number(doc, parent, tag: str, default: float, what: str) -> float:
 
 
 def read_sdf(path, *, search_paths=(), document=None) -> RobotModel:
+    """The links, joints, inertials and geometries of an SDF model (``model://`` resolved next to
+    the model folder and in ``search_paths``; ``document``: the file already parsed)."""
     doc = document if document is not None else parse_robot_xml(path, "sdf", "an SDF")
     root = doc.root
     base = Path(path).resolve().parent
