@@ -58,7 +58,9 @@ class RigidBody:
     Attributes (derived)
     --------------------
     moments : (..., 3) float, kg m^2, principal moments, ascending.
-    R_body_principal : (..., 3, 3) float, columns are the principal axes in B (proper rotation).
+    R_body_principal : (..., 3, 3) float, columns are the principal axes in B (proper rotation),
+        in the canonical form of :mod:`inertia.massprops.principal` (the axes
+        ``MassProperties.principal()`` reports for the same tensor).
     q_body_principal : (..., 4) float, the same rotation as a quaternion.
     principal_is_body : bool, True when P = B (diagonal inertia with an ascending diagonal):
         no frame change at all, so nothing is rounded by one.

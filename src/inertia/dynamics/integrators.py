@@ -69,7 +69,8 @@ __all__ = [
 
 
 #: The integrator every entry point uses unless told otherwise (``integrate``, ``step``,
-#: ``jacobians``, ``rollout``, ``inertia simulate``): the splitting method.  Explicit, second
+#: ``jacobians``, ``rollout``, the gyrostat's ``gyrostat_step``, ``gyrostat_jacobians``,
+#: ``gyrostat_rollout``, ``design_spin_hold``, ``inertia simulate``): the splitting method.  Explicit, second
 #: order, time-symmetric; it keeps |L| and the world-frame L exactly and the energy error
 #: bounded for all time (rk4's drifts), it takes torques and the 6-DOF inputs like every
 #: method, and costs about as much per step as rk4.
