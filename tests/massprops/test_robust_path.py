@@ -90,3 +90,76 @@ def test_robust_is_refused_for_primitives(capsys):
 
     assert main(["props", "box:1,1,1", "--robust"]) == 1
     assert "--robust applies to mesh files only" in capsys.readouterr().err
+
+
+def _binary_stl(path, v, f):
+    tris = np.asarray(v)[np.asarray(f)].astype("<f4")
+    records = np.zeros(len(tris), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    records["v"] = tris
+    path.write_bytes(b"mesh".ljust(80, b" ") + np.uint32(len(tris)).tobytes() + records.tobytes())
+
+
+def _holed_sphere(subdivisions=3, holes=4):
+    trimesh = pytest.importorskip("trimesh")
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=0.1)
+    v, f = np.asarray(sphere.vertices, np.float32).astype(float), np.asarray(sphere.faces)
+    return v, f, f[holes:]
+
+
+def test_cli_json_gives_the_bounds_as_numbers_and_they_hold_against_the_closed_sphere(tmp_path, capsys):
+    from inertia.cli.main import main
+
+    v, closed, holed = _holed_sphere()
+    _binary_stl(tmp_path / "closed.stl", v, closed)
+    _binary_stl(tmp_path / "holed.stl", v, holed)
+    assert main(["props", str(tmp_path / "closed.stl"), "--format", "json"]) == 0
+    truth = json.loads(capsys.readouterr().out)
+    assert "error_bound" not in truth and truth["findings"] == []     # an exact result states no bound
+    assert main(["props", str(tmp_path / "holed.stl"), "--robust", "--robust-tol", "1e-4", "--format", "json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    b = d["bounds"]
+    assert set(b) == {"volume", "com", "inertia"} and d["error_bound"] == max(b.values())
+    assert abs(d["volume"] / truth["volume"] - 1) <= max(b["volume"], 1e-12)
+    I, I0 = np.array(d["inertia_com"]), np.array(truth["inertia_com"])
+    assert np.linalg.norm(I - I0) / np.linalg.norm(I0) <= max(b["inertia"], 1e-12)
+    robust = next(f for f in d["findings"] if f["code"] == "robust_solid")
+    assert robust["values"]["error_bound"] == d["error_bound"] and robust["severity"] == "warning"
+
+
+def test_a_robust_budget_stops_the_refinement_and_says_the_bound_it_reached(tmp_path, capsys):
+    from inertia.cli.main import main
+
+    v, _, holed = _holed_sphere(subdivisions=4, holes=5)
+    _binary_stl(tmp_path / "holed.stl", v, holed)
+    # a target the refinement cannot reach in a millisecond: the result still comes, with its bound
+    assert main(["props", str(tmp_path / "holed.stl"), "--robust", "--robust-tol", "1e-9",
+                 "--robust-budget", "0.001", "--format", "json"]) == 0
+    out, err = capsys.readouterr()
+    d = json.loads(out)
+    assert d["robust_converged"] is False and d["error_bound"] > 1e-9 and np.isfinite(d["error_bound"])
+    assert "NOT within robust_tol 1e-09 (stopped by the time budget)" in err
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--robust", "--robust-budget", "0"], "--robust-budget must be a positive number of seconds"),
+    (["--robust", "--robust-budget", "nan"], "--robust-budget must be a positive number of seconds"),
+    (["--robust-budget", "5"], "--robust-budget applies with --robust only"),
+    (["--robust", "--robust-tol", "-1"], "--robust-tol must be a positive number")])
+def test_robust_budget_and_tol_are_checked(tmp_path, capsys, argv, said):
+    from inertia.cli.main import main
+
+    _binary_stl(tmp_path / "cube.stl", CUBE_V, CUBE_F)
+    assert main(["props", str(tmp_path / "cube.stl"), *argv]) == 1
+    assert said in capsys.readouterr().err
+
+
+def test_progress_reports_a_growing_fraction_and_ends_at_the_stated_bound():
+    v, _, holed = _holed_sphere()
+    calls = []
+    with pytest.warns(MeshDefectWarning):
+        p = inertia.mesh_properties(v, holed, density=1.0, on_defect="robust",
+                                    robust_progress=lambda fraction, bound: calls.append((fraction, bound)))
+    fractions = [c[0] for c in calls]
+    assert len(calls) >= 2 and fractions == sorted(fractions) and 0 <= fractions[0] and fractions[-1] == 1.0
+    robust = next(x for x in p.findings if x.code == "robust_solid")
+    assert calls[-1][1] == robust.values["error_bound"]

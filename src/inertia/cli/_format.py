@@ -183,13 +183,15 @@ class Parser(argparse.ArgumentParser):
             topic = getattr(group, "topic", None)
             if topic:
                 names = ", ".join(option_synopsis(a) for a in group._group_actions)
-                f.add_text(textwrap.fill(f"{names} (inertia help {topic})", f._width - f._current_indent))
+                # the pointer kept on one line (no-break spaces, made plain below)
+                pointer = f"(inertia help {topic})".replace(" ", "\xa0")
+                f.add_text(textwrap.fill(f"{names} {pointer}", f._width - f._current_indent))
             else:
                 f.add_text(group.description)
                 f.add_arguments(group._group_actions)
             f.end_section()
         f.add_text(self.epilog)
-        return f.format_help()
+        return f.format_help().replace("\xa0", " ")
 
     def unknown(self, extras) -> None:
         """Refuse ``extras`` (what the command did not recognise), naming the spelling it takes."""

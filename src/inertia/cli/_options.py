@@ -55,6 +55,9 @@ def add_mesh_options(p, *, collapsed: bool = True) -> None:
                         "generalised winding number >= 1/2, with an error bound (docs/robust.md)")
     g.add_argument("--robust-tol", type=float, default=1e-3, metavar="REL",
                    help="with --robust: the relative error bound to reach (default 1e-3)")
+    g.add_argument("--robust-budget", type=float, default=None, metavar="SECONDS",
+                   help="with --robust: stop refining after SECONDS and report the bound reached (default: "
+                        "no limit); progress is shown on a terminal")
     g.add_argument("--self-crossing", choices=("search", "certificate"), default="search",
                    help="how a closed mesh is shown not to pass through itself: search (default) proves it in "
                         "one pass when it is star-shaped from its center of mass and tests face pairs otherwise; "

@@ -243,6 +243,13 @@ def load_source(args, *, source: str | None = None):
     accept = bool(getattr(args, "accept_defects", False))
     robust = bool(getattr(args, "robust", False))
     robust_tol = float(getattr(args, "robust_tol", 1e-3) or 1e-3)
+    robust_budget = getattr(args, "robust_budget", None)
+    if robust_budget is not None and not (math.isfinite(robust_budget) and robust_budget > 0):
+        raise _input_error(f"--robust-budget must be a positive number of seconds, got {robust_budget!r}")
+    if robust_budget is not None and not robust:
+        raise _input_error("--robust-budget applies with --robust only")
+    if not (math.isfinite(robust_tol) and robust_tol > 0):
+        raise _input_error(f"--robust-tol must be a positive number, got {robust_tol!r}")
     self_crossing = getattr(args, "self_crossing", "search") or "search"
     kind = classify_source(text)
     # a spherical_shell without inner radius is a thin shell: its density is per area
@@ -255,7 +262,8 @@ def load_source(args, *, source: str | None = None):
     if kind[0] == "mesh":
         props, stats = _load_mesh(kind[1], density=density, mass=mass, units=units, shell=shell,
                                   fix_orientation=fix, accept_defects=accept, command=command,
-                                  robust=robust, robust_tol=robust_tol, self_crossing=self_crossing)
+                                  robust=robust, robust_tol=robust_tol, robust_budget=robust_budget,
+                                  self_crossing=self_crossing)
         info = SourceInfo(source=text, kind="mesh", units=units, density=0.0, density_source=dsrc, shell=shell)
         info.mesh = stats
     else:
@@ -307,7 +315,7 @@ def cli_text(message: str) -> str:
 
 
 def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_defects, command="inertia",
-               robust=False, robust_tol=1e-3, self_crossing="search"):
+               robust=False, robust_tol=1e-3, robust_budget=None, self_crossing="search"):
     import sys
     import warnings
 
@@ -324,7 +332,8 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
                                     repair="orient" if fix_orientation else None,
                                     on_defect="robust" if robust else "warn" if accept_defects else "raise",
                                     frame="body", name=str(path), robust_tol=robust_tol,
-                                    self_crossing=self_crossing)
+                                    robust_budget=robust_budget, self_crossing=self_crossing,
+                                    robust_progress=_robust_progress(command, robust_tol) if robust else None)
     except InertiaError as exc:
         msg = cli_text(str(exc).rstrip())
         if os.path.basename(path) not in msg:
@@ -338,6 +347,29 @@ def _load_mesh(path, *, density, mass, units, shell, fix_orientation, accept_def
     stats = {"n_vertices": int(len(vertices)), "n_faces": int(len(faces)), "bbox_min": lo.tolist(),
              "bbox_max": hi.tolist(), "extents": (hi - lo).tolist()}
     return props, stats
+
+
+def _robust_progress(command: str, tol: float):
+    """A progress hook for the robust refinement: one rewritten line on stderr when it is a terminal
+    (nothing otherwise, so logs and pipes stay clean), cleared when the work ends."""
+    import sys
+    import time
+
+    if not sys.stderr.isatty():
+        return None
+    last = [0.0]
+
+    def show(fraction: float, bound: float) -> None:
+        now = time.monotonic()
+        if fraction < 1.0 and now - last[0] < 0.2:
+            return
+        last[0] = now
+        said = f"error bound {bound:.2g}" if math.isfinite(bound) else "no bound yet"
+        line = f"{command}: robust solid: {100 * fraction:3.0f}% done, {said} (target {tol:g})"
+        sys.stderr.write("\r" + line + ("\r" + " " * len(line) + "\r" if fraction >= 1.0 else ""))
+        sys.stderr.flush()
+
+    return show
 
 
 def _build_primitive(text, spec: PrimitiveSpec, dims, *, density, mass, shell):

@@ -123,12 +123,25 @@ def props_dict(props, info, units=None) -> dict:
         "degenerate_moments": [list(g) for g in pf.degenerate],
         "radii_of_gyration": u.length(props.radii_of_gyration),
         "validity": [{"code": v.code, "message": v.message} for v in violations],
+        **_robust_bounds(props),
         "physical": not violations,
         "warnings": list(getattr(info, "notes", [])) + [f.message for f in props.findings],
+        "findings": [f.to_dict() for f in props.findings],
         "output_units": u.to_dict(),
         "conventions": conventions(u),
     })
     return out
+
+
+def _robust_bounds(props) -> dict:
+    """``error_bound`` (the result's relative bound) and ``bounds`` {volume, com, inertia}, as numbers,
+    when the result is a robust solid's; nothing otherwise (an exact result has no bound)."""
+    for f in props.findings:
+        if f.code == "robust_solid":
+            v = f.values
+            return {"error_bound": float(v["error_bound"]), "bounds": {k: float(x) for k, x in v["bounds"].items()},
+                    "robust_tol": float(v["tol"]), "robust_converged": bool(v["converged"])}
+    return {}
 
 
 def props_lines(props, info, units=None, *, title: str | None = None) -> list[str]:

@@ -125,7 +125,7 @@ def check_options(kind="solid", on_defect="raise", repair=None, self_crossing="s
 
 
 def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair, frame, name, robust_tol,
-                     robust_budget, self_crossing, stacklevel, welded=False):
+                     robust_budget, self_crossing, stacklevel, welded=False, robust_progress=None):
     """:func:`mesh_properties` (``stacklevel`` points warnings at the caller; ``welded``: the
     vertices are distinct and all used, as :func:`load_mesh` returns them)."""
     what = f"mesh {name}" if name else "mesh"
@@ -142,7 +142,8 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
 
     if on_defect == "robust" and repair is None and kind == "solid":
         props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, where=where,
-                               tol=robust_tol, budget=robust_budget, stacklevel=stacklevel + 1)
+                               tol=robust_tol, budget=robust_budget, progress=robust_progress,
+                               stacklevel=stacklevel + 1)
         if props is not None:
             return done(props)
     analysis = analyse_mesh(v, f, welded=welded, weld_first=False, self_crossing=self_crossing)
@@ -164,8 +165,8 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
     errors = [d for d in report.errors if not (kind == "shell" and d.code in _SOLID_ONLY)]
     if errors and on_defect == "robust":
         return done(_robust_solid(v, f, density=density, mass=mass, frame=frame, what=what, where=where,
-                                  tol=robust_tol, budget=robust_budget, findings=findings,
-                                  stacklevel=stacklevel + 1))
+                                  tol=robust_tol, budget=robust_budget, progress=robust_progress,
+                                  findings=findings, stacklevel=stacklevel + 1))
     if errors and on_defect == "raise":
         raise _defect_error(what, errors, report, kind=kind, repair=repair)
     for d in errors:  # on_defect == "warn": accepted on request, loudly
@@ -223,7 +224,7 @@ def _clean_solid(sums, v, f, *, density, mass, frame, what, findings=()):
     return MassProperties._computed(m, com, inertia, frame=frame, volume=volume, findings=tuple(findings))
 
 
-def _robust_direct(v, f, welded, *, density, mass, frame, what, where, tol, budget, stacklevel):
+def _robust_direct(v, f, welded, *, density, mass, frame, what, where, tol, budget, progress, stacklevel):
     """``on_defect="robust"`` without the full analysis (it costs as much as the robust solid):
     a clean solid takes the exact path; a mesh with nothing fatal goes to the robust solid,
     whose own pass names the defects; None otherwise (the full analysis then names the fatal ones)."""
@@ -237,18 +238,17 @@ def _robust_direct(v, f, welded, *, density, mass, frame, what, where, tol, budg
         if not np.all(np.abs(v) <= COORDINATE_LIMIT):
             return None
     return _robust_solid(v, f, density=density, mass=mass, frame=frame, what=what, where=where, tol=tol,
-                         budget=budget, findings=[], stacklevel=stacklevel + 1)
+                         budget=budget, progress=progress, findings=[], stacklevel=stacklevel + 1)
 
 
-def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findings, stacklevel):
+def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findings, stacklevel, progress=None):
     """The solid {w >= 1/2} of an imperfect mesh (:func:`inertia.geometry.robust.robust_integrals`):
     its findings, and one ``robust_solid`` finding carrying the bounds; ``precision`` is the
     inertia's bound."""
     from ..geometry.robust import robust_integrals
     from .properties import MassProperties
 
-    # TODO(robust budget): pass the geometry layer's budget and progress hook once it has them
-    res = robust_integrals(v, f, tol=tol, time_budget=budget)
+    res = robust_integrals(v, f, tol=tol, time_budget=budget, progress=progress)
     volume = float(res.volume)
     if not volume > 0:
         raise MeshError(f"{what}: the robust solid (generalised winding number >= 1/2) is empty: the surface "
@@ -262,10 +262,11 @@ def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findi
             f"{', '.join(res.codes) or 'no defect'}; relative error bounds: "
             + ", ".join(f"{k} {x:.2g}" for k, x in bounds.items()))
     if not res.converged:
-        text += f"; NOT within robust_tol {tol:g} (the budget ran out)"
+        text += f"; NOT within robust_tol {tol:g} (stopped by the {res.stopped_by or 'refinement budget'})"
     warnings.warn(f"{what}: {text}", MeshDefectWarning, stacklevel=stacklevel)
     robust = Finding("robust_solid", text, where=where,
                      values={"error_bound": res.error_bound, "bounds": bounds, "tol": tol, "converged": res.converged,
+                             "stopped_by": res.stopped_by,
                              "ambiguous_volume": res.ambiguous_volume})
     found = [d.replace(severity="warning", where=where) for d in res.findings]
     # the inertia's relative bound is the result's precision (a bound of 1/2 or more says nothing)
@@ -275,7 +276,8 @@ def _robust_solid(v, f, *, density, mass, frame, what, where, tol, budget, findi
 
 def mesh_properties(vertices, faces, *, density=None, mass=None, kind: str = "solid", on_defect: str = "raise",
                     repair: str | None = None, frame: str = "body", name: str | None = None,
-                    robust_tol: float = 1e-3, robust_budget: float | None = None, self_crossing: str = "search"):
+                    robust_tol: float = 1e-3, robust_budget: float | None = None, robust_progress=None,
+                    self_crossing: str = "search"):
     """Mass properties of a triangle mesh, checked for defects first.
 
     Parameters
@@ -297,7 +299,10 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, kind: str = "so
     frame : str, name of the frame of ``vertices``.
     name : str, optional, how messages and findings name the mesh (e.g. its file path).
     robust_tol : float, the relative bound the robust solid aims at (default 1e-3).
-    robust_budget : float, optional, seconds the robust refinement may take (default: no limit).
+    robust_budget : float, optional, seconds the robust refinement may take (default: no limit);
+        when it runs out the result carries the bound reached (``robust_solid`` finding).
+    robust_progress : callable, optional, ``robust_progress(fraction, bound)`` while the robust
+        refinement runs: the fraction of the work done and the relative bound reached so far.
     self_crossing : {"search", "certificate"}
         How a closed shell is shown not to pass through itself: ``"search"`` proves it in one
         pass when it is star-shaped from its COM and otherwise tests face pairs (up to 200,000
@@ -335,13 +340,14 @@ def mesh_properties(vertices, faces, *, density=None, mass=None, kind: str = "so
     """
     return _mesh_properties(vertices, faces, density=density, mass=mass, kind=kind, on_defect=on_defect,
                             repair=repair, frame=frame, name=name, robust_tol=robust_tol,
-                            robust_budget=robust_budget, self_crossing=self_crossing, stacklevel=3)
+                            robust_budget=robust_budget, self_crossing=self_crossing, stacklevel=3,
+                            robust_progress=robust_progress)
 
 
 def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", kind: str = "solid",
                          on_defect: str = "raise", repair: str | None = None, frame: str = "body",
                          merge_rtol: float = MERGE_RTOL, robust_tol: float = 1e-3, robust_budget: float | None = None,
-                         self_crossing: str = "search"):
+                         robust_progress=None, self_crossing: str = "search"):
     """Mass properties of the triangle mesh in a file: :func:`inertia.load_mesh` (``units``,
     ``merge_rtol``), then :func:`mesh_properties` (the other options); messages name the file.
 
@@ -352,4 +358,4 @@ def mesh_file_properties(path, *, density=None, mass=None, units: str = "m", kin
     return _mesh_properties(vertices, faces, density=density, mass=mass, kind=kind, on_defect=on_defect,
                             repair=repair, frame=frame, name=str(path), robust_tol=robust_tol,
                             robust_budget=robust_budget, self_crossing=self_crossing, stacklevel=3,
-                            welded=merge_rtol > 0)
+                            welded=merge_rtol > 0, robust_progress=robust_progress)
