@@ -181,9 +181,12 @@ def test_projection_is_the_nearest_point_of_the_physical_set():
         assert is_physical(np.diag(fixed))
         d_fixed = np.sum((fixed - w) ** 2)
         # random physical moments are never nearer (up to rounding)
+        floor = max(1e-6 * max(abs(w.sum()), np.abs(w).max()), SIMULATOR_MIN_VALUE)
+        # inside the cone by the stated margin, not on its boundary
+        assert fixed[0] >= floor * (1 - 1e-9) and fixed[0] + fixed[1] - fixed[2] >= floor * (1 - 1e-6)
         cand = rng.uniform(0, 3, size=(4000, 3))
         cand.sort(axis=1)
-        ok = cand[:, 0] + cand[:, 1] >= cand[:, 2]
+        ok = (cand[:, 0] >= floor) & (cand[:, 0] + cand[:, 1] - cand[:, 2] >= floor)
         assert np.min(np.sum((cand[ok] - w) ** 2, axis=1)) >= d_fixed - 1e-12
 
 

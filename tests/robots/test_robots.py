@@ -84,13 +84,14 @@ def test_fixed_file_passes_check_and_the_input_is_untouched(tmp_path, capsys, ro
 
 def test_nearest_physical_inertia_is_the_projection():
     """Nearest in the Frobenius norm among tensors with the same axes: for I1 + I2 < I3 with
-    positive moments the answer is the orthogonal projection onto the plane I1 + I2 = I3."""
+    positive moments the answer is the orthogonal projection onto the plane I1 + I2 - I3 = 1e-6 trace."""
     w = np.array([1.11, 1.01, 100.11])
     R = inertia._core.rotations.quat_to_matrix(np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2]))
     I = R @ np.diag(w) @ R.T
     fixed = nearest_physical_inertia(I)
     n = np.array([1.0, 1.0, -1.0])
-    expected_w = w - (w @ n) / 3 * n
+    margin = 1e-6 * w.sum()   # the stated margin inside the physical set
+    expected_w = w - (w @ n - margin) / 3 * n
     np.testing.assert_allclose(np.sort(np.linalg.eigvalsh(fixed)), np.sort(expected_w), rtol=1e-9)
     np.testing.assert_allclose(R.T @ fixed @ R, np.diag(expected_w), atol=1e-8)  # same axes
     assert is_physical(fixed)
@@ -203,7 +204,10 @@ def test_fix_from_geometry_matches_the_primitives(tmp_path, capsys):
 </robot>
 """)
     out = tmp_path / "fixed.urdf"
+    # base's declared tensor is physical: --from-geometry alone keeps it, --all-links recomputes it
     code, _, err = _run(capsys, "fix", urdf, "-o", out, "--from-geometry", "collision")
+    assert code == 0 and "nothing to fix" in err and out.read_bytes() == urdf.read_bytes()
+    code, _, err = _run(capsys, "fix", urdf, "-o", out, "--from-geometry", "collision", "--all-links")
     assert code == 0 and "base" in err
     ry = inertia._core.rotations.quat_to_matrix(np.array([np.cos(np.pi / 4), 0, np.sin(np.pi / 4), 0]))
     expected = (inertia.box((0.2, 0.1, 0.05), density=1.0).translated([0, 0, 0.1])

@@ -72,17 +72,20 @@ def coordinate_precision(vertices, radius: float) -> float:
     v = np.asarray(vertices, dtype=np.float64)
     if v.size == 0 or not radius > 0:
         return 0.0
+    # a few coordinates first, in plain Python: float64 data fails them for every unit at once
+    few = [x for x in v.ravel()[:24].tolist() if x != 0.0 and math.isfinite(x)][:6]
+    units = [f for f in LENGTH_UNITS.values()
+             if all(abs(x / f) < 3e38 and abs(float(np.float32(x / f)) - x / f) <= 1e-12 * abs(x / f) for x in few)]
+    if not units:
+        return 0.0
     biggest = float(np.abs(v).max())
     if not 0.0 < biggest < math.inf:
         return 0.0
-    for factor in LENGTH_UNITS.values():   # a sample first: most float64 data fails it at once
+    for factor in units:
         if biggest / factor > 3e38:          # beyond float32's range
             continue
-        for rows in (v[:64], v):
-            raw = rows / factor
-            scale = float(np.abs(raw).max(initial=0.0))
-            if float(np.abs(raw.astype(np.float32).astype(np.float64) - raw).max(initial=0.0)) > 1e-12 * scale:
-                break
-        else:
+        raw = v / factor
+        scale = float(np.abs(raw).max(initial=0.0))
+        if float(np.abs(raw.astype(np.float32).astype(np.float64) - raw).max(initial=0.0)) <= 1e-12 * scale:
             return min(4.0 * FLOAT32_ROUNDOFF * biggest / radius, 0.5)
     return 0.0

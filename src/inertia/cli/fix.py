@@ -11,13 +11,14 @@ EPILOG = """\
 examples:
   inertia fix model.sdf -o fixed.sdf                        (invalid tensors -> nearest physical)
   inertia fix robot.urdf -o fixed.urdf --from-geometry collision --units mm
-  inertia fix scene.xml -o scene_fixed.xml --from-geometry visual --density 2700
+  inertia fix scene.xml -o scene_fixed.xml --from-geometry visual --density 2700 --all-links
   inertia fix robot.urdf --in-place --nearest-valid
   inertia fix stage.usda -o fixed.usda --from robot.urdf    (an OpenUSD stage from another description)
 
 Nearest physical tensor: the declared tensor's principal moments projected (least squares) onto
-{I_i >= 1e-6 trace, I_i + I_j >= I_k}, axes and COM kept.  From geometry: the link's shapes as
-uniform solids, at the declared mass (or at --density), COM and tensor written in the link frame.
+{I_i >= m, I_i + I_j - I_k >= m}, m = 1e-6 trace (a margin inside the physical set), axes and COM
+kept.  From geometry: the link's shapes as uniform solids, at the declared mass (or at --density),
+COM and tensor written in the link frame; only non-physical inertials unless --all-links.
 The output is the input byte for byte except the numbers (or inertial elements) that change:
 quoting, attribute order, indentation, line endings, comments and encoding are kept, and a
 file with nothing to fix comes back identical.  A tensor that is zero or rounding noise
@@ -43,7 +44,8 @@ def register(sub) -> None:
     p.add_argument("--in-place", action="store_true", help="replace FILE itself")
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--from-geometry", nargs="?", const="auto", choices=("auto", "collision", "visual"),
-                      help="recompute every inertial from the link's geometry (default: collision, else visual)")
+                      help="recompute non-physical inertials from the link's geometry (default: collision, else "
+                           "visual); with --all-links every inertial")
     mode.add_argument("--nearest-valid", action="store_true",
                       help="replace only non-physical tensors by the nearest physical one (the default)")
     mode.add_argument("--flip-products", action="store_true",
@@ -51,6 +53,8 @@ def register(sub) -> None:
                            "(products copied from CAD with the wrong sign)")
     p.add_argument("--density", type=float, metavar="RHO",
                    help="with --from-geometry: kg/m^3, the mass then follows from the volume")
+    p.add_argument("--all-links", action="store_true",
+                   help="with --from-geometry: recompute every link's inertial, valid ones too")
     add_robot_options(p, ("package-path", "mass-units"))
     from .usd import add_fix_arguments
     add_fix_arguments(p)
@@ -69,6 +73,8 @@ def run(args) -> int:
         return code
     if args.density is not None and not args.from_geometry:
         raise InputError("--density needs --from-geometry")
+    if args.all_links and not args.from_geometry:
+        raise InputError("--all-links needs --from-geometry")
     if args.density is not None and not (args.density > 0 and args.density != float("inf")):
         raise InputError(f"--density must be finite and positive, got {args.density}")
     try:
@@ -78,7 +84,8 @@ def run(args) -> int:
         report = fix_file(args.file, args.output, mode=mode,
                           role=None if args.from_geometry in (None, "auto") else args.from_geometry,
                           density=args.density, in_place=args.in_place, search_paths=args.package_path,
-                          mesh_units=args.units, mass_scale=MASS_UNITS[args.mass_units])
+                          mesh_units=args.units, mass_scale=MASS_UNITS[args.mass_units],
+                          links="all" if args.all_links else "invalid")
     except RobotFileError as exc:
         print(f"inertia fix: error: {exc}", file=sys.stderr)
         return 2

@@ -2,9 +2,10 @@
 
 Two repairs, chosen per run:
 
-* ``mode="geometry"``: every link with an inertial gets the mass properties of its own
-  geometry (:func:`~inertia.robots.geometry.link_geometry_properties`; collision shapes, or
-  visual ones with ``role="visual"`` or when there are no collision shapes), at the declared
+* ``mode="geometry"``: each link whose inertial is not physical (every link with an inertial
+  with ``links="all"``) gets the mass properties of its own geometry
+  (:func:`~inertia.robots.geometry.link_geometry_properties`; collision shapes, or visual ones
+  with ``role="visual"`` or when there are no collision shapes), at the declared
   mass, or at ``density`` [kg/m^3] (the mass then follows from the volume).  Links whose
   geometry cannot be used keep their inertial and are reported.
 * ``mode="nearest"`` (default): only links whose tensor is not physical change, to
@@ -33,7 +34,9 @@ from .io import read_robot
 from .writers import format_number, format_vector, inertia_elements
 
 #: smallest principal moment the projection allows, relative to the trace (and never below
-#: :data:`~inertia._core.tolerances.SIMULATOR_MIN_VALUE`, the least MuJoCo accepts)
+#: :data:`~inertia._core.tolerances.SIMULATOR_MIN_VALUE`, the least MuJoCo accepts); the
+#: repaired moments also keep this margin inside each triangle inequality (I_i + I_j - I_k), so
+#: the result is inside the physical set, not on its boundary where rounding can undo it
 MIN_MOMENT_RTOL = 1e-6
 
 
@@ -49,9 +52,10 @@ def nearest_physical_inertia(inertia, *, min_rtol: float = MIN_MOMENT_RTOL) -> n
     """The physical tensor nearest to ``inertia`` in the Frobenius norm, with the same axes.
 
     Method: in the principal axes of the declared tensor, project the three moments onto
-    the convex set ``{I_i >= floor, I_i + I_j >= I_k}`` with ``floor = max(min_rtol * trace,
-    SIMULATOR_MIN_VALUE)``.  The set is a polyhedron, so the projection is the projection onto
-    the affine hull of one of its faces: every subset of active constraints is tried (64
+    the convex set ``{I_i >= floor, I_i + I_j - I_k >= floor}`` with ``floor = max(min_rtol *
+    trace, SIMULATOR_MIN_VALUE)``: a stated margin inside the physical cone.  The set is a
+    polyhedron, so the projection is the projection onto the affine hull of one of its faces:
+    every subset of active constraints is tried (64
     small least-squares problems) and the nearest feasible candidate kept, exact to rounding.
     The axes are kept, so the result is the nearest physical tensor among those sharing the
     declared principal axes.  A tensor that is already physical is returned unchanged.
@@ -65,21 +69,21 @@ def nearest_physical_inertia(inertia, *, min_rtol: float = MIN_MOMENT_RTOL) -> n
     # the candidates meet their active constraints to rounding: make them hold exactly
     x = np.maximum(x, floor)
     order = np.argsort(x)
-    if x[order[0]] + x[order[1]] < x[order[2]]:
-        x[order[2]] = x[order[0]] + x[order[1]]
+    if x[order[0]] + x[order[1]] - x[order[2]] < floor:
+        x[order[2]] = x[order[0]] + x[order[1]] - floor
     return (V * x) @ V.T
 
 
-#: the constraints a x >= b of physical moments: x_i >= floor (b = floor) and x_i + x_j - x_k >= 0
+#: the constraints a x >= b of repaired moments: x_i >= floor and x_i + x_j - x_k >= floor
 _PHYSICAL_A = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], float)
 
 
 def _project_moments(w, floor: float) -> np.ndarray:
-    """Euclidean projection of ``w`` onto ``{x_i >= floor, x_i + x_j >= x_k}`` by active sets."""
+    """Euclidean projection of ``w`` onto ``{x_i >= floor, x_i + x_j - x_k >= floor}`` by active sets."""
     import itertools
 
     A = _PHYSICAL_A
-    b = np.array([floor] * 3 + [0.0] * 3)
+    b = np.full(6, floor)
     scale = max(float(np.abs(w).max()), floor)
     best, best_d = None, np.inf
     for k in range(4):   # at most 3 independent constraints are active at a point in 3D
@@ -248,6 +252,14 @@ def _fix_nearest(ed, fmt, inertial, own, mass_scale, report, name) -> None:
     return inertial.mass * mass_scale, fixed
 
 
+def _declared_valid(own, mass: float) -> bool:
+    """A declared inertial that needs no repair: positive mass, a physical tensor above the floor,
+    or the massless-frame idiom (mass 0, tensor 0)."""
+    if mass == 0 and not np.any(own):
+        return True
+    return mass > 0 and not inertia_violations(own) and not below_floor(own)
+
+
 def _fix_geometry(ed, setter, link, mass, report, *, role, density, mesh_units, mass_scale) -> None:
     props, used, problems = link_geometry_properties(
         link, role=role, mass=None if density is not None else mass,
@@ -277,7 +289,8 @@ class _Elsewhere:
 
 
 def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = None, density: float | None = None,
-             in_place: bool = False, search_paths=(), mesh_units: str = "m", mass_scale: float = 1.0) -> FixReport:
+             in_place: bool = False, search_paths=(), mesh_units: str = "m", mass_scale: float = 1.0,
+             links: str = "invalid") -> FixReport:
     """Write the corrected copy (see the module docstring); returns what changed.
 
     The output is the input's bytes with only the changed numbers (or inertial elements)
@@ -286,11 +299,17 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
     errors), the same as ``inertia check`` of the written file: ``report.remaining`` maps each
     link it still finds errors in (and ``"(file)"`` for the file as a whole) to them.
     ``mass_scale`` is the file's mass unit in kg (1e-3 for grams): declared values are read
-    and written in the file's units.
+    and written in the file's units.  ``links``: ``"invalid"`` (default) changes only links whose
+    declared inertial is not physical (or below the simulators' floor); ``"all"`` (geometry mode
+    only) recomputes every link with an inertial.
     """
     path = Path(path)
     if mode not in ("nearest", "geometry", "flip"):
         raise InputError(f"mode must be 'nearest', 'geometry' or 'flip', got {mode!r}")
+    if links not in ("invalid", "all"):
+        raise InputError(f"links must be 'invalid' or 'all', got {links!r}")
+    if links == "all" and mode != "geometry":
+        raise InputError("links='all' recomputes valid inertials from geometry: it needs mode='geometry'")
     output = _output_path(path, output, in_place)
     model = read_robot(path, search_paths=search_paths)
     if getattr(model.document, "generated_by", None) == "xacro":
@@ -312,7 +331,7 @@ def fix_file(path, output=None, *, mode: str = "nearest", role: str | None = Non
             _fix_flip(this, model.format, inertial, own, mass_scale, report, link.name)
         elif mode == "nearest":
             _fix_nearest(this, model.format, inertial, own, mass_scale, report, link.name)
-        else:
+        elif links == "all" or not _declared_valid(own, mass):
             _fix_geometry(this, setter, link, mass, report, role=role, density=density,
                           mesh_units=mesh_units, mass_scale=mass_scale)
         if this is not ed and this.asked:
