@@ -376,7 +376,12 @@ def test_cli_summary_and_exit_status(dataset, tmp_path, capsys):
 
     w = 1 if inertia.mesh_file_properties(dataset / "wingnut.obj", density=1000.0).findings else 0
     assert f"ok {2 - w}, warnings {w}, errors 5" in err and "open_edges: 2" in err
-    assert len(out.read_text().splitlines()) == 7
+    rows = [json.loads(line) for line in out.read_text().splitlines()]
+    assert len(rows) == 7
+    # a refusal's advice names the batch option beside the keyword (a CLI user reads these rows)
+    opened = [r for r in rows if r["reason"] == "open_edges"]
+    assert opened and all("on_defect='warn' (--accept-defects)" in r["message"] and
+                          "on_defect='robust' (--robust)" in r["message"] for r in opened)
     assert main(["batch", str(tmp_path / "nothing-here"), "-o", str(out), "--scheduler", "synchronous"]) == 1
     assert "no such file or folder" in capsys.readouterr().err
 

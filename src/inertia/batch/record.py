@@ -107,6 +107,16 @@ def _empty_row(job: Job) -> dict:
     return row
 
 
+def _with_flags(message: str) -> str:
+    """A refusal's advice for both ways in: each keyword followed by the ``inertia batch`` option that
+    does the same (``on_defect='warn'`` -> ``on_defect='warn' (--accept-defects)``)."""
+    from ..massprops.mesh import REMEDY_FLAGS
+
+    for api, cli in REMEDY_FLAGS.items():
+        message = message.replace(api, f"{api} ({cli})")
+    return message
+
+
 def _reason_of(exc) -> str:
     """The row's ``reason``: the stable ``code`` of one of our errors (never its message text)."""
     from .._core.errors import InertiaError
@@ -167,7 +177,8 @@ def process_file(job: Job, **options) -> dict:
         if report is not None:
             row.update(watertight=report.watertight, winding_consistent=report.winding_consistent,
                        n_faces=int(report.n_faces))
-        row.update(status="error", reason=_reason_of(exc), message=str(exc), findings=finding_cells(exc.findings))
+        row.update(status="error", reason=_reason_of(exc), message=_with_flags(str(exc)),
+                   findings=finding_cells(exc.findings))
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop a dataset run
         _reraise_interrupt(exc)
         row.update(status="error", reason="internal_error", message=f"{type(exc).__name__}: {exc}")

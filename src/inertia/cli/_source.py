@@ -302,14 +302,11 @@ def _effective_density(props, density, mass, shell) -> float:
     return props.mass / vol if vol and math.isfinite(vol) and vol > 0 else math.nan
 
 
-#: library keyword -> command-line option, to turn the library's advice into CLI advice
-_API_TO_CLI = (("repair='orient'", "--fix-orientation"), ("on_defect='warn'", "--accept-defects"),
-               ("kind='shell'", "--shell"), ("on_defect='robust'", "--robust"))
-
-
 def cli_text(message: str) -> str:
-    """A library message with its keyword advice (``shell=True``) written as CLI options (``--shell``)."""
-    for api, cli in _API_TO_CLI:
+    """A library message with its keyword advice (``kind='shell'``) written as CLI options (``--shell``)."""
+    from ..massprops.mesh import REMEDY_FLAGS
+
+    for api, cli in REMEDY_FLAGS.items():
         message = message.replace(api, cli)
     return message
 

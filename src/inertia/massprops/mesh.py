@@ -38,6 +38,9 @@ __all__ = ["mesh_properties", "mesh_file_properties"]
 KINDS = ("solid", "shell")
 ON_DEFECT = ("raise", "warn", "robust")
 REPAIRS = (None, "orient")
+#: each keyword the remedies of a refusal name, and the command-line option that does the same
+REMEDY_FLAGS = {"repair='orient'": "--fix-orientation", "on_defect='warn'": "--accept-defects",
+                "kind='shell'": "--shell", "on_defect='robust'": "--robust"}
 SELF_CROSSING = ("search", "certificate")
 
 # Nothing can be computed with these, whatever the options.
