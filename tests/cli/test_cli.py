@@ -80,7 +80,7 @@ def test_props_box_json_matches_closed_form(capsys):
     np.testing.assert_allclose(d["inertia_com"], expected, rtol=1e-14, atol=1e-16)
     np.testing.assert_allclose(d["principal_moments"], sorted(np.diag(expected)), rtol=1e-14)
     assert d["principal_moments"] == sorted(d["principal_moments"])
-    R = np.array(d["principal_axes"])
+    R = np.array(d["R_body_principal"])
     assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-12)
     np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(R @ np.diag(d["principal_moments"]) @ R.T, expected, atol=1e-15)
@@ -92,7 +92,7 @@ def test_props_box_json_matches_closed_form(capsys):
 def test_props_degenerate_moments_reported(capsys):
     d = run_json(capsys, "props", "cylinder:0.1,1", "--mass", "3")
     assert d["degenerate_moments"] == [[1, 2]]  # slender rod-like cylinder: I2 = I3
-    R = np.array(d["principal_axes"])
+    R = np.array(d["R_body_principal"])
     assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-12)
 
 
@@ -142,7 +142,7 @@ def test_props_mesh_file_matches_api_on_same_arrays(capsys, sample_obj):
     np.testing.assert_allclose(d["inertia_com"], p.inertia_com, rtol=0, atol=1e-12 * np.abs(p.inertia_com).max())
     moments = np.array(d["principal_moments"])
     assert np.all(np.diff(moments) > 0.1 * moments[-1])  # three clearly distinct moments
-    assert np.linalg.det(np.array(d["principal_axes"])) == pytest.approx(1.0, abs=1e-12)
+    assert np.linalg.det(np.array(d["R_body_principal"])) == pytest.approx(1.0, abs=1e-12)
     assert d["units"] == "cm" and d["kind"] == "mesh"
 
 

@@ -55,7 +55,7 @@ def body_dict(props, units) -> dict:
     pf = props.principal()
     return {"mass": units.mass(props.mass), "com": units.length(props.com),
             "inertia_com": units.inertia(props.inertia_com), "principal_moments": units.moments(pf.moments),
-            "principal_axes": pf.R_body_principal}
+            "R_body_principal": pf.R_body_principal}
 
 
 def link_dict(link, units) -> dict:

@@ -29,7 +29,7 @@ __all__ = ["register", "run", "props_dict", "props_lines", "summary_lines", "ine
 def conventions(units) -> str:
     """The JSON's ``conventions`` sentence."""
     return (f"{units.conventions()}; inertia_com about the center of mass in the body axes; principal_moments "
-            "ascending; principal_axes are the columns of R_body_principal (det +1)")
+            "ascending; the columns of R_body_principal are the principal axes (det +1)")
 
 EPILOG = """\
 examples:
@@ -119,7 +119,7 @@ def props_dict(props, info, units=None) -> dict:
         "com": u.length(props.com),
         "inertia_com": u.inertia(props.inertia_com),
         "principal_moments": u.moments(pf.moments),
-        "principal_axes": pf.R_body_principal,
+        "R_body_principal": pf.R_body_principal,
         "degenerate_moments": [list(g) for g in pf.degenerate],
         "radii_of_gyration": u.length(props.radii_of_gyration),
         "validity": [{"code": v.code, "message": v.message} for v in violations],

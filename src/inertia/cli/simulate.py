@@ -131,7 +131,7 @@ class Body:
         out = {"moments": self.moments}
         if self.info is not None:
             out.update(self.info.to_dict(fmt.Units()))
-            out["principal_axes"] = self.R_BP
+            out["R_body_principal"] = self.R_BP
         return out
 
 
