@@ -280,3 +280,14 @@ def test_a_shape_element_without_geometry_is_refused_not_skipped(tmp_path, fmt, 
     path.write_text(text)
     with pytest.raises(RobotFileError, match=r"m\.\w+:2: link 'a': <(visual|collision)> has no <geometry>"):
         read_robot(path)
+
+
+def test_a_massless_body_on_an_unnamed_free_joint_is_named_by_its_kind(tmp_path):
+    # MuJoCo refuses it ("mass and inertia of moving bodies must be larger than mjMINVAL"): inertia
+    # from a mesh geom whose file is missing leaves the body without mass
+    f = tmp_path / "m.xml"
+    f.write_text('<mujoco><asset><mesh name="p" file="missing.obj"/></asset><worldbody><body name="b">'
+                 '<freejoint/><geom type="mesh" mesh="p"/></body></worldbody></mujoco>')
+    report = check_model(read_robot(f))
+    (error,) = [e for e in report.links[0].errors if e.code == "massless_moving_link"]
+    assert "an unnamed free joint" in error.message and "None" not in error.message

@@ -442,7 +442,8 @@ def _tree_checks(model, report: CheckReport, mesh_units: str, warnings: bool = T
         mass, moments = floors.group_mass(model, members, props_of)
         if mass == 0:
             joint = next((j for j in model.links[g].joints if j.kind != "fixed"), None)
-            how = f"joint {joint.name!r} ({joint.type})" if joint is not None else "a free body"
+            how = ("a free body" if joint is None else f"an unnamed {joint.type} joint" if not joint.name
+                   else f"joint {joint.name!r} ({joint.type})")
             shapes = model.format == "urdf" and any(model.links[i].geometries for i, _, _ in members)
             rep.add("massless_moving_link", (
                 f"link {model.links[g].name!r} moves ({how}) but neither it nor any link welded "
