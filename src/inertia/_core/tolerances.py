@@ -56,6 +56,14 @@ SIMULATOR_MIN_VALUE = 1e-15
 FLOAT32_ROUNDOFF = 2.0 ** -24
 
 
+def _float32_like(y: float) -> bool:
+    """``y`` is a normal float32 value to within 1e-12 of itself (24 significant bits): its
+    mantissa, scaled to 2^24, is an integer to that precision (powers of two scale exactly)."""
+    m, e = math.frexp(y)
+    t = m * 16777216.0
+    return -124 <= e <= 128 and abs(t - round(t)) <= 1e-12 * abs(t)
+
+
 def coordinate_precision(vertices, radius: float) -> float:
     """The relative precision of a body's inertia that its mesh coordinates allow: 0 for
     double-precision data, else ``4 FLOAT32_ROUNDOFF max|v| / radius`` when every coordinate,
@@ -73,9 +81,14 @@ def coordinate_precision(vertices, radius: float) -> float:
     if v.size == 0 or not radius > 0:
         return 0.0
     # a few coordinates first, in plain Python: float64 data fails them for every unit at once
-    few = [x for x in v.ravel()[:24].tolist() if x != 0.0 and math.isfinite(x)][:6]
-    units = [f for f in LENGTH_UNITS.values()
-             if all(abs(x / f) < 3e38 and abs(float(np.float32(x / f)) - x / f) <= 1e-12 * abs(x / f) for x in few)]
+    few = [x for x in v.ravel()[:12].tolist() if x != 0.0 and math.isfinite(x)]
+    units = []
+    for f in LENGTH_UNITS.values():   # plain loops: this runs on every mesh, most often failing at once
+        for x in few:
+            if not _float32_like(x / f):
+                break
+        else:
+            units.append(f)
     if not units:
         return 0.0
     biggest = float(np.abs(v).max())
