@@ -10,7 +10,6 @@ refused, and so is a solid whose volume is not positive.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import warnings
 
@@ -141,7 +140,7 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
     def done(props):
         # a radius of gyration no larger than the largest: the precision errs on the coarse side
         precision = coordinate_precision(v, math.sqrt(float(np.diagonal(props.inertia_com).max()) / props.mass))
-        return dataclasses.replace(props, precision=precision) if precision > props.precision else props
+        return props._replace(precision=precision) if precision > props.precision else props
 
     if on_defect == "robust" and repair is None and kind == "solid":
         props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, where=where,
