@@ -12,19 +12,11 @@ import numpy as np
 import pytest
 
 from inertia.cli import _options
-from inertia.cli.main import COMMANDS, build_parser, main, sub_parsers
+from inertia.cli.main import COMMANDS, build_parser, sub_parsers
+from tests.cli._run import run
 
 PARSER = build_parser()
 SUBS = sub_parsers(PARSER)
-
-
-def run(capsys, *argv):
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capsys.readouterr()
-    return rc, out, err
 
 
 def options_of(parser) -> set:

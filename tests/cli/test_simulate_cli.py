@@ -13,19 +13,10 @@ import sys
 import numpy as np
 import pytest
 
-from inertia.cli.main import main
 from inertia.dynamics.exact import ExactSolution
+from tests.cli._run import run
 
 REFERENCE_INTERVAL = 20.7546097647
-
-
-def run(capsys, *argv):
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capsys.readouterr()
-    return rc, out, err
 
 
 def run_json(capsys, *argv) -> dict:
