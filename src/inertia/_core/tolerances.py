@@ -6,6 +6,8 @@ depend on units.  All are keyword-overridable where they are used.
 
 import math
 
+from .units import LENGTH_UNITS
+
 #: Symmetry: |I - I^T| <= SYMMETRY_RTOL * max|I| (elementwise).  Loose enough for
 #: tensors printed with ~12 significant digits, tight enough to catch sign slips.
 SYMMETRY_RTOL = 1e-9
@@ -56,6 +58,10 @@ SIMULATOR_MIN_VALUE = 1e-15
 FLOAT32_ROUNDOFF = 2.0 ** -24
 
 
+#: the length units' factors to metres, the units float32 coordinates may have been written in
+_FACTORS = tuple(LENGTH_UNITS.values())
+
+
 def _float32_like(y: float) -> bool:
     """``y`` is a normal float32 value to within 1e-12 of itself (24 significant bits): its
     mantissa, scaled to 2^24, is an integer to that precision (powers of two scale exactly)."""
@@ -75,15 +81,13 @@ def coordinate_precision(vertices, radius: float) -> float:
     """
     import numpy as np
 
-    from .units import LENGTH_UNITS
-
     v = np.asarray(vertices, dtype=np.float64)
     if v.size == 0 or not radius > 0:
         return 0.0
     # a few coordinates first, in plain Python: float64 data fails them for every unit at once
     few = [x for x in v.ravel()[:12].tolist() if x != 0.0 and math.isfinite(x)]
     units = []
-    for f in LENGTH_UNITS.values():   # plain loops: this runs on every mesh, most often failing at once
+    for f in _FACTORS:   # plain loops: this runs on every mesh, most often failing at once
         for x in few:
             if not _float32_like(x / f):
                 break

@@ -84,6 +84,8 @@ The shell integrals have positive weights |n_f|; the same analysis holds with
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._core.errors import InputError
@@ -283,11 +285,14 @@ def central_from_floats(measure: float, first, second, reference, rho: float, ma
     cxy = 0.5 * (sxy + syx) - measure * gx * gy
     cyz = 0.5 * (syz + szy) - measure * gy * gz
     czx = 0.5 * (szx + sxz) - measure * gz * gx
-    C = np.array([[cyy + czz, -cxy, -czx], [-cxy, czz + cxx, -cyz], [-czx, -cyz, cxx + cyy]])
-    with np.errstate(over="ignore", invalid="ignore"):
-        inertia = rho * C
-    if mass is not None and not np.isfinite(inertia).all():   # rho = mass / measure overflowed: scale first
-        inertia = mass * (C / measure)
+    # Python floats: IEEE products as NumPy's, and an overflow is inf, never a warning
+    ixx, iyy, izz = rho * (cyy + czz), rho * (czz + cxx), rho * (cxx + cyy)
+    ixy, iyz, izx = rho * -cxy, rho * -cyz, rho * -czx
+    if mass is not None and not all(map(math.isfinite, (ixx, iyy, izz, ixy, iyz, izx))):
+        C = np.array([[cyy + czz, -cxy, -czx], [-cxy, czz + cxx, -cyz], [-czx, -cyz, cxx + cyy]])
+        inertia = mass * (C / measure)   # rho = mass / measure overflowed: scale first
+    else:
+        inertia = np.array([[ixx, ixy, izx], [ixy, iyy, iyz], [izx, iyz, izz]])
     return np.array([reference[0] + gx, reference[1] + gy, reference[2] + gz]), inertia
 
 

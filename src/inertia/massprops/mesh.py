@@ -139,7 +139,8 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
 
     def done(props):
         # a radius of gyration no larger than the largest: the precision errs on the coarse side
-        precision = coordinate_precision(v, math.sqrt(float(np.diagonal(props.inertia_com).max()) / props.mass))
+        I = props.inertia_com
+        precision = coordinate_precision(v, math.sqrt(max(I[0, 0], I[1, 1], I[2, 2]) / props.mass))
         return props._replace(precision=precision) if precision > props.precision else props
 
     if on_defect == "robust" and repair is None and kind == "solid":
