@@ -38,6 +38,19 @@ struct Inertia {
 // |n| < 2^20.  Beyond |x| = 2^50 the rounding of x exceeds pi/4: the angle carries no digit and
 // r is set to 0.  Polynomials: fdlibm's __kernel_sin and __kernel_cos (minimax on |r| <= pi/4,
 // error below 2^-58), by Estrin's scheme (short dependency chains).
+// a if take_a else b, by a bit mask: the same value as the ternary, but a select GCC vectorises
+// without AVX-512's masks (a ternary on doubles kept the rollout loops scalar on AVX2)
+INERTIA_INLINE double bit_select(bool take_a, double a, double b) {
+    uint64_t ab, bb;
+    std::memcpy(&ab, &a, 8);
+    std::memcpy(&bb, &b, 8);
+    const uint64_t m = uint64_t(0) - uint64_t(take_a);
+    const uint64_t r = (ab & m) | (bb & ~m);
+    double out;
+    std::memcpy(&out, &r, 8);
+    return out;
+}
+
 INERTIA_INLINE void sincos_poly(double x, double &sin_x, double &cos_x) {
     constexpr double TWO_OVER_PI = 0.63661977236758134308, PIO2_HI = 1.57079632673412561417e+00,
                      PIO2_LO = 6.07710050650619224932e-11, SHIFT = 0x1.8p52, NOISE = 0x1p50;
@@ -49,7 +62,7 @@ INERTIA_INLINE void sincos_poly(double x, double &sin_x, double &cos_x) {
                      C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
     const double shifted = x * TWO_OVER_PI + SHIFT, fn = shifted - SHIFT;
     double r = (x - fn * PIO2_HI) - fn * PIO2_LO;
-    r = std::fabs(x) > NOISE ? 0.0 : r;
+    r = bit_select(std::fabs(x) > NOISE, 0.0, r);
     const double z = r * r, z2 = z * z, z4 = z2 * z2;
     const double ps = ((S1 + z * S2) + z2 * (S3 + z * S4)) + z4 * (S5 + z * S6);
     const double pc = ((C1 + z * C2) + z2 * (C3 + z * C4)) + z4 * (C5 + z * C6);
@@ -57,7 +70,7 @@ INERTIA_INLINE void sincos_poly(double x, double &sin_x, double &cos_x) {
     uint64_t n, sb, cb;
     std::memcpy(&n, &shifted, 8);
     const bool odd = n & 1;  // sin and cos swap
-    const double sn = odd ? c : s, cs = odd ? s : c;
+    const double sn = bit_select(odd, c, s), cs = bit_select(odd, s, c);
     std::memcpy(&sb, &sn, 8);
     std::memcpy(&cb, &cs, 8);
     sb ^= (n << 62) & (uint64_t(1) << 63);        // n = 2, 3 (mod 4): sin negative
@@ -97,7 +110,7 @@ INERTIA_INLINE void exp_step(double q[4], const double w[3], double h) {
     // sin(t/2)/t = 1/2 - t^2/48 + t^4/3840 below 1e-4 (both computed: a select, not a branch)
     const double t2 = theta * theta;
     const double series = 0.5 - t2 * (1.0 / 48.0) + t2 * t2 * (1.0 / 3840.0), ratio = sh / theta;
-    const double k = theta < 1e-4 ? series : ratio;
+    const double k = bit_select(theta < 1e-4, series, ratio);
     const double p[4] = {ch, k * v[0], k * v[1], k * v[2]}, q0[4] = {q[0], q[1], q[2], q[3]};
     quat_mul(q0, p, q);
     renormalize(q);
