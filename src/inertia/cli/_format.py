@@ -163,6 +163,18 @@ def table(header, rows, *, indent: int = 2) -> list[str]:
     return out
 
 
+def fix_report_lines(report, what: str, whats: str, fails: str) -> list[str]:
+    """The lines every ``fix`` report shares: each changed item, each kept one with why, and, when
+    the output still fails, ``fails`` (its head line) and each item still failing (``what`` and
+    ``whats``: the item's noun, one and many)."""
+    lines = [f"  {name}: {how}" for name, how in report.changed.items()]
+    lines += [f"  {name}: kept ({why})" for name, why in report.skipped.items()]
+    if report.remaining:
+        lines.append(f"{report.output} {fails} ({plural(len(report.remaining), what, whats)}):")
+        lines += [f"  {name}: {why}" for name, why in report.remaining.items()]
+    return lines
+
+
 def emit(lines_or_text, file=None) -> None:
     """Print lines (a list) or a text to stdout (or ``file``)."""
     text = lines_or_text if isinstance(lines_or_text, str) else "\n".join(lines_or_text)

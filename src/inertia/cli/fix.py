@@ -102,11 +102,8 @@ def fix_summary(report, mode: str) -> list:
     else:
         lines = [f"wrote {report.output}: {fmt.plural(n, 'inertial')} changed (only their numbers; every other "
                  "byte as in the input)"]
-    lines += [f"  {name}: {what}" for name, what in report.changed.items()]
-    lines += [f"  {name}: kept ({why})" for name, why in report.skipped.items()]
+    lines += fmt.fix_report_lines(report, "link", "links", "still fails the check")
     if report.remaining:
-        lines.append(f"{report.output} still fails the check ({fmt.plural(len(report.remaining), 'link')}):")
-        lines += [f"  {name}: {why}" for name, why in report.remaining.items()]
         if mode == "flip":
             lines.append("  --flip-products only negates products where that makes the tensor physical; "
                          "for these it does not: try --nearest-valid or --from-geometry")

@@ -204,11 +204,7 @@ def fix_lines(report) -> list:
     else:
         lines = [f"wrote {', '.join(report.layers)}: {fmt.plural(len(report.changed), 'body', 'bodies')} changed "
                  "(only the MassAPI attributes that change)"]
-    lines += [f"  {name}: {what}" for name, what in report.changed.items()]
-    lines += [f"  {name}: kept ({why})" for name, why in report.skipped.items()]
-    if report.remaining:
-        lines.append(f"{report.output} still fails ({fmt.plural(len(report.remaining), 'body', 'bodies')}):")
-        lines += [f"  {name}: {why}" for name, why in report.remaining.items()]
+    lines += fmt.fix_report_lines(report, "body", "bodies", "still fails")
     return lines + [f"  note: {n}" for n in report.notes]
 
 
