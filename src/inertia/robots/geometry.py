@@ -202,21 +202,26 @@ def _solid_mesh(p: dict, rho: float, mesh_units: str):
     vertices = vertices * np.asarray(p.get("scale", (1, 1, 1)), float)
     if np.prod(np.sign(p.get("scale", (1, 1, 1)))) < 0:  # a mirroring scale turns the winding inside out
         faces = faces[:, ::-1]
-    # the certificate alone: a shell it cannot prove is still summed as the simulator sums it
-    # (the comparisons are plausibility checks; MuJoCo integrates whatever the mesh holds)
+    return summed_solid(vertices, faces, density=rho, name=str(path))
+
+
+def summed_solid(vertices, faces, *, density: float, name: str):
+    """The uniform solid of a mesh as simulators integrate it: closed parts that overlap, or a
+    shell through itself, are summed (MuJoCo and PhysX integrate the signed volume), and the
+    result's findings say so; any other defect is refused.  The self-crossing certificate alone:
+    a shell it cannot prove is summed too (MuJoCo integrates whatever the mesh holds)."""
+    from ..massprops.mesh import mesh_properties
+
     try:
-        return mesh_properties(vertices, faces, density=rho, name=str(path), self_crossing="certificate")
+        return mesh_properties(vertices, faces, density=density, name=name, self_crossing="certificate")
     except MeshError as exc:
         errors = {d.code for d in exc.report.errors} if exc.report is not None else set()
         if not errors or not errors <= {"overlapping_shells", "self_intersecting"}:
             raise
-        # closed parts that overlap, or a shell through itself: the simulator sums them
-        # (MuJoCo integrates the signed volume), so the comparison does too; the caller notes
-        # it (SUMMED_OVERLAP)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return mesh_properties(vertices, faces, density=rho, name=str(path), on_defect="warn",
-                                   self_crossing="certificate")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # the accepted defects are in the result's findings
+        return mesh_properties(vertices, faces, density=density, name=name, on_defect="warn",
+                               self_crossing="certificate")
 
 
 def _mujoco_mesh(p: dict, rho: float, mesh_units: str):

@@ -41,6 +41,7 @@ import numpy as np
 from ..._core.errors import InertiaError, MeshError
 from ..._core.rotations import quat_to_matrix
 from ...massprops.properties import MassProperties, combine
+from ..geometry import summed_solid
 from ..whole import LinkMass, RobotMassProperties
 from .stage import finite_vector, is_usd_path, read_stage
 
@@ -148,7 +149,7 @@ def _mesh_solid(points, faces, what: str, approximation: str | None):
     if key in _MESH_CACHE:
         return _MESH_CACHE[key]
     if approximation in (None, "meshSimplification", "sdf"):
-        props, shape = _summed_solid(points, faces, what), "exact"
+        props, shape = summed_solid(points, faces, density=1.0, name=what), "exact"
         if any(f.severity == "warning" for f in props.findings):   # defects accepted: overlapping parts
             shape = "exact (closed parts that overlap, summed as a simulator sums them)"
     elif approximation == "boundingCube":
@@ -168,24 +169,6 @@ def _mesh_solid(points, faces, what: str, approximation: str | None):
         _MESH_CACHE.pop(next(iter(_MESH_CACHE)))
     _MESH_CACHE[key] = out = (props.mass, np.array(props.com), np.array(props.inertia_com), shape)
     return out
-
-
-def _summed_solid(points, faces, what: str):
-    """The mesh's solid; closed parts that overlap (or a shell through itself) are summed, as
-    simulators integrate them, and the result says so in its warnings."""
-    import warnings
-
-    from ...massprops.mesh import mesh_properties
-
-    try:
-        return mesh_properties(points, faces, density=1.0, name=what, self_crossing="certificate")
-    except MeshError as exc:
-        codes = {d.code for d in exc.report.errors} if exc.report is not None else set()
-        if not codes or not codes <= {"overlapping_shells", "self_intersecting"}:
-            raise
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return mesh_properties(points, faces, density=1.0, name=what, on_defect="warn", self_crossing="certificate")
 
 
 #: PhysX's view of ``physics:approximation`` on a dynamic body's mesh (None: the mesh itself)
