@@ -12,7 +12,8 @@
 
 A package may import the packages listed for it in ``ALLOWED`` and itself (the import table of
 the target layout: a row imports the rows below it, with the exceptions listed there; the
-compiled core ``inertia._ext`` only from the layers that own its kernels, geometry and dynamics).  The public
+compiled core ``inertia._ext`` only from the layers that own its kernels: geometry, massprops (the
+canonical principal frame) and dynamics).  The public
 facade (``inertia/__init__.py``, ``inertia/errors.py``) may import anything; nothing inside
 imports the facade.  Every import is checked, including those inside functions (lazy
 imports are still dependencies).  Also: no private name (``_x``, not a dunder) imported from
@@ -30,7 +31,7 @@ PKG = SRC / "inertia"
 ALLOWED = {
     "_core": set(),
     "geometry": {"_core", "_ext"},   # _ext: the compiled core (its geometry families)
-    "massprops": {"geometry", "_core"},
+    "massprops": {"geometry", "_core", "_ext"},   # _ext: the canonical principal frame
     "particles": {"massprops", "_core"},
     "dynamics": {"massprops", "_core", "_ext"},   # _ext: the compiled core (its dynamics kernels)
     "symbolic": {"massprops", "_core"},

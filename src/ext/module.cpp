@@ -1,6 +1,6 @@
 // inertia._ext: the compiled core.  One submodule per kernel family, each bound in its own
 // folder's bind.cpp; the layer that owns a family is the only one that imports it
-// (geometry: integrals, topology, selfcross, text, robust; dynamics: dynamics).
+// (geometry: integrals, topology, selfcross, text, robust; massprops: principal; dynamics: dynamics).
 #include <nanobind/nanobind.h>
 
 #include <exception>
@@ -15,6 +15,7 @@ void bind_selfcross(nb::module_ &m);
 void bind_text(nb::module_ &m);
 void bind_robust(nb::module_ &m);
 void bind_dynamics(nb::module_ &m);
+void bind_principal(nb::module_ &m);
 
 namespace {
 
@@ -49,6 +50,7 @@ NB_MODULE(_ext, m) {
     add(m, "text", "ASCII STL and OBJ readers.", bind_text);
     add(m, "robust", "Robust solids of imperfect meshes: winding numbers, cuts, pieces, caps.", bind_robust);
     add(m, "dynamics", "Free rigid-body integrators and rollouts.", bind_dynamics);
+    add(m, "principal", "Principal moments and axes in canonical form.", bind_principal);
     // one kernel of winding numbers (selfcross's), reachable from integrals until its wrapper goes
     m.attr("integrals").attr("winding_numbers") = m.attr("selfcross").attr("winding_numbers");
 }

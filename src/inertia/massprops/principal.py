@@ -20,11 +20,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core.rotations import cross3
 from .._core.tolerances import REPEATED_MOMENTS_RTOL
 from .._core.validation import as_float_array
+from .._ext import principal as _k
 
 __all__ = ["PrincipalFrame", "principal_axes"]
+
+#: PrincipalFrame.degenerate from the kernel's bits (1: I1 == I2, 2: I2 == I3)
+_GROUPS = {0: (), 1: ((0, 1),), 2: ((1, 2),), 3: ((0, 1, 2),)}
 
 
 @dataclass(frozen=True)
@@ -48,63 +51,11 @@ class PrincipalFrame:
     rtol: float
 
 
-def _repeated(moments: np.ndarray, rtol: float):
-    """``(I1 == I2, I2 == I3)`` within ``rtol`` times the largest moment, (N,) each."""
-    scale = np.maximum(np.maximum(np.abs(moments[:, 2]), np.abs(moments[:, 0])), np.finfo(float).tiny)
-    gap = np.diff(moments, axis=-1)
-    return np.abs(gap[:, 0]) <= rtol * scale, np.abs(gap[:, 1]) <= rtol * scale
-
-
-def _sign_fixed(v: np.ndarray) -> np.ndarray:
-    """Rows of ``v`` (N, 3) flipped so that their largest-magnitude entry is positive (the first on ties)."""
-    k = np.argmax(np.abs(v), axis=-1)
-    return np.where(v[np.arange(len(v)), k][:, None] < 0, -v, v)
-
-
-def _plane_axis(n: np.ndarray) -> np.ndarray:
-    """The coordinate axis least aligned with each unit row of ``n`` (the first on ties), made
-    perpendicular to it and unit."""
-    k = np.argmin(np.abs(n), axis=-1)
-    e = np.zeros_like(n)
-    e[np.arange(len(n)), k] = 1.0
-    p = e - n[np.arange(len(n)), k][:, None] * n
-    return p / np.linalg.norm(p, axis=-1, keepdims=True)
-
-
-def _canonical_axes(moments: np.ndarray, vecs: np.ndarray, rtol: float) -> np.ndarray:
-    """The canonical ``R_body_principal`` (N, 3, 3) from ascending ``moments`` (N, 3) and any
-    eigenvectors ``vecs`` (N, 3, 3, as columns) of them."""
-    c01, c12 = _repeated(moments, rtol)
-    cols = np.swapaxes(vecs, -1, -2)            # cols[:, i] = axis i
-    e1, e2 = _sign_fixed(cols[:, 0]), _sign_fixed(cols[:, 1])
-    e3 = cross3(e1, e2)
-    # two equal, (1, 2): the distinct axis 3, then its plane
-    pair = c01 & ~c12
-    if pair.any():
-        d = _sign_fixed(cols[pair, 2])
-        a = _plane_axis(d)
-        e1[pair], e2[pair], e3[pair] = a, cross3(d, a), d
-    # two equal, (2, 3): the distinct axis 1, then its plane
-    pair = c12 & ~c01
-    if pair.any():
-        d = e1[pair]
-        a = _plane_axis(d)
-        e2[pair], e3[pair] = a, cross3(d, a)
-    out = np.stack([e1, e2, e3], axis=-1)
-    out[c01 & c12] = np.eye(3)                  # every frame is principal: keep the body's
-    return out
-
-
-def _eigen(I: np.ndarray):
-    """Ascending eigenvalues and eigenvectors of symmetric (N, 3, 3) matrices; a diagonal matrix
-    is sorted exactly (its vectors a permutation), never passed through the eigensolver."""
-    off = I[:, [0, 0, 1], [1, 2, 2]]
-    if not np.any(off):
-        diag = np.diagonal(I, axis1=-2, axis2=-1)
-        order = np.argsort(diag, axis=-1, kind="stable")
-        vecs = (np.arange(3)[None, :, None] == order[:, None, :]).astype(float)   # vecs[:, i, k] = [i == order[k]]
-        return np.take_along_axis(diag, order, axis=-1), vecs
-    return np.linalg.eigh(0.5 * (I + np.swapaxes(I, -1, -2)))
+def _frames(I: np.ndarray, rtol: float):
+    """(moments, R_body_principal, repeated) of (N, 3, 3) matrices from the compiled kernel
+    (``src/ext/principal/canonical.hpp``: cyclic Jacobi rotations, then the rule above; a
+    diagonal matrix is sorted exactly, its axes a permutation)."""
+    return _k.canonical_frames(np.ascontiguousarray(I, dtype=np.float64), float(rtol))
 
 
 def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.ndarray, np.ndarray]:
@@ -122,18 +73,15 @@ def principal_axes(inertia, *, rtol: float = REPEATED_MOMENTS_RTOL) -> tuple[np.
         ``inertia = R_body_principal @ diag(moments) @ R_body_principal.T``.
     """
     I = as_float_array(inertia, "inertia", (3, 3))
-    flat = I.reshape(-1, 3, 3)
-    moments, vecs = _eigen(flat)
-    return moments.reshape(I.shape[:-1]), _canonical_axes(moments, vecs, rtol).reshape(I.shape)
+    moments, R, _ = _frames(I.reshape(-1, 3, 3), rtol)
+    return moments.reshape(I.shape[:-1]), R.reshape(I.shape)
 
 
 def principal_frame(inertia: np.ndarray, p_body_com: np.ndarray, rtol: float) -> PrincipalFrame:
     """:class:`PrincipalFrame` of one checked (3, 3) matrix (what ``MassProperties.principal`` returns)."""
-    moments, vecs = _eigen(inertia[None])
-    c01, c12 = (bool(x[0]) for x in _repeated(moments, rtol))
-    groups = ((0, 1, 2),) if c01 and c12 else ((0, 1),) if c01 else ((1, 2),) if c12 else ()
-    R = _canonical_axes(moments, vecs, rtol)[0]
-    m, p = moments[0], np.array(p_body_com, dtype=float)
+    moments, R, repeated = _frames(np.reshape(inertia, (1, 3, 3)), rtol)
+    groups = _GROUPS[int(repeated[0])]
+    m, R, p = moments[0], R[0], np.array(p_body_com, dtype=float)
     for a in (m, R, p):
         a.setflags(write=False)
     return PrincipalFrame(m, R, p, groups, rtol)
