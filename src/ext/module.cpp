@@ -15,6 +15,7 @@ void bind_selfcross(nb::module_ &m);
 void bind_text(nb::module_ &m);
 void bind_robust(nb::module_ &m);
 void bind_dynamics(nb::module_ &m);
+void bind_isa(nb::module_ &m);
 
 namespace {
 
@@ -49,6 +50,7 @@ NB_MODULE(_ext, m) {
     add(m, "text", "ASCII STL and OBJ readers.", bind_text);
     add(m, "robust", "Robust solids of imperfect meshes: winding numbers, cuts, pieces, caps.", bind_robust);
     add(m, "dynamics", "Free rigid-body integrators and rollouts.", bind_dynamics);
+    bind_isa(m);  // the private hooks of dispatch.cpp: _isa, _isas, _force_isa
     // one kernel of winding numbers (selfcross's), reachable from integrals until its wrapper goes
     m.attr("integrals").attr("winding_numbers") = m.attr("selfcross").attr("winding_numbers");
 }
