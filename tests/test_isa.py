@@ -6,6 +6,11 @@ one variant, "native", and only that is checked."""
 
 from __future__ import annotations
 
+import platform
+import re
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
 
@@ -110,3 +115,15 @@ def test_every_variant_the_cpu_runs_gives_the_same_bits(restore_isa):
         assert len(runs[name]) == len(runs[first])
         for k, (a, b) in enumerate(zip(runs[first], runs[name])):
             assert a == b, f"output {k}: {name} differs from {first}"
+
+
+@pytest.mark.skipif(platform.machine().lower() not in ("x86_64", "amd64") or not shutil.which("objdump"),
+                    reason="x86-64 and objdump only")
+def test_the_compiled_core_holds_no_fused_multiply_add():
+    """No FMA instruction in the module, so a native build gives the bits of a portable one too (GCC 12
+    formed vfmaddsub out of a quaternion product despite -ffp-contract=off, until its unit was compiled
+    without basic-block SLP)."""
+    listing = subprocess.run(["objdump", "-d", "--no-show-raw-insn", _ext.__file__], capture_output=True, text=True,
+                             check=True).stdout
+    fused = sorted(set(re.findall(r"\bv?f(?:n?m(?:add|sub)(?:sub|add)?)\w*", listing)))
+    assert not fused, fused
