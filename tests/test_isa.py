@@ -2,7 +2,8 @@
 compiled for x86-64, x86-64-v3 and x86-64-v4 in a portable build and chosen by cpuid at the first
 call (src/ext/dispatch.cpp), give the same bits: every one this CPU runs is forced in turn through
 the private hooks of ``inertia._ext`` and the results compared bit for bit.  A native build holds
-one variant, "native", and only that is checked."""
+one variant, "native", and only that is checked.  And the module holds no fused multiply-add, so
+a native build gives a portable build's bits too."""
 
 from __future__ import annotations
 
