@@ -1,10 +1,10 @@
 // The choice among the variants of the hot kernels (common/isa.hpp): CMake lists the variants
 // this build compiled as INERTIA_VARIANTS, X(tag) for each, lowest first (x86_64, x86_64_v3,
-// x86_64_v4 in a portable x86-64 build; native, or generic, alone otherwise).  At the first call
-// of a kernel the highest variant the CPU runs is taken, by its features alone (cpuid through
-// __builtin_cpu_supports, which also checks that the OS saves the AVX registers), never by
-// timing; every variant gives the same bits.  This choice is the one piece of mutable global
-// state of the module.
+// x86_64_v4 in a portable x86-64 build; native, INERTIA_ARCH's, or generic alone otherwise).
+// At the first call of a kernel the highest variant the CPU runs is taken, by its features alone
+// (cpuid through __builtin_cpu_supports, which also checks that the OS saves the AVX registers),
+// never by timing; every variant gives the same bits.  This choice is the one piece of mutable
+// global state of the module.
 //
 // Private test hooks, on inertia._ext: _isa() the variant in use, _isas() every variant of the
 // build and whether this CPU runs it, _force_isa(name) to run another (tests/test_isa.py).
@@ -128,8 +128,8 @@ void bind_isa(nb::module_ &m) {
                 std::string ok;
                 for (const Variant &w : VARIANTS)
                     if (runs(w)) ok += (ok.empty() ? "" : ", ") + name_of(w);
-                throw std::runtime_error("this CPU lacks the instructions of the " + name + " kernels (cpuid); it runs " +
-                                         ok);
+                throw std::runtime_error("this CPU lacks the instructions of the " + name +
+                                         " kernels (cpuid); it runs " + ok);
             }
             const std::string before = name_of(current());
             chosen.store(&v, std::memory_order_release);

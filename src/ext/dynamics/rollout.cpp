@@ -27,7 +27,7 @@ void rollout(int method, InNK<13> x0, InU u, InNK<3> moments, In1<double> mass, 
     if (N == 0) return;
     for (size_t i = 0; i < N; ++i) status(i) = -1;
     const RolloutJob J{x0.data(), u.data(), moments.data(), mass.data(), frame.data(), gravity.data(), N, T, Nu, Nb,
-                Nf, h, n_steps, save_every, out.data(), status.data()};
+                       Nf, h, n_steps, save_every, out.data(), status.data()};
     const RolloutChunks run = rollout_kernels().run[method][body_force ? 1 : 0];
     parallel_for((N + ROLLOUT_CHUNK - 1) / ROLLOUT_CHUNK, threads, 1, [&](size_t c0, size_t c1) { run(J, c0, c1); });
 }

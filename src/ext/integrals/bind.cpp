@@ -59,8 +59,8 @@ void bind_integrals(nb::module_ &m) {
             bool ok;
             {
                 nb::gil_scoped_release unlocked;
-                ok = integral_kernels().clean_solid(v.data(), v.shape(0), f.data(), f.shape(0), area_rtol, limit, out.data(),
-                                 adj && adj->shape(0) ? adj->data() : nullptr);
+                ok = integral_kernels().clean_solid(v.data(), v.shape(0), f.data(), f.shape(0), area_rtol, limit,
+                                                    out.data(), adj && adj->shape(0) ? adj->data() : nullptr);
             }
             return ok ? nb::cast(out) : nb::none();
         },
