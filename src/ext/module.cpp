@@ -16,6 +16,7 @@ void bind_text(nb::module_ &m);
 void bind_robust(nb::module_ &m);
 void bind_dynamics(nb::module_ &m);
 void bind_principal(nb::module_ &m);
+void bind_isa(nb::module_ &m);
 
 namespace {
 
@@ -51,6 +52,7 @@ NB_MODULE(_ext, m) {
     add(m, "robust", "Robust solids of imperfect meshes: winding numbers, cuts, pieces, caps.", bind_robust);
     add(m, "dynamics", "Free rigid-body integrators and rollouts.", bind_dynamics);
     add(m, "principal", "Principal moments and axes in canonical form.", bind_principal);
+    bind_isa(m);  // the private hooks of dispatch.cpp: _isa, _isas, _force_isa
     // one kernel of winding numbers (selfcross's), reachable from integrals until its wrapper goes
     m.attr("integrals").attr("winding_numbers") = m.attr("selfcross").attr("winding_numbers");
 }

@@ -13,7 +13,10 @@
 #include <sys/mman.h>
 #endif
 
+#include "common/isa.hpp"
+
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 template <class T>
 struct uninit_alloc {
@@ -55,4 +58,5 @@ struct uninit_alloc {
 template <class T>
 using Vec = std::vector<T, uninit_alloc<T>>;
 
+INERTIA_ISA_END
 }  // namespace inertia

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "common/isa.hpp"
 #include "common/vec3.hpp"
 
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 // c must lie farther than STAR_RTOL |a| |n| from each face's plane (a: the face's first corner
 // seen from c, n its normal): a face nearly edge-on to c does not certify.
@@ -90,4 +92,5 @@ inline bool star_certificate(const double *V, const int64_t *F, size_t nf, const
     return false;
 }
 
+INERTIA_ISA_END
 }  // namespace inertia

@@ -1,7 +1,10 @@
 // Union-find with the lowest index as root (roots are group minima), path halving.
 #pragma once
 
+#include "common/isa.hpp"
+
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 template <class I>
 I find_root(I *parent, I i) {
@@ -24,4 +27,5 @@ bool union_low(I *parent, I a, I b) {
     return true;
 }
 
+INERTIA_ISA_END
 }  // namespace inertia

@@ -8,9 +8,12 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/isa.hpp"
+
 #pragma GCC diagnostic ignored "-Wpsabi"  // 32-byte vectors without AVX: inline only, no ABI crossed
 
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 typedef double d4 __attribute__((vector_size(32)));
 typedef int64_t m4 __attribute__((vector_size(32)));  // lane masks of d4 comparisons: -1 true, 0 false
@@ -59,4 +62,5 @@ inline V3x4 corners(const double *v, const int64_t *f, size_t m, int k, const V3
             d4{r[0][2], r[1][2], r[2][2], r[3][2]} - p.z};
 }
 
+INERTIA_ISA_END
 }  // namespace inertia

@@ -8,9 +8,12 @@
 #include <cstring>
 #include <type_traits>
 
+#include "common/isa.hpp"
+
 #define INERTIA_INLINE inline __attribute__((always_inline))
 
 namespace inertia::dynamics {
+INERTIA_ISA_BEGIN
 
 enum Method : int { EulerExplicit, EulerImplicit, Rk4, Splitting, Dmv, Dmv4, Midpoint, METHOD_COUNT };
 
@@ -347,4 +350,5 @@ decltype(auto) with_method(int method, F &&f) {
     }
 }
 
+INERTIA_ISA_END
 }  // namespace inertia::dynamics

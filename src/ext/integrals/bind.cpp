@@ -1,9 +1,10 @@
 // Bindings of the integrals family (inertia._ext.integrals): mesh integrals, the clean-solid
-// pass.  Outputs are allocated with the GIL held; the kernels run without it.
+// pass.  Outputs are allocated with the GIL held; the kernels run without it, those of
+// kernels.hpp through the table of the instruction set the CPU chose (dispatch.cpp).
 #include <nanobind/stl/optional.h>
 
 #include "common/arrays.hpp"
-#include "integrals/clean_solid.hpp"
+#include "integrals/kernels.hpp"
 #include "integrals/sums.hpp"
 
 namespace {
@@ -19,11 +20,15 @@ V3 point3(const In1<double> &p, const char *what) {
 template <bool Shell>
 auto sums(const Vertices &v, const Faces &f, const In1<double> &p) {
     const V3 q = point3(p, "p");
+    const double at[3] = {q.x, q.y, q.z};
     auto out = new_vector<double>(10);
+    bool ok;
     {
         nb::gil_scoped_release unlocked;
-        mesh_sums<Shell>(v.data(), v.shape(0), f.data(), f.shape(0), q, out.data());
+        const IntegralKernels &k = integral_kernels();
+        ok = (Shell ? k.shell_sums : k.solid_sums)(v.data(), v.shape(0), f.data(), f.shape(0), at, out.data());
     }
+    if (!ok) check_faces(f.data(), f.shape(0), v.shape(0));  // throws, naming the first bad index
     return out;
 }
 
@@ -54,8 +59,8 @@ void bind_integrals(nb::module_ &m) {
             bool ok;
             {
                 nb::gil_scoped_release unlocked;
-                ok = clean_solid(v.data(), v.shape(0), f.data(), f.shape(0), area_rtol, limit, out.data(),
-                                 adj && adj->shape(0) ? adj->data() : nullptr);
+                ok = integral_kernels().clean_solid(v.data(), v.shape(0), f.data(), f.shape(0), area_rtol, limit,
+                                                    out.data(), adj && adj->shape(0) ? adj->data() : nullptr);
             }
             return ok ? nb::cast(out) : nb::none();
         },

@@ -10,14 +10,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <vector>
 
+#include "common/isa.hpp"
 #include "common/buffer.hpp"
 #include "common/star.hpp"
 #include "common/union_find.hpp"
 #include "integrals/sums.hpp"
 
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 namespace detail {
 
@@ -45,7 +46,7 @@ inline int join_faces(int32_t *parent, int64_t *adj, int32_t h, int32_t g) {
 template <bool Join, bool Note>
 int64_t match_edges(const int32_t *end, size_t nv, HalfEdge *he, int32_t *parent, int64_t *adj) {
     int64_t merged = 0;
-    std::vector<uint64_t> order;
+    Vec<uint64_t> order;  // not std::vector: a std template on this variant's own types (common/isa.hpp)
     for (size_t i = 0, s0 = 0; i < nv; s0 = end[i++]) {
         const size_t s1 = end[i];
         if (s1 - s0 > 24) {  // a high-valence vertex: sorted, so that the matching stays linear
@@ -178,4 +179,5 @@ inline bool clean_solid(const double *v, size_t nv, const int64_t *faces, size_t
     return true;
 }
 
+INERTIA_ISA_END
 }  // namespace inertia

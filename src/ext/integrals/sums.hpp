@@ -10,10 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "common/arrays.hpp"
+#include "common/isa.hpp"
 #include "common/vec3.hpp"
 
 namespace inertia {
+INERTIA_ISA_BEGIN
 
 // A per-face body inlined into its loop, so that the block's accumulators stay in registers.
 #if defined(__GNUC__)
@@ -93,16 +94,17 @@ inline V3 bbox_center(const double *v, size_t nv) {
 
 // Unscaled sums about p into out[10]: the solid's (w = det = a . ((b - a) x (c - a)), divide by
 // 6, 24, 120) or the shell's (w = |(b - a) x (c - a)|, divide by 2, 6, 24); a, b, c the corners
-// minus p.  The edge form of det keeps its error relative to |a| |n|, not |a| |b| |c|.
+// minus p.  The edge form of det keeps its error relative to |a| |n|, not |a| |b| |c|.  False at
+// a face index outside [0, nv) (the caller names it: check_faces).
 template <bool Shell>
-void mesh_sums(const double *v, size_t nv, const int64_t *faces, size_t nf, const V3 &p, double *out) {
+bool mesh_sums(const double *v, size_t nv, const int64_t *faces, size_t nf, const V3 &p, double *out) {
     const int64_t n = static_cast<int64_t>(nv);
     const bool prefetch = nv >= PREFETCH_MIN_ROWS;
-    blocked_sum<10>(nf, out, [&](size_t i, size_t m, d4 *t) INERTIA_INLINE {
+    return blocked_sum<10>(nf, out, [&](size_t i, size_t m, d4 *t) INERTIA_INLINE {
         const int64_t *f = faces + 3 * i;
         if (prefetch && i + PREFETCH_FACES + 4 <= nf) prefetch_rows(v, f + 3 * PREFETCH_FACES, 4);
         for (size_t j = 0; j < 3 * m; ++j)
-            if (f[j] < 0 || f[j] >= n) check_faces(faces, nf, nv);  // throws, naming the first bad index
+            if (f[j] < 0 || f[j] >= n) return false;
         const V3x4 a = corners(v, f, m, 0, p), b = corners(v, f, m, 1, p), c = corners(v, f, m, 2, p);
         const V3x4 nrm = cross(b - a, c - a);
         add_moments(t, Shell ? sqrt4(dot(nrm, nrm)) : dot(a, nrm), a, b, c);
@@ -110,4 +112,5 @@ void mesh_sums(const double *v, size_t nv, const int64_t *faces, size_t nf, cons
     });
 }
 
+INERTIA_ISA_END
 }  // namespace inertia
