@@ -220,12 +220,13 @@ inline int patch_check(const double *V, const int64_t *F, const uint8_t *bits_of
 inline double box_and_median_edge(const double *V, const int64_t *F, size_t nf, double *origin, double *top) {
     const double inf = std::numeric_limits<double>::infinity();
     double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};  // locals: the stores would alias V
-    bool finite = true;
+    double bad = 0.0;  // x - x is 0 for a finite x, NaN for an infinity or NaN: the sum stays 0 or not
     for (size_t i = 0; i < 3 * nf; ++i)
         for (int k = 0; k < 3; ++k) {
             const double x = V[3 * F[i] + k];
-            lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), finite = finite && std::isfinite(x);
+            lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), bad += x - x;
         }
+    const bool finite = bad == 0.0;
     for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[k] : NAN, top[k] = finite ? hi[k] : NAN;
     const size_t stride = std::max<size_t>(1, nf / MEDIAN_SAMPLE);
     std::vector<double> longest((nf + stride - 1) / stride);
@@ -271,7 +272,15 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
     auto corners = [&](int64_t t) { return std::array<const double *, 3>{V + 3 * F[3 * t], V + 3 * F[3 * t + 1], V + 3 * F[3 * t + 2]}; };
     Vec<uint8_t> bits(nf);
     Vec<int32_t> ilo(3 * nf), ihi(3 * nf);  // cells, below 1e5 an axis
+    Vec<int64_t> one(nf);                   // the cell of a face whose box meets one cell, else -1
     std::vector<int64_t> counts(ncell + 1, 0);
+    const int64_t d1 = dims[1], d2 = dims[2];  // locals: stores to the counts would alias dims
+    auto each_cell = [&](size_t t, auto &&fn) {
+        if (one[t] >= 0) return fn(one[t]);
+        for (int64_t x = ilo[3 * t]; x <= ihi[3 * t]; ++x)
+            for (int64_t y = ilo[3 * t + 1]; y <= ihi[3 * t + 1]; ++y)
+                for (int64_t z = ilo[3 * t + 2]; z <= ihi[3 * t + 2]; ++z) fn((x * d1 + y) * d2 + z);
+    };
     for (size_t t = 0; t < nf; ++t) {
         const auto [a, b, c] = corners(int64_t(t));
         double bl[3], bh[3];
@@ -280,14 +289,10 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
             ilo[3 * t + k] = int32_t(std::max(int64_t(std::floor(bl[k] - CELL_SLACK)), int64_t(0)));
             ihi[3 * t + k] = int32_t(std::min(int64_t(std::floor(bh[k] + CELL_SLACK)), dims[k] - 1));
         }
+        const int32_t *l = &ilo[3 * t], *u = &ihi[3 * t];
+        one[t] = l[0] == u[0] && l[1] == u[1] && l[2] == u[2] ? (int64_t(l[0]) * d1 + l[1]) * d2 + l[2] : -1;
+        each_cell(t, [&](int64_t i) { counts[i + 1] += 1; });
     }
-    const int64_t d1 = dims[1], d2 = dims[2];  // locals: stores to the counts would alias dims
-    auto each_cell = [&](size_t t, auto &&fn) {
-        for (int64_t x = ilo[3 * t]; x <= ihi[3 * t]; ++x)
-            for (int64_t y = ilo[3 * t + 1]; y <= ihi[3 * t + 1]; ++y)
-                for (int64_t z = ilo[3 * t + 2]; z <= ihi[3 * t + 2]; ++z) fn((x * d1 + y) * d2 + z);
-    };
-    for (size_t t = 0; t < nf; ++t) each_cell(t, [&](int64_t i) { counts[i + 1] += 1; });
     for (int64_t i = 0; i < ncell; ++i) counts[i + 1] += counts[i];
     Vec<int64_t> fill(ncell), entries(counts[ncell]);
     std::copy(counts.begin(), counts.end() - 1, fill.data());
