@@ -380,6 +380,10 @@ def test_principal_axes_match_lapack_to_rounding_at_every_scale():
                 np.testing.assert_allclose(R.T @ R, np.eye(3), rtol=0, atol=4e-15)
                 assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-14)
                 np.testing.assert_allclose(R @ np.diag(moments) @ R.T, I, rtol=0, atol=4e-15 * scale * m[2])
+    # entries near the largest double: no overflow on the way (LAPACK scales; so must we)
+    I = np.array([[1.0, 1e308, 0.0], [1e308, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    moments, R = principal_axes(I)
+    np.testing.assert_allclose(moments, np.linalg.eigvalsh(I), rtol=4e-15)
     # a diagonal matrix: its moments exactly, its axes a permutation
     moments, R = principal_axes(np.diag([3.0, 1.0, 2.0]))
     assert moments.tolist() == [1.0, 2.0, 3.0]

@@ -19,7 +19,7 @@ constexpr int MAX_SWEEPS = 64;  // Jacobi converges in about 5 for 3x3; the boun
 inline void symmetric_eigen(const double *A, double w[3], double V[9]) {
     double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) a[i][j] = 0.5 * (A[3 * i + j] + A[3 * j + i]);
+        for (int j = 0; j < 3; ++j) a[i][j] = 0.5 * A[3 * i + j] + 0.5 * A[3 * j + i];  // (no overflow near DBL_MAX)
     static constexpr int P[3] = {0, 0, 1}, Q[3] = {1, 2, 2};
     for (int sweep = 0; sweep < MAX_SWEEPS; ++sweep) {
         if (a[0][1] == 0.0 && a[0][2] == 0.0 && a[1][2] == 0.0) break;
