@@ -180,7 +180,8 @@ void save(double *b, const Job &J, size_t r, size_t b0, size_t active) {
 }
 
 template <Method M, size_t n>
-void run_chunks(const Job &J, size_t c_lo, size_t c_hi) {
+void run_chunks(const Job &job, size_t c_lo, size_t c_hi) {
+    const Job J = job;  // this thread's own copy, read at every step (see rollout_kernels.cpp)
     std::vector<double> buffer(Rows<n>::ROWS * CHUNK);
     double *b = buffer.data();
     const double hold = J.h * static_cast<double>(J.substeps);

@@ -158,7 +158,10 @@ void save_states(const double *b, const Job &J, size_t r, size_t b0, size_t acti
 
 // Chunks c_lo .. c_hi - 1: load, n_steps steps, save.
 template <Method M, bool BodyForce>
-void run_chunks(const Job &J, size_t c_lo, size_t c_hi) {
+void run_chunks(const Job &job, size_t c_lo, size_t c_hi) {
+    // this thread's own copy of the job, read at every step: the caller's lies on the stack of
+    // the thread that started the others, in cache lines that thread writes
+    const Job J = job;
     alignas(64) double b[ROWS * CHUNK] = {};  // on the stack: no std container in this file
     for (size_t c = c_lo; c < c_hi; ++c) {
         const size_t b0 = c * CHUNK, active = std::min(CHUNK, J.N - b0);
