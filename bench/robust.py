@@ -9,7 +9,7 @@ Run from the repository root, e.g.::
     PYTHONPATH=$PWD/src python bench/robust.py --manifold /path/to/site-packages   (manifold3d)
 
 --speed: 100k-face open meshes through the whole public call
-``inertia.mesh_properties(..., robust=True)``, interleaved rounds, best and median wall
+``inertia.mesh_properties(..., on_defect="robust")``, interleaved rounds, best and median wall
 time, beside two anchors measured in the same rounds (the exact path on the closed mesh,
 and ``robust_integrals`` alone), and with ``--against`` another install (e.g. the numba one)
 in the same interleaved rounds; the peak RSS of a fresh process running one call.
@@ -78,7 +78,7 @@ def _round(cases, threads):
         warnings.simplefilter("ignore")
         for _, v, fo, fc in cases:
             t, c = time.perf_counter(), time.process_time()
-            inertia.mesh_properties(v, fo, density=1.0, robust=True)
+            inertia.mesh_properties(v, fo, density=1.0, on_defect="robust")
             row = [time.perf_counter() - t, time.process_time() - c]
             t = time.perf_counter()
             robust_integrals(v, fo, **kw)
@@ -123,7 +123,7 @@ def speed(data, rounds, against=None, threads=None):
         other.wait()
     print("## Speed: whole public call, 100k-face open meshes (wall s; best / median of interleaved rounds)")
     print(f"threads={threads} (None: one per core); the other install: {against or 'not run'}")
-    print("| case | faces | install | public call robust=True (wall) | CPU s of it | Mfaces/s (best) "
+    print("| case | faces | install | public call on_defect='robust' (wall) | CPU s of it | Mfaces/s (best) "
           "| robust_integrals alone | exact path, closed mesh |")
     print("|---|---|---|---|---|---|---|---|")
     fmt = lambda x: f"{min(x):.3f} / {np.median(x):.3f}"  # noqa: E731
@@ -167,7 +167,7 @@ v, fo, fc = a["v"], a["fo"], a["fc"]
 warnings.simplefilter("ignore")
 r0 = mib("VmRSS")
 r1 = peak(lambda: inertia.mesh_properties(v, fc, density=1.0))
-r2 = peak(lambda: inertia.mesh_properties(v, fo, density=1.0, robust=True))
+r2 = peak(lambda: inertia.mesh_properties(v, fo, density=1.0, on_defect="robust"))
 print(f"{{r0}} / {{r1}} / {{r2}}")
 """
     env = dict(os.environ)
@@ -216,7 +216,7 @@ def real(data):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                p = inertia.mesh_file_properties(str(path), density=1000.0, robust=True)
+                p = inertia.mesh_file_properties(str(path), density=1000.0, on_defect="robust")
             text = [w for w in p.warnings if "relative error bounds" in w][0]
             bounds = text.split("relative error bounds: ")[1].split(";")[0]
             ours = f"{p.mass:.6g} ({bounds})"

@@ -213,7 +213,8 @@ def _unchecked_note(n_faces: int):
     return mesh_finding("self_crossing_unchecked", 1,
                   f"not proven free of self-crossings: the shell ({plural(n_faces, 'face')}) is not star-shaped from "
                   f"its center of mass, and the face-pair search stops at {SEARCH_MAX_FACES} faces (0.2-0.6 us a "
-                  "face); inertia.geometry.self_crossing.first_crossing runs it, robust=True integrates any crossing",
+                  "face); inertia.geometry.self_crossing.first_crossing runs it, on_defect='robust' integrates "
+                  "any crossing",
                         {"n_faces": n_faces})
 
 

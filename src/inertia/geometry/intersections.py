@@ -9,10 +9,11 @@ face of the other (an edge strictly through the interior).  Touching parts (a sh
 coplanar contact), nested shells (a cavity, a part inside a hollow one) and parts apart are
 never flagged.
 
-Not detected by default: a single closed shell that passes through itself (its own faces
-crossing).  Searching all face pairs of a shell costs far more than the mass properties;
-``robust=True`` (:mod:`inertia.geometry.robust`) finds such crossings and integrates the
-solid they bound.
+Not found here: a single closed shell that passes through itself (its own faces crossing).
+That is the self-crossing check's job (:mod:`inertia.geometry.self_crossing`: a certificate,
+then a face-pair search, ``self_crossing="search"`` of :func:`inertia.mesh_properties`), and
+``on_defect="robust"`` (:mod:`inertia.geometry.robust`) integrates the solid such a shell
+bounds.
 """
 
 from __future__ import annotations
