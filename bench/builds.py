@@ -1,7 +1,7 @@
 """Speed of several builds of the compiled core side by side: ``python bench/builds.py NAME=PYTHON ...``.
 
-Each build is an install in its own environment (e.g. ``native=/work/venv-native/bin/python
-portable=/work/venv-portable/bin/python``; build them as wheels, ``pip install .
+Each build is an install in its own environment (e.g. ``native=../venv-native/bin/python
+portable=../venv-portable/bin/python``; build them as wheels, ``pip install .
 -C cmake.define.INERTIA_NATIVE=OFF``, see docs/performance.md).  One worker process per build
 makes the inputs once; then every round asks each worker in turn for each row once, so the
 builds are measured interleaved in one run.  Printed per row: best and median per build, and
