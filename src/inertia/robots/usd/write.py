@@ -51,14 +51,13 @@ def mass_api_values(stage, body, props) -> dict:
     """The four attributes (stage units, float32-ready tuples) that make ``body`` have the world
     SI mass properties ``props`` (a :class:`~inertia.massprops.properties.MassProperties`)."""
     from ..._core.rotations import matrix_to_quat
+    from ...massprops.principal import principal_axes
 
     m_unit, kg_unit = stage.meters_per_unit, stage.kilograms_per_unit
     R, p = body.R_world_body, body.p_world_body
     com_B = R.T @ (np.asarray(props.com) / m_unit - p) / body.scale_world
     I_B = R.T @ np.asarray(props.inertia_com) @ R / (kg_unit * m_unit ** 2)
-    w, V = np.linalg.eigh(0.5 * (I_B + I_B.T))
-    if np.linalg.det(V) < 0:
-        V[:, 0] = -V[:, 0]
+    w, V = principal_axes(I_B)   # the canonical frame: ascending, det +1, the documented signs
     q = matrix_to_quat(V)
     return {"physics:mass": props.mass / kg_unit, "physics:centerOfMass": tuple(com_B),
             "physics:diagonalInertia": tuple(w), "physics:principalAxes": tuple(q)}
