@@ -272,11 +272,11 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
     auto corners = [&](int64_t t) { return std::array<const double *, 3>{V + 3 * F[3 * t], V + 3 * F[3 * t + 1], V + 3 * F[3 * t + 2]}; };
     Vec<uint8_t> bits(nf);
     Vec<int32_t> ilo(3 * nf), ihi(3 * nf);  // cells, below 1e5 an axis
-    Vec<int64_t> one(nf);                   // the cell of a face whose box meets one cell, else -1
     std::vector<int64_t> counts(ncell + 1, 0);
     const int64_t d1 = dims[1], d2 = dims[2];  // locals: stores to the counts would alias dims
     auto each_cell = [&](size_t t, auto &&fn) {
-        if (one[t] >= 0) return fn(one[t]);
+        const int32_t *l = &ilo[3 * t], *u = &ihi[3 * t];  // most faces: one cell
+        if (l[0] == u[0] && l[1] == u[1] && l[2] == u[2]) return fn((int64_t(l[0]) * d1 + l[1]) * d2 + l[2]);
         for (int64_t x = ilo[3 * t]; x <= ihi[3 * t]; ++x)
             for (int64_t y = ilo[3 * t + 1]; y <= ihi[3 * t + 1]; ++y)
                 for (int64_t z = ilo[3 * t + 2]; z <= ihi[3 * t + 2]; ++z) fn((x * d1 + y) * d2 + z);
@@ -289,8 +289,6 @@ inline int64_t unproved_faces(const double *V, const int64_t *F, size_t nf, size
             ilo[3 * t + k] = int32_t(std::max(int64_t(std::floor(bl[k] - CELL_SLACK)), int64_t(0)));
             ihi[3 * t + k] = int32_t(std::min(int64_t(std::floor(bh[k] + CELL_SLACK)), dims[k] - 1));
         }
-        const int32_t *l = &ilo[3 * t], *u = &ihi[3 * t];
-        one[t] = l[0] == u[0] && l[1] == u[1] && l[2] == u[2] ? (int64_t(l[0]) * d1 + l[1]) * d2 + l[2] : -1;
         each_cell(t, [&](int64_t i) { counts[i + 1] += 1; });
     }
     for (int64_t i = 0; i < ncell; ++i) counts[i + 1] += counts[i];
