@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "common/vec3.hpp"
+
 namespace inertia::principal {
 
 constexpr int MAX_SWEEPS = 64;  // Jacobi converges in about 5 for 3x3; the bound stops NaN input
@@ -62,12 +64,6 @@ inline void symmetric_eigen(const double *A, double w[3], double V[9]) {
     }
 }
 
-inline void cross(const double *a, const double *b, double *out) {
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 // v flipped so that its largest-magnitude entry is positive (the first on ties).
 inline void sign_fixed(double *v) {
     int k = 0;
@@ -84,7 +80,7 @@ inline void plane_axis(const double *n, double *out) {
     for (int i = 1; i < 3; ++i)
         if (std::abs(n[i]) < std::abs(n[k])) k = i;
     for (int i = 0; i < 3; ++i) out[i] = (i == k ? 1.0 : 0.0) - n[k] * n[i];
-    const double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+    const double len = norm(out);
     for (int i = 0; i < 3; ++i) out[i] /= len;
 }
 
