@@ -354,8 +354,9 @@ _BITS = "import sys; sys.path.insert(0, {root!r}); from tests.geometry.test_mesh
 
 
 def bits_of_a_run() -> str:
-    """A digest of the integrals (solid, shell) and of mesh_properties (the clean-solid pass) of a
-    sphere of 20,480 faces (two chunks of the summation) far from the origin, stretched."""
+    """A digest of the integrals (solid, shell), of mesh_properties (the clean-solid pass) and of
+    its principal frame (the compiled eigensolver) of a sphere of 20,480 faces (two chunks of the
+    summation) far from the origin, stretched."""
     import hashlib
 
     trimesh = pytest.importorskip("trimesh")
@@ -364,7 +365,8 @@ def bits_of_a_run() -> str:
     f = np.asarray(m.faces)
     out = [*mk.solid_integrals(v, f), *mk.shell_integrals(v, f)]
     p = inertia.mesh_properties(v, f, density=1.0)
-    out += [p.mass, p.com, p.inertia_com]
+    pf = p.principal()
+    out += [p.mass, p.com, p.inertia_com, pf.moments, pf.R_body_principal]
     return hashlib.sha256(b"".join(np.asarray(x, dtype=np.float64).tobytes() for x in out)).hexdigest()
 
 
