@@ -127,15 +127,34 @@ struct PatchWork {
         : fstamp(nf + 1, -1), vwork(nv, Vertex{-1, -1, -1}), iwork(6 * biggest), fwork(9 * biggest) {}
 };
 
-// The closed polygon loop[:m] (vertex numbers, projected on iu, iw) is simple: every pair of
-// edges not neighbours in the loop proved apart (a sweep over the edges sorted by lowest u, then number).
+// The closed polygon (pu, pw)[:m] turns counterclockwise about (cu, cw) along every edge
+// (proved despite rounding) and goes round it once: then its angle about c increases along it
+// by 2 pi in all, so every ray from c meets it once, and it is simple.  Going round once: with
+// every edge counterclockwise, the edges that cross the line w = cw upwards are right of c, and
+// there is one.  False: not shown.
+inline bool star_loop(const double *pu, const double *pw, int64_t m, double cu, double cw) {
+    int ups = 0;
+    for (int64_t i = 0; i < m; ++i) {
+        const int64_t j = i + 1 < m ? i + 1 : 0;
+        if (orient_sign(cu, cw, pu[i], pw[i], pu[j], pw[j]) <= 0) return false;
+        ups += pw[i] < cw && pw[j] >= cw;
+    }
+    return ups == 1;
+}
+
+// The closed polygon loop[:m] (vertex numbers, projected on iu, iw) is simple: star_loop about
+// the mean of its corners (about half the loops), else every pair of edges not neighbours in the
+// loop proved apart (a sweep over the edges sorted by lowest u, then number).
 inline bool simple_loop(const double *V, int iu, int iw, const int64_t *loop, int64_t m, double *fwork,
                         int64_t *order) {
     double *pu = fwork, *pw = fwork + m, *lo_u = fwork + 2 * m;
+    double su = 0.0, sw = 0.0;
     for (int64_t i = 0; i < m; ++i) {
         pu[i] = V[3 * loop[i] + iu];
         pw[i] = V[3 * loop[i] + iw];
+        su += pu[i], sw += pw[i];
     }
+    if (star_loop(pu, pw, m, su / double(m), sw / double(m))) return true;
     for (int64_t i = 0; i < m; ++i) {
         lo_u[i] = std::min(pu[i], pu[i + 1 < m ? i + 1 : 0]);
         int64_t r = i;  // insertion sort of short loops (stable: the order of the sort below)
@@ -219,15 +238,23 @@ inline int patch_check(const double *V, const int64_t *F, const uint8_t *bits_of
 // cell size, not a measurement).
 inline double box_and_median_edge(const double *V, const int64_t *F, size_t nf, double *origin, double *top) {
     const double inf = std::numeric_limits<double>::infinity();
-    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};  // locals: the stores would alias V
-    double bad = 0.0;  // x - x is 0 for a finite x, NaN for an infinity or NaN: the sum stays 0 or not
-    for (size_t i = 0; i < 3 * nf; ++i)
-        for (int k = 0; k < 3; ++k) {
-            const double x = V[3 * F[i] + k];
-            lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), bad += x - x;
-        }
-    const bool finite = bad == 0.0;
-    for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[k] : NAN, top[k] = finite ? hi[k] : NAN;
+    // four corners at a time into their own lows and highs (locals: stores would alias V), so
+    // that no chain of minima waits on the last; a NaN or infinity flagged by integer ors
+    constexpr int L = 4;
+    double lo[L][3], hi[L][3];
+    for (int j = 0; j < L; ++j)
+        for (int k = 0; k < 3; ++k) lo[j][k] = inf, hi[j][k] = -inf;
+    bool bad = false;
+    for (size_t i = 0; i < 3 * nf; i += L)
+        for (int j = 0; j < L && i + j < 3 * nf; ++j)
+            for (int k = 0; k < 3; ++k) {
+                const double x = V[3 * F[i + j] + k];
+                lo[j][k] = std::min(lo[j][k], x), hi[j][k] = std::max(hi[j][k], x), bad |= !(x - x == 0.0);
+            }
+    for (int j = 1; j < L; ++j)
+        for (int k = 0; k < 3; ++k) lo[0][k] = std::min(lo[0][k], lo[j][k]), hi[0][k] = std::max(hi[0][k], hi[j][k]);
+    const bool finite = !bad;
+    for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[0][k] : NAN, top[k] = finite ? hi[0][k] : NAN;
     const size_t stride = std::max<size_t>(1, nf / MEDIAN_SAMPLE);
     std::vector<double> longest((nf + stride - 1) / stride);
     for (size_t i = 0; i < longest.size(); ++i) {

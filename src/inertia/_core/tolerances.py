@@ -95,14 +95,15 @@ def coordinate_precision(vertices, radius: float) -> float:
             units.append(f)
     if not units:
         return 0.0
-    biggest = float(np.abs(v).max())
+    biggest = max(float(v.max()), -float(v.min()))
     if not 0.0 < biggest < math.inf:
         return 0.0
     for factor in units:
         if biggest / factor > 3e38:          # beyond float32's range
             continue
-        raw = v / factor
-        scale = float(np.abs(raw).max(initial=0.0))
-        if float(np.abs(raw.astype(np.float32).astype(np.float64) - raw).max(initial=0.0)) <= 1e-12 * scale:
+        raw = v if factor == 1.0 else v / factor
+        as_f32 = raw.astype(np.float32)
+        if np.array_equal(as_f32, raw) or (   # exact (a binary STL in metres), else within 1e-12
+                float(np.abs(as_f32.astype(np.float64) - raw).max()) <= 1e-12 * (biggest / factor)):
             return min(4.0 * FLOAT32_ROUNDOFF * biggest / radius, 0.5)
     return 0.0

@@ -141,7 +141,7 @@ def _mesh_properties(vertices, faces, *, density, mass, kind, on_defect, repair,
         # a radius of gyration no larger than the largest: the precision errs on the coarse side
         I = props.inertia_com
         precision = coordinate_precision(v, math.sqrt(max(I[0, 0], I[1, 1], I[2, 2]) / props.mass))
-        return props._replace(precision=precision) if precision > props.precision else props
+        return props._with_precision(precision) if precision > props.precision else props
 
     if on_defect == "robust" and repair is None and kind == "solid":
         props = _robust_direct(v, f, welded, density=density, mass=mass, frame=frame, what=what, where=where,

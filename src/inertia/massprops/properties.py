@@ -204,6 +204,14 @@ class MassProperties:
         return np.sqrt(np.clip(self.principal().moments, 0, None) / self.mass)
 
     # ------------------------------------------------------------------ transforms
+    def _with_precision(self, precision: float) -> "MassProperties":
+        """Internal: this value with ``precision`` (in [0, 1)), its other fields as they are:
+        already checked, not checked again."""
+        obj = object.__new__(type(self))
+        obj.__dict__.update(self.__dict__)
+        object.__setattr__(obj, "precision", float(precision))
+        return obj
+
     def _replace(self, **kw) -> "MassProperties":
         args = dict(mass=self.mass, com=self.com, inertia_com=self.inertia_com, frame=self.frame,
                     volume=self.volume, findings=self.findings, validate=False, precision=self.precision)
