@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 import time
 import warnings
 
@@ -202,6 +203,33 @@ def process_chunk(jobs, options: dict) -> list[dict]:
     return [process_file(job, **options) for job in jobs]
 
 
+#: glibc's mallopt settings of a process that runs files: freed memory up to this much is kept
+#: for the next file (M_TRIM_THRESHOLD; M_TOP_PAD grows the heap in 16 MiB steps) and blocks
+#: below 32 MiB come from the heap (M_MMAP_THRESHOLD), instead of each file's arrays being
+#: mapped, returned and faulted in again (Dask's workers return memory past 64 KiB).
+KEPT_FREE_BYTES = 128 * 2**20
+_ALLOCATOR = {"set": False}
+
+
+def keep_freed_memory() -> None:
+    """On Linux with glibc, once per process: keep freed memory for the next file (see
+    :data:`KEPT_FREE_BYTES`; a worker process then holds at most that much beyond its live
+    arrays).  Page faults take a lock per process, which serialises threads; on an external
+    Dask cluster of 2 single-thread workers, 2,000 small STL ran 1.3x faster (bench/batch.py)."""
+    if _ALLOCATOR["set"] or not sys.platform.startswith("linux"):
+        return
+    _ALLOCATOR["set"] = True
+    try:
+        import ctypes
+
+        mallopt = ctypes.CDLL("libc.so.6").mallopt
+        mallopt(-1, KEPT_FREE_BYTES)   # M_TRIM_THRESHOLD
+        mallopt(-2, 16 * 2**20)        # M_TOP_PAD
+        mallopt(-3, 32 * 2**20)        # M_MMAP_THRESHOLD
+    except (OSError, AttributeError):   # not glibc
+        pass
+
+
 def process_packed(payload: bytes) -> bytes:
     """:func:`process_chunk` with its arguments and its rows pickled into one bytes object each.
 
@@ -210,6 +238,7 @@ def process_packed(payload: bytes) -> bytes:
     """
     import pickle
 
+    keep_freed_memory()
     jobs, options = pickle.loads(payload)
     return pickle.dumps(process_chunk(jobs, options), protocol=pickle.HIGHEST_PROTOCOL)
 

@@ -60,7 +60,7 @@ from .output import (
     write_rows_parquet,
     write_table_parquet,
 )
-from .record import crashed_row, options_key, process_chunk, process_file, process_packed
+from .record import crashed_row, keep_freed_memory, options_key, process_chunk, process_file, process_packed
 from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
@@ -316,21 +316,6 @@ def cpu_count() -> int:
     return os.cpu_count() or 1
 
 
-def _keep_freed_memory() -> None:
-    """glibc: keep freed memory for the next file instead of returning and faulting it in again
-    (page faults take a lock per process, which serialises the threads; bench/batch.py)."""
-    if sys.platform.startswith("linux"):
-        try:
-            import ctypes
-
-            mallopt = ctypes.CDLL("libc.so.6").mallopt
-            mallopt(-1, 2**30)         # M_TRIM_THRESHOLD
-            mallopt(-2, 16 * 2**20)    # M_TOP_PAD
-            mallopt(-3, 64 * 2**20)    # M_MMAP_THRESHOLD
-        except (OSError, AttributeError):
-            pass
-
-
 def _chunk_rows(jobs, options: dict, stop: threading.Event):
     """:func:`process_chunk` on a thread of the pool; None once ``stop`` is set (an interrupted
     run: the files not done are done again on resume)."""
@@ -359,7 +344,7 @@ class _Executor:
             self.placement = "in this process, one file after another (synchronous)"
             return self
         if self.scheduler in ("auto", "threads"):
-            _keep_freed_memory()
+            keep_freed_memory()
             self.threads = ThreadPoolExecutor(self.n_workers, thread_name_prefix="inertia-batch")
             self._stop = threading.Event()
             self.placement = f"on {self.n_workers} thread{'s' if self.n_workers > 1 else ''} in this process"
