@@ -21,8 +21,9 @@ rounds (machine noise drifts over time); best and median of the rounds are print
 the placement it chooses, worker start-up, the work, the output), with the default
 placement (threads), ``--scheduler synchronous`` and ``--scheduler cluster``, and with
 ``--external`` on Dask clusters started apart as a user's (``dask scheduler`` and ``dask
-worker`` processes: 2 workers of 1 thread, 1 worker of 2 threads, started and warmed up once,
-outside the timing), against a script that loops trimesh over the same N meshes, also timed
+worker`` processes: 2 workers of 1 thread, 1 worker of 2 threads, each started and warmed up
+for its own timed run and closed after it, outside the timing: an idle cluster's heartbeats
+would load the machine under the other rows), against a script that loops trimesh over the same N meshes, also timed
 from its start; interleaved rounds.
 
     python bench/batch.py --whole 500 2000 [--external] [--faces 1000 10000] [--repeat 3] [--keep DIR]
@@ -31,6 +32,7 @@ from its start; interleaved rounds.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import shutil
 import statistics
@@ -196,12 +198,21 @@ def whole_process_case(folder, n_small: int, faces, repeat: int, variants) -> No
     out = os.path.join(folder, f"whole_{n_small}.parquet")
     runs = {"trimesh loop": ["-c", _TRIMESH_LOOP, listing]}
     for name, extra in variants.items():
-        runs[name] = ["-m", "inertia.cli.main", "batch", sub, "-o", out, "--force", "--no-progress", *extra]
+        runs[name] = ["-m", "inertia.cli.main", "batch", sub, "-o", out, "--force", "--no-progress",
+                      *(extra if isinstance(extra, list) else [])]
     times = {name: [] for name in runs}
     ensure_bytecode("inertia", "trimesh")        # as installed packages have it (see bench/startup.py)
     for _ in range(repeat):
         for name, cmd in runs.items():
-            times[name].append(whole_process(cmd))
+            spec = variants.get(name)
+            if isinstance(spec, ExternalSpec):   # started for its own run only: idle, its processes load the machine
+                cluster = ExternalCluster(spec.workers, spec.threads)
+                try:
+                    times[name].append(whole_process([*cmd, "--scheduler", cluster.address]))
+                finally:
+                    cluster.close()
+            else:
+                times[name].append(whole_process(cmd))
     summary = subprocess_summary(runs[next(iter(variants))])
     print(f"{n_small} meshes of {faces[0]}-{faces[1]} faces, whole process, {repeat} interleaved rounds "
           f"({summary})")
@@ -210,6 +221,13 @@ def whole_process_case(folder, n_small: int, faces, repeat: int, variants) -> No
         print(f"  {name:28s} best {min(ts):6.2f} s, median {statistics.median(ts):6.2f} s: "
               f"{min(base) / min(ts):5.1f}x / {statistics.median(base) / statistics.median(ts):5.1f}x the loop")
     sys.stdout.flush()
+
+
+@dataclasses.dataclass(frozen=True)
+class ExternalSpec:
+    """A Dask cluster started apart for one timed run: ``workers`` of ``threads`` threads."""
+    workers: int
+    threads: int
 
 
 class ExternalCluster:
@@ -278,17 +296,13 @@ def main() -> None:
         variants = {"inertia batch (threads)": [], "--self-crossing certificate": ["--self-crossing", "certificate"],
                     "--scheduler synchronous": ["--scheduler", "synchronous"],
                     "--scheduler cluster": ["--scheduler", "cluster"]}
-        external = []
         if args.external:
             for w, t in ((2, 1), (1, 2)):
-                external.append(ExternalCluster(w, t))
-                variants[f"external cluster, {w}x{t} threads"] = ["--scheduler", external[-1].address]
+                variants[f"external cluster, {w}x{t} threads"] = ExternalSpec(w, t)
         try:
             for n in args.whole or [500, 2000]:
                 whole_process_case(folder, n, tuple(args.faces), args.repeat, variants)
         finally:
-            for cluster in external:
-                cluster.close()
             if not args.keep:
                 shutil.rmtree(folder, ignore_errors=True)
         return
