@@ -185,9 +185,9 @@ def test_interrupted_run_resumes_to_the_same_table(dataset, tmp_path, monkeypatc
 
 
 def test_rows_not_yet_in_a_part_are_saved_by_a_ctrl_c(dataset, tmp_path, monkeypatch):
-    """Parts are written at most every PART_S seconds (the first chunk's at once): the rows
-    finished since the last part are written when the run is interrupted, so a resume does
-    only the files not done."""
+    """Parts are written at most every PART_S seconds (the first PART_S after the start): the
+    rows finished since the last part are written when the run is interrupted, so a resume
+    does only the files not done."""
     from inertia.batch import record
 
     monkeypatch.setattr(batch_run, "PART_S", 3600.0)
@@ -195,10 +195,10 @@ def test_rows_not_yet_in_a_part_are_saved_by_a_ctrl_c(dataset, tmp_path, monkeyp
     run_batch([dataset], full, scheduler="synchronous", chunk_files=1, progress=False)
     n_files = len(read_frame(full))
     parts_seen = []
-    fast = tmp_path / "fast.parquet"                   # a run faster than PART_S: one part, the first chunk's
+    fast = tmp_path / "fast.parquet"                   # a run faster than PART_S: no part, the output alone
     run_batch([dataset], fast, scheduler="synchronous", chunk_files=1, progress=False,
               on_part=lambda path, rows: parts_seen.append(len(rows)))
-    assert parts_seen == [1]
+    assert parts_seen == [] and not (tmp_path / "fast.parquet.parts").exists()
     pd.testing.assert_frame_equal(_strip(read_frame(full)), _strip(read_frame(fast)))
 
     real, calls = record.process_file, []
@@ -214,8 +214,8 @@ def test_rows_not_yet_in_a_part_are_saved_by_a_ctrl_c(dataset, tmp_path, monkeyp
     with pytest.raises(KeyboardInterrupt):
         run_batch([dataset], out, scheduler="synchronous", chunk_files=1, progress=False)
     parts = sorted((tmp_path / "resumed.parquet.parts").glob("part-*.parquet"))
-    assert len(parts) == 2                               # the first chunk, then the four since
-    assert sum(len(pd.read_parquet(p)) for p in parts) == 5
+    assert len(parts) == 1                               # the five rows finished, saved by the Ctrl-C
+    assert len(pd.read_parquet(parts[0])) == 5
     monkeypatch.setattr(record, "process_file", real)
     summary = run_batch([dataset], out, scheduler="synchronous", chunk_files=1, progress=False, resume=True)
     assert summary.skipped == 5 and summary.processed == n_files - 5
@@ -280,21 +280,41 @@ def test_an_interrupt_inside_compiled_code_stops_the_run_instead_of_becoming_a_r
     assert row["reason"] == "internal_error" and row["message"] == "RuntimeError: boom"
 
 
+#: the `inertia` command with each file 20 ms slower (the interrupted run of the test below)
+_SLOW_CLI = """
+import sys, time
+import inertia.batch.record as record
+import inertia.batch.run as run
+real = record.process_file
+def slower(job, **options):
+    time.sleep(0.02)
+    return real(job, **options)
+record.process_file = run.process_file = slower
+from inertia.cli.main import entry
+sys.argv[0] = "inertia"
+entry()
+"""
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("scheduler", ["synchronous", "threads"])
 def test_ctrl_c_on_the_command_line_leaves_a_resumable_output(dataset, tmp_path, scheduler):
-    # enough files that the run is still going when the interrupt arrives (a run of the
-    # small dataset alone can finish in a fraction of a second)
+    # enough files, each held 20 ms longer by the interrupted run, that it is still going on
+    # any machine when its first part is written (PART_S after its start) and the interrupt
+    # arrives; the resume runs them at full speed
     many = tmp_path / "many"
     shutil.copytree(dataset, many)
     for i in range(300):
-        shutil.copy(dataset / "wingnut.obj", many / f"copy_{i:03d}.obj")
+        try:
+            os.link(dataset / "wingnut.obj", many / f"copy_{i:03d}.obj")   # another path, the same bytes
+        except OSError:
+            shutil.copy(dataset / "wingnut.obj", many / f"copy_{i:03d}.obj")
     out = tmp_path / "cli.parquet"
-    cmd = [sys.executable, "-m", "inertia.cli.main", "batch", str(many), "-o", str(out),
-           "--scheduler", scheduler, "--chunk-files", "1", "--no-progress"]
+    args = ["batch", str(many), "-o", str(out), "--scheduler", scheduler, "--chunk-files", "1", "--no-progress"]
+    cmd = [sys.executable, "-m", "inertia.cli.main", *args]
     # a shell without job control starts its children with SIGINT ignored, and Python then
     # installs no KeyboardInterrupt handler: give the child the default disposition back
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True,
+    proc = subprocess.Popen([sys.executable, "-c", _SLOW_CLI, *args], stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     parts = tmp_path / "cli.parquet.parts"
     deadline = time.monotonic() + 60

@@ -22,8 +22,9 @@ read exactly once, on the worker that processes it.
 Nothing is lost
 ---------------
 The rows of finished chunks are written to part files, ``OUTPUT.parts/part-NNNNNN.parquet``,
-atomically: the first chunk's at once, then the rows gathered since at most every
-:data:`PART_S` seconds (a part per chunk would cost a fast run more than its output).  A
+atomically: the rows gathered since the start or the last part, at most every
+:data:`PART_S` seconds (a part per chunk would cost a fast run more than its output; a run
+shorter than that writes no part, only its output).  A
 Ctrl-C writes the rows not yet in a part before the run stops, so an interrupted run loses
 nothing; a killed process (``kill -9``, a lost machine) loses at most the last
 :data:`PART_S` seconds of work.  The final table is assembled from the parts and the rows
@@ -65,8 +66,9 @@ from .sources import Job, collect_jobs
 
 PART_PREFIX = "part-"
 
-#: finished rows go to a part file at most this often (the first chunk's at once): the work
-#: a killed run can lose, against the cost of writing a part per chunk
+#: finished rows go to a part file at most this often (the first at this long after the start):
+#: the work a killed run can lose, against the cost of writing a part per chunk (the first part
+#: of a 500-file run, written at once, took 7 % of its time: pyarrow's import, under the GIL)
 PART_S = 2.0
 
 #: a chunk closes when it reaches this much work, in bytes of input (a large mesh is a chunk alone)
@@ -623,7 +625,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
         # longer than PART_S
         tables = []
         pending: list[dict] = []      # rows of finished chunks not yet in a part
-        last_part = [None]            # when the last part was written (None: none yet)
+        last_part = [time.perf_counter()]   # when the last part was written (first: the start)
 
         def write_part():
             rows = pending[:]
@@ -637,7 +639,7 @@ def run_batch(sources, output, *, fmt: str | None = None, density=None, mass=Non
 
         def take_rows(_, rows):
             pending.extend(rows)
-            if last_part[0] is None or time.perf_counter() - last_part[0] >= PART_S:
+            if time.perf_counter() - last_part[0] >= PART_S:
                 write_part()
 
         placement = [""]

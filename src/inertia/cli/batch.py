@@ -25,10 +25,10 @@ watertight, winding_consistent, elapsed_s, options (the resume key's options).  
 Without --density/--mass (and no manifest value) the density of water, 1000 kg/m^3, is used
 and recorded in the density column.
 
-Finished rows are saved atomically in OUTPUT.parts/ as the run goes (the first chunk's at
-once, then at most every 2 s; Ctrl-C saves the rest); the output file is assembled at the
-end.  --resume skips files already done (same path, size, mtime and options); a resume with
-other options is refused unless --force recomputes those rows.
+Finished rows are saved atomically in OUTPUT.parts/ as the run goes (at most every 2 s;
+Ctrl-C saves the rest); the output file is assembled at the end.  --resume skips files
+already done (same path, size, mtime and options); a resume with other options is refused
+unless --force recomputes those rows.
 
 where it runs (the summary says): by default on a thread per core in this process (--workers N
 threads); --scheduler cluster on a local Dask cluster (--workers N processes, each running
