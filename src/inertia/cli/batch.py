@@ -76,6 +76,11 @@ def register(sub) -> None:
 #: took 5-31 ms, against 7-9 ms with the C library's allocator)
 ARROW_MEMORY_POOL = "system"
 
+#: OpenBLAS threads for this process (unless the environment says): the files' work uses no
+#: BLAS, and OpenBLAS's own threads busy-wait for about 0.1 s after NumPy loads it, on the cores
+#: the first files run on (500 small STL: 2-3.5 % of the whole run, bench/batch.py)
+OPENBLAS_THREADS = "1"
+
 
 def run(args) -> int:
     import os
@@ -84,6 +89,7 @@ def run(args) -> int:
     from .._core.errors import InputError
 
     os.environ.setdefault("ARROW_DEFAULT_MEMORY_POOL", ARROW_MEMORY_POOL)   # read when pyarrow first allocates
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", OPENBLAS_THREADS)         # read when NumPy first loads
     from ..batch.run import run_batch
 
     if args.workers is not None and args.workers < 1:
