@@ -238,23 +238,15 @@ inline int patch_check(const double *V, const int64_t *F, const uint8_t *bits_of
 // cell size, not a measurement).
 inline double box_and_median_edge(const double *V, const int64_t *F, size_t nf, double *origin, double *top) {
     const double inf = std::numeric_limits<double>::infinity();
-    // four corners at a time into their own lows and highs (locals: stores would alias V), so
-    // that no chain of minima waits on the last; a NaN or infinity flagged by integer ors
-    constexpr int L = 4;
-    double lo[L][3], hi[L][3];
-    for (int j = 0; j < L; ++j)
-        for (int k = 0; k < 3; ++k) lo[j][k] = inf, hi[j][k] = -inf;
-    bool bad = false;
-    for (size_t i = 0; i < 3 * nf; i += L)
-        for (int j = 0; j < L && i + j < 3 * nf; ++j)
-            for (int k = 0; k < 3; ++k) {
-                const double x = V[3 * F[i + j] + k];
-                lo[j][k] = std::min(lo[j][k], x), hi[j][k] = std::max(hi[j][k], x), bad |= !(x - x == 0.0);
-            }
-    for (int j = 1; j < L; ++j)
-        for (int k = 0; k < 3; ++k) lo[0][k] = std::min(lo[0][k], lo[j][k]), hi[0][k] = std::max(hi[0][k], hi[j][k]);
+    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};  // locals: the stores would alias V
+    bool bad = false;  // a NaN or infinity: x - x is not 0 (an integer or, no floating-point chain)
+    for (size_t i = 0; i < 3 * nf; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const double x = V[3 * F[i] + k];
+            lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), bad |= !(x - x == 0.0);
+        }
     const bool finite = !bad;
-    for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[0][k] : NAN, top[k] = finite ? hi[0][k] : NAN;
+    for (int k = 0; k < 3; ++k) origin[k] = finite ? lo[k] : NAN, top[k] = finite ? hi[k] : NAN;
     const size_t stride = std::max<size_t>(1, nf / MEDIAN_SAMPLE);
     std::vector<double> longest((nf + stride - 1) / stride);
     for (size_t i = 0; i < longest.size(); ++i) {
