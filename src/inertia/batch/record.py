@@ -208,17 +208,16 @@ def process_chunk(jobs, options: dict) -> list[dict]:
 #: below 32 MiB come from the heap (M_MMAP_THRESHOLD), instead of each file's arrays being
 #: mapped, returned and faulted in again (Dask's workers return memory past 64 KiB).
 KEPT_FREE_BYTES = 128 * 2**20
-_ALLOCATOR = {"set": False}
 
 
+@functools.cache   # once per process (a forked child inherits the settings with the cache)
 def keep_freed_memory() -> None:
     """On Linux with glibc, once per process: keep freed memory for the next file (see
     :data:`KEPT_FREE_BYTES`; a worker process then holds at most that much beyond its live
     arrays).  Page faults take a lock per process, which serialises threads; on an external
     Dask cluster of 2 single-thread workers, 2,000 small STL ran 1.3x faster (bench/batch.py)."""
-    if _ALLOCATOR["set"] or not sys.platform.startswith("linux"):
+    if not sys.platform.startswith("linux"):
         return
-    _ALLOCATOR["set"] = True
     try:
         import ctypes
 
